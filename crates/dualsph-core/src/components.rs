@@ -1,0 +1,89 @@
+//! Particle components. Every particle is a `bevy_ecs` entity with the core set
+//! ([`ParticleId`], [`Position`], [`Velocity`], [`Mass`], [`Density`], [`SmoothingLength`],
+//! [`Acceleration`], [`Kinematics`]); plugins add the rest only when a scene asks for them.
+
+use crate::math::{Real, Vector};
+use bevy_ecs::prelude::Component;
+
+/// Stable particle index `0..n`; also the row of the particle in every dense array.
+#[derive(Component, Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct ParticleId(pub u32);
+
+/// Position `r_i`.
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct Position<V: Vector>(pub V);
+
+/// Velocity `v_i`.
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct Velocity<V: Vector>(pub V);
+
+/// Mass `m_i` (constant: mass is conserved exactly by construction).
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct Mass(pub Real);
+
+/// Density `ρ_i`.
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct Density(pub Real);
+
+/// Support radius `h_i` (paper notation: `H_i = { j : |r_ij| <= h_i }`).
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct SmoothingLength(pub Real);
+
+/// Acceleration `dv_i/dt = f_i / m_i` from the last force evaluation.
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct Acceleration<V: Vector>(pub V);
+
+/// Start-of-step velocity and acceleration kept by the leapfrog predictor–corrector (§6).
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct Kinematics<V: Vector> {
+    /// `v^t`.
+    pub v0: V,
+    /// `f^t / m`.
+    pub a0: V,
+}
+
+/// Pressure `p_i` (added by an equation of state).
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct Pressure(pub Real);
+
+/// Sound speed `c_i` (added by an equation of state).
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct SoundSpeed(pub Real);
+
+/// Specific internal energy `ε_i` (added when an energy equation is solved).
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct InternalEnergy(pub Real);
+
+/// `dε_i/dt` and the start-of-step values kept by the integrator.
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct EnergyRate {
+    /// `dε/dt` from the last evaluation.
+    pub rate: Real,
+    /// `ε^t`.
+    pub e0: Real,
+    /// `dε/dt` at t.
+    pub rate0: Real,
+}
+
+/// `dρ_i/dt` and the start-of-step values (added by the continuity equation).
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct DensityRate {
+    /// `dρ/dt` from the last evaluation.
+    pub rate: Real,
+    /// `ρ^t`.
+    pub rho0: Real,
+    /// `dρ/dt` at t.
+    pub rate0: Real,
+}
+
+/// Thermal conductivity `κ_i` (added by heat conduction).
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct Conductivity(pub Real);
+
+/// Kernel-gradient correction matrix `L_i` (Eq. 2.10), added by the correction plugin.
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct GradientCorrection<V: Vector>(pub V::Mat);
+
+/// Velocity gradient `∇⊗v_i` with entries `∂v_k/∂x_l` (Eq. 7.4), added by viscous stress.
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct VelocityGradient<V: Vector>(pub V::Mat);

@@ -1,0 +1,229 @@
+//! The leapfrog predictor–corrector of paper 001 §6, one force evaluation per step, and the
+//! core systems every simulation has (dt, gather, neighbours, clock).
+//!
+//! Predictor:  `r^{t+Δt} = r^t + Δt v^t + Δt²/2 a^t`,  `v^p = v^t + Δt a^t`,
+//!             `ρ^p = ρ^t + Δt ρ̇^t`,  `ε^p = ε^t + Δt ε̇^t`.
+//! Then all rates are evaluated at `(r^{t+Δt}, v^p, ρ^p, ε^p)`.
+//! Corrector:  `v^{t+Δt} = v^t + Δt/2 (a^t + a^{t+Δt})`, and likewise for ρ and ε.
+
+use crate::components::*;
+use crate::math::{Real, Vector};
+use crate::neighbours::Neighbours;
+use crate::sim::{InitialInternalEnergy, MaxViscosity, Sim, SimClock, StepSet, TimeStepping};
+use crate::sweep::Fields;
+use bevy_ecs::prelude::*;
+
+/// Chooses dt for this step (fixed, or the CFL / force / viscous criteria with each
+/// particle's own h).
+pub fn choose_dt<V: Vector>(
+    mut clock: ResMut<SimClock>,
+    rule: Res<TimeStepping>,
+    visc: Res<MaxViscosity>,
+    q: Query<(
+        &Velocity<V>,
+        &Acceleration<V>,
+        &SmoothingLength,
+        &Density,
+        Option<&SoundSpeed>,
+    )>,
+) {
+    clock.dt = match *rule {
+        TimeStepping::Fixed(dt) => dt,
+        TimeStepping::Adaptive {
+            courant,
+            force,
+            viscous,
+            max_dt,
+        } => {
+            let mut dt = max_dt;
+            for (v, a, h, rho, c) in &q {
+                let c = c.map_or(0.0, |c| c.0);
+                let speed = c + v.0.length();
+                if speed > 0.0 {
+                    dt = dt.min(courant * h.0 / speed);
+                }
+                let acc = a.0.length();
+                if acc > 0.0 {
+                    dt = dt.min(force * (h.0 / acc).sqrt());
+                }
+                if visc.0 > 0.0 {
+                    dt = dt.min(viscous * rho.0 * h.0 * h.0 / visc.0);
+                }
+            }
+            dt
+        }
+    };
+    let remaining = clock.t_end - clock.t;
+    if remaining > 0.0 && clock.dt > remaining {
+        clock.dt = remaining;
+    }
+}
+
+/// Predictor for positions and velocities.
+pub fn predict_kinematics<V: Vector>(
+    clock: Res<SimClock>,
+    mut q: Query<(
+        &mut Position<V>,
+        &mut Velocity<V>,
+        &Acceleration<V>,
+        &mut Kinematics<V>,
+    )>,
+) {
+    let dt = clock.dt;
+    q.par_iter_mut().for_each(|(mut r, mut v, a, mut k)| {
+        k.v0 = v.0;
+        k.a0 = a.0;
+        r.0 += v.0 * dt + a.0 * (0.5 * dt * dt);
+        v.0 += a.0 * dt;
+    });
+}
+
+/// Corrector for velocities.
+pub fn correct_kinematics<V: Vector>(
+    clock: Res<SimClock>,
+    mut q: Query<(&mut Velocity<V>, &Acceleration<V>, &Kinematics<V>)>,
+) {
+    let half = 0.5 * clock.dt;
+    q.par_iter_mut().for_each(|(mut v, a, k)| {
+        v.0 = k.v0 + (k.a0 + a.0) * half;
+    });
+}
+
+/// Predictor for internal energy.
+pub fn predict_energy(clock: Res<SimClock>, mut q: Query<(&mut InternalEnergy, &mut EnergyRate)>) {
+    let dt = clock.dt;
+    q.par_iter_mut().for_each(|(mut e, mut r)| {
+        r.e0 = e.0;
+        r.rate0 = r.rate;
+        e.0 += dt * r.rate;
+    });
+}
+
+/// Corrector for internal energy.
+pub fn correct_energy(clock: Res<SimClock>, mut q: Query<(&mut InternalEnergy, &EnergyRate)>) {
+    let half = 0.5 * clock.dt;
+    q.par_iter_mut().for_each(|(mut e, r)| {
+        e.0 = r.e0 + half * (r.rate0 + r.rate);
+    });
+}
+
+/// Predictor for density (continuity equation).
+pub fn predict_density(clock: Res<SimClock>, mut q: Query<(&mut Density, &mut DensityRate)>) {
+    let dt = clock.dt;
+    q.par_iter_mut().for_each(|(mut rho, mut r)| {
+        r.rho0 = rho.0;
+        r.rate0 = r.rate;
+        rho.0 += dt * r.rate;
+    });
+}
+
+/// Corrector for density (continuity equation).
+pub fn correct_density(clock: Res<SimClock>, mut q: Query<(&mut Density, &DensityRate)>) {
+    let half = 0.5 * clock.dt;
+    q.par_iter_mut().for_each(|(mut rho, r)| {
+        rho.0 = r.rho0 + half * (r.rate0 + r.rate);
+    });
+}
+
+/// Copies the state into the dense arrays (indexed by particle id).
+pub fn gather_fields<V: Vector>(
+    mut fields: ResMut<Fields<V>>,
+    q: Query<(
+        &ParticleId,
+        &Position<V>,
+        &Velocity<V>,
+        &Mass,
+        &Density,
+        &SmoothingLength,
+    )>,
+    eps: Query<(&ParticleId, &InternalEnergy)>,
+) {
+    let f = &mut *fields;
+    for (id, r, v, m, rho, h) in &q {
+        let i = id.0 as usize;
+        f.pos[i] = r.0;
+        f.vel[i] = v.0;
+        f.mass[i] = m.0;
+        f.rho[i] = rho.0;
+        f.h[i] = h.0;
+    }
+    if !eps.is_empty() {
+        f.eps.resize(f.pos.len(), 0.0);
+        for (id, e) in &eps {
+            f.eps[id.0 as usize] = e.0;
+        }
+    }
+}
+
+/// Rebuilds the neighbour lists when the skin rule requires it.
+pub fn update_neighbours<V: Vector>(fields: Res<Fields<V>>, mut nb: ResMut<Neighbours<V>>) {
+    nb.update(&fields.pos, &fields.h);
+}
+
+/// Advances the clock after a completed step.
+pub fn advance_clock(mut clock: ResMut<SimClock>) {
+    clock.t += clock.dt;
+    clock.step += 1;
+}
+
+pub(crate) fn add_core_systems<V: Vector>(sim: &mut Sim<V>) {
+    sim.add_system(StepSet::TimeStep, "choose_dt", choose_dt::<V>);
+    sim.add_system(
+        StepSet::Predict,
+        "predict_kinematics",
+        predict_kinematics::<V>,
+    );
+    sim.add_system(StepSet::Gather, "gather_fields", gather_fields::<V>);
+    sim.add_system(
+        StepSet::Neighbours,
+        "update_neighbours (Verlet skin)",
+        update_neighbours::<V>,
+    );
+    sim.add_system(
+        StepSet::Correct,
+        "correct_kinematics",
+        correct_kinematics::<V>,
+    );
+    sim.add_system(StepSet::Advance, "advance_clock", advance_clock);
+    crate::diagnostics::add_diagnostics_system(sim);
+}
+
+/// Adds the internal-energy equation once: `InternalEnergy` and `EnergyRate` components on
+/// every particle (initial ε from the scene) and their predictor/corrector.
+pub fn ensure_energy_equation<V: Vector>(sim: &mut Sim<V>) {
+    if !sim.enable_feature("energy_equation") {
+        return;
+    }
+    let eps = sim.world.resource::<InitialInternalEnergy>().0.clone();
+    sim.insert_particle_component(|id| InternalEnergy(eps[id as usize]));
+    sim.insert_particle_component(|_| EnergyRate {
+        rate: 0.0,
+        e0: 0.0,
+        rate0: 0.0,
+    });
+    sim.add_system(StepSet::Predict, "predict_internal_energy", predict_energy);
+    sim.add_system(StepSet::Correct, "correct_internal_energy", correct_energy);
+}
+
+/// Adds the integrated density (continuity) once: `DensityRate` and its predictor/corrector.
+pub fn ensure_density_integration<V: Vector>(sim: &mut Sim<V>) {
+    if !sim.enable_feature("density_integration") {
+        return;
+    }
+    sim.insert_particle_component(|_| DensityRate {
+        rate: 0.0,
+        rho0: 0.0,
+        rate0: 0.0,
+    });
+    sim.add_system(StepSet::Predict, "predict_density", predict_density);
+    sim.add_system(StepSet::Correct, "correct_density", correct_density);
+}
+
+/// Largest `|a|·dt` style sanity number, used by tests: max speed in the world.
+pub fn max_speed<V: Vector>(world: &mut World) -> Real {
+    world
+        .query::<&Velocity<V>>()
+        .iter(world)
+        .map(|v| v.0.length())
+        .fold(0.0, Real::max)
+}

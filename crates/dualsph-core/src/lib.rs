@@ -1,0 +1,32 @@
+//! dualsph core: dimensions, kernels, neighbour lists, the support/dual-support pair sweep,
+//! the integrator, diagnostics, and the `Sim`/`SimPlugin` machinery.
+//!
+//! Notation follows Ren, Dai, Zhuang & Rabczuk, *Dual-support SPH* (paper 001 in
+//! `shared/papers`): `h_i` is the support radius of particle i, `H_i` its support and `H'_i`
+//! its dual-support.
+pub mod components;
+pub mod diagnostics;
+pub mod integrator;
+pub mod kernels;
+pub mod math;
+pub mod neighbours;
+pub mod passes;
+pub mod plugin;
+pub mod sim;
+pub mod sweep;
+
+pub use bevy_ecs;
+pub use glam;
+
+/// The most used items.
+pub mod prelude {
+    pub use crate::components::*;
+    pub use crate::diagnostics::Diagnostics;
+    pub use crate::kernels::{Kernel, KernelKind};
+    pub use crate::math::{Mat1, Matrix, Real, Vec1, Vector};
+    pub use crate::plugin::{PluginConfig, Registry, SceneInfo, SimPlugin};
+    pub use crate::sim::{
+        Domain, KernelRes, ParticleInit, Sim, SimClock, SimConfig, SimError, StepSet, TimeStepping,
+    };
+    pub use crate::sweep::{Fields, Formulation, Pair, PairOut, PairTerm, SweepCtx};
+}

@@ -1,0 +1,330 @@
+//! Dimension-generic vectors and matrices: one code base for 1, 2 and 3 dimensions.
+//!
+//! `Real = f64`. Two and three dimensions use glam's [`DVec2`]/[`DVec3`] and
+//! [`DMat2`]/[`DMat3`]; one dimension uses the small [`Vec1`]/[`Mat1`] types below.
+//! Everything the engine does with positions goes through the [`Vector`] and
+//! [`Matrix`] traits, so a system written once runs in every dimension.
+
+use glam::{DMat2, DMat3, DVec2, DVec3};
+use std::fmt::Debug;
+use std::ops::{Add, AddAssign, Div, Mul, Neg, Sub, SubAssign};
+
+/// The floating-point type of every physical quantity.
+pub type Real = f64;
+
+/// A point or vector in 1, 2 or 3 dimensions.
+pub trait Vector:
+    Copy
+    + Clone
+    + Debug
+    + Default
+    + PartialEq
+    + Send
+    + Sync
+    + 'static
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Neg<Output = Self>
+    + Mul<Real, Output = Self>
+    + Div<Real, Output = Self>
+    + AddAssign
+    + SubAssign
+    + crate::neighbours::KdSearch
+{
+    /// Number of spatial dimensions d.
+    const DIM: usize;
+    /// The d × d matrix type that goes with this vector.
+    type Mat: Matrix<Self>;
+    /// The zero vector.
+    fn zero() -> Self;
+    /// Component k (0-based, `k < DIM`).
+    fn get(self, k: usize) -> Real;
+    /// Sets component k.
+    fn set(&mut self, k: usize, value: Real);
+    /// Euclidean inner product.
+    fn dot(self, other: Self) -> Real;
+    /// |v|².
+    fn length_squared(self) -> Real {
+        self.dot(self)
+    }
+    /// |v|.
+    fn length(self) -> Real {
+        self.length_squared().sqrt()
+    }
+    /// Embeds the vector in 3-D space (unused components are 0).
+    fn to_xyz(self) -> [Real; 3] {
+        let mut out = [0.0; 3];
+        for (k, o) in out.iter_mut().enumerate().take(Self::DIM) {
+            *o = self.get(k);
+        }
+        out
+    }
+    /// Builds a vector from exactly `DIM` components (`None` on a length mismatch).
+    fn from_slice(s: &[Real]) -> Option<Self> {
+        if s.len() != Self::DIM {
+            return None;
+        }
+        let mut v = Self::zero();
+        for (k, x) in s.iter().enumerate() {
+            v.set(k, *x);
+        }
+        Some(v)
+    }
+    /// Outer product `a ⊗ b`, the matrix with entries `a_k b_l`.
+    fn outer(a: Self, b: Self) -> Self::Mat;
+    /// `a × b` with both embedded in 3-D (angular momentum, torque).
+    fn cross3(a: Self, b: Self) -> DVec3 {
+        DVec3::from_array(a.to_xyz()).cross(DVec3::from_array(b.to_xyz()))
+    }
+    /// True when every component is finite.
+    fn is_finite(self) -> bool {
+        (0..Self::DIM).all(|k| self.get(k).is_finite())
+    }
+}
+
+/// A d × d matrix (velocity gradients, stresses, kernel-gradient corrections).
+pub trait Matrix<V>:
+    Copy
+    + Clone
+    + Debug
+    + PartialEq
+    + Send
+    + Sync
+    + 'static
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Real, Output = Self>
+    + AddAssign
+{
+    /// The zero matrix.
+    fn zero() -> Self;
+    /// The identity.
+    fn identity() -> Self;
+    /// Matrix–vector product `A v`.
+    fn mul_vec(self, v: V) -> V;
+    /// Transpose.
+    fn transpose(self) -> Self;
+    /// Trace.
+    fn trace(self) -> Real;
+    /// Determinant.
+    fn determinant(self) -> Real;
+    /// Inverse, or `None` when `|det|` is below `tol` times the scale `‖A‖^d`.
+    fn try_inverse(self, tol: Real) -> Option<Self>;
+    /// Entry (row k, column l).
+    fn entry(self, k: usize, l: usize) -> Real;
+}
+
+/// A one-dimensional vector.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Vec1(pub Real);
+
+/// A 1 × 1 matrix.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Mat1(pub Real);
+
+macro_rules! scalar_newtype_ops {
+    ($t:ident) => {
+        impl Add for $t {
+            type Output = Self;
+            fn add(self, o: Self) -> Self {
+                $t(self.0 + o.0)
+            }
+        }
+        impl Sub for $t {
+            type Output = Self;
+            fn sub(self, o: Self) -> Self {
+                $t(self.0 - o.0)
+            }
+        }
+        impl Neg for $t {
+            type Output = Self;
+            fn neg(self) -> Self {
+                $t(-self.0)
+            }
+        }
+        impl Mul<Real> for $t {
+            type Output = Self;
+            fn mul(self, s: Real) -> Self {
+                $t(self.0 * s)
+            }
+        }
+        impl Div<Real> for $t {
+            type Output = Self;
+            fn div(self, s: Real) -> Self {
+                $t(self.0 / s)
+            }
+        }
+        impl AddAssign for $t {
+            fn add_assign(&mut self, o: Self) {
+                self.0 += o.0;
+            }
+        }
+        impl SubAssign for $t {
+            fn sub_assign(&mut self, o: Self) {
+                self.0 -= o.0;
+            }
+        }
+    };
+}
+scalar_newtype_ops!(Vec1);
+scalar_newtype_ops!(Mat1);
+
+impl Vector for Vec1 {
+    const DIM: usize = 1;
+    type Mat = Mat1;
+    fn zero() -> Self {
+        Vec1(0.0)
+    }
+    fn get(self, _k: usize) -> Real {
+        self.0
+    }
+    fn set(&mut self, _k: usize, value: Real) {
+        self.0 = value;
+    }
+    fn dot(self, o: Self) -> Real {
+        self.0 * o.0
+    }
+    fn outer(a: Self, b: Self) -> Mat1 {
+        Mat1(a.0 * b.0)
+    }
+}
+
+impl Matrix<Vec1> for Mat1 {
+    fn zero() -> Self {
+        Mat1(0.0)
+    }
+    fn identity() -> Self {
+        Mat1(1.0)
+    }
+    fn mul_vec(self, v: Vec1) -> Vec1 {
+        Vec1(self.0 * v.0)
+    }
+    fn transpose(self) -> Self {
+        self
+    }
+    fn trace(self) -> Real {
+        self.0
+    }
+    fn determinant(self) -> Real {
+        self.0
+    }
+    fn try_inverse(self, tol: Real) -> Option<Self> {
+        (self.0.abs() > tol && self.0.is_finite()).then(|| Mat1(1.0 / self.0))
+    }
+    fn entry(self, _k: usize, _l: usize) -> Real {
+        self.0
+    }
+}
+
+macro_rules! glam_vector {
+    ($v:ty, $m:ty, $d:expr) => {
+        impl Vector for $v {
+            const DIM: usize = $d;
+            type Mat = $m;
+            fn zero() -> Self {
+                <$v>::ZERO
+            }
+            fn get(self, k: usize) -> Real {
+                self[k]
+            }
+            fn set(&mut self, k: usize, value: Real) {
+                self[k] = value;
+            }
+            fn dot(self, o: Self) -> Real {
+                <$v>::dot(self, o)
+            }
+            fn outer(a: Self, b: Self) -> $m {
+                // column l of a ⊗ b is a * b_l
+                let mut m = <$m>::ZERO;
+                for l in 0..$d {
+                    *m.col_mut(l) = a * b[l];
+                }
+                m
+            }
+        }
+
+        impl Matrix<$v> for $m {
+            fn zero() -> Self {
+                <$m>::ZERO
+            }
+            fn identity() -> Self {
+                <$m>::IDENTITY
+            }
+            fn mul_vec(self, v: $v) -> $v {
+                self * v
+            }
+            fn transpose(self) -> Self {
+                <$m>::transpose(&self)
+            }
+            fn trace(self) -> Real {
+                (0..$d).map(|k| self.col(k)[k]).sum()
+            }
+            fn determinant(self) -> Real {
+                <$m>::determinant(&self)
+            }
+            fn try_inverse(self, tol: Real) -> Option<Self> {
+                let det = <$m>::determinant(&self);
+                let scale = (0..$d)
+                    .map(|l| self.col(l).abs().max_element())
+                    .fold(0.0, Real::max)
+                    .powi($d);
+                (det.is_finite() && det.abs() > tol * scale && scale > 0.0)
+                    .then(|| <$m>::inverse(&self))
+            }
+            fn entry(self, k: usize, l: usize) -> Real {
+                self.col(l)[k]
+            }
+        }
+    };
+}
+glam_vector!(DVec2, DMat2, 2);
+glam_vector!(DVec3, DMat3, 3);
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn check_outer<V: Vector>(a: V, b: V) {
+        let m = V::outer(a, b);
+        for k in 0..V::DIM {
+            for l in 0..V::DIM {
+                assert_eq!(m.entry(k, l), a.get(k) * b.get(l));
+            }
+        }
+        // (a ⊗ b) c = a (b · c)
+        let c = b * 0.5 + a;
+        let lhs = m.mul_vec(c);
+        let rhs = a * b.dot(c);
+        assert!((lhs - rhs).length() <= 1e-12 * rhs.length().max(1.0));
+    }
+
+    #[test]
+    fn outer_product_matches_definition() {
+        check_outer(Vec1(2.0), Vec1(-3.0));
+        check_outer(DVec2::new(1.0, 2.0), DVec2::new(-0.5, 4.0));
+        check_outer(DVec3::new(1.0, 2.0, 3.0), DVec3::new(-0.5, 4.0, 0.25));
+    }
+
+    #[test]
+    fn inverse_rejects_singular() {
+        assert!(
+            DMat2::from_cols(DVec2::new(1.0, 2.0), DVec2::new(2.0, 4.0))
+                .try_inverse(1e-12)
+                .is_none()
+        );
+        let m = DMat3::from_diagonal(DVec3::new(2.0, 3.0, 4.0));
+        let inv = m.try_inverse(1e-12).unwrap();
+        assert!((Matrix::trace(inv) - (0.5 + 1.0 / 3.0 + 0.25)).abs() < 1e-15);
+        assert!(Mat1(0.0).try_inverse(1e-12).is_none());
+    }
+
+    #[test]
+    fn from_slice_checks_length() {
+        assert!(<DVec2 as Vector>::from_slice(&[1.0, 2.0, 3.0]).is_none());
+        assert_eq!(
+            <DVec3 as Vector>::from_slice(&[1.0, 2.0, 3.0]),
+            Some(DVec3::new(1.0, 2.0, 3.0))
+        );
+        assert_eq!(Vec1(4.0).to_xyz(), [4.0, 0.0, 0.0]);
+    }
+}

@@ -1,0 +1,142 @@
+//! Plugins and the registry that maps the names used in RON scenes to plugin constructors.
+//!
+//! A plugin is a settings struct that deserializes from the scene (`Gravity(g: [0.0, -9.81])`)
+//! and builds its components, systems and pair terms into a [`Sim`]. Plugins from outside the
+//! engine register exactly like the built-in ones: `registry.register::<MyPlugin>()`.
+
+use crate::math::{Vec1, Vector};
+use crate::sim::{Sim, SimError};
+use glam::{DVec2, DVec3};
+use serde::de::DeserializeOwned;
+use std::any::Any;
+use std::fmt::Debug;
+
+/// What a plugin may check about the scene it is used in.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneInfo {
+    /// Spatial dimension of the scene (1, 2 or 3).
+    pub dimension: usize,
+}
+
+/// A physics plugin: its settings (deserialized from the scene) and how it builds itself.
+pub trait SimPlugin: DeserializeOwned + Debug + Send + Sync + 'static {
+    /// The name used in RON scenes.
+    const NAME: &'static str;
+    /// One line for listings and error messages.
+    const SUMMARY: &'static str;
+    /// Rejects physically meaningless settings; the message names the field.
+    fn validate(&self, _info: &SceneInfo) -> Result<(), String> {
+        Ok(())
+    }
+    /// Adds the plugin's components, systems and pair terms.
+    fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError>;
+}
+
+/// A parsed plugin, with its type erased so scenes can hold a list of different plugins.
+pub trait PluginConfig: Debug + Send + Sync {
+    /// The registered name.
+    fn name(&self) -> &'static str;
+    /// See [`SimPlugin::validate`].
+    fn validate(&self, info: &SceneInfo) -> Result<(), String>;
+    /// Builds into a simulation of any dimension.
+    fn build_dyn(&self, sim: &mut dyn Any) -> Result<(), SimError>;
+}
+
+impl<P: SimPlugin> PluginConfig for P {
+    fn name(&self) -> &'static str {
+        P::NAME
+    }
+    fn validate(&self, info: &SceneInfo) -> Result<(), String> {
+        SimPlugin::validate(self, info)
+    }
+    fn build_dyn(&self, sim: &mut dyn Any) -> Result<(), SimError> {
+        if let Some(s) = sim.downcast_mut::<Sim<Vec1>>() {
+            return self.build(s);
+        }
+        if let Some(s) = sim.downcast_mut::<Sim<DVec2>>() {
+            return self.build(s);
+        }
+        if let Some(s) = sim.downcast_mut::<Sim<DVec3>>() {
+            return self.build(s);
+        }
+        Err(SimError::Build(format!(
+            "{}: unsupported simulation type",
+            P::NAME
+        )))
+    }
+}
+
+impl dyn PluginConfig + '_ {
+    /// Builds into `sim`.
+    pub fn build_into<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
+        self.build_dyn(sim as &mut dyn Any)
+    }
+}
+
+/// Parses a plugin's settings from any serde deserializer (type-erased).
+pub type ParseFn = fn(
+    &mut dyn erased_serde::Deserializer<'_>,
+) -> Result<Box<dyn PluginConfig>, erased_serde::Error>;
+
+/// One registered plugin.
+#[derive(Clone, Copy)]
+pub struct PluginEntry {
+    /// The RON name.
+    pub name: &'static str,
+    /// One-line description.
+    pub summary: &'static str,
+    /// Settings parser.
+    pub parse: ParseFn,
+}
+
+impl Debug for PluginEntry {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "PluginEntry({})", self.name)
+    }
+}
+
+fn parse_plugin<P: SimPlugin>(
+    d: &mut dyn erased_serde::Deserializer<'_>,
+) -> Result<Box<dyn PluginConfig>, erased_serde::Error> {
+    let p: P = erased_serde::deserialize(d)?;
+    Ok(Box::new(p))
+}
+
+/// Name → constructor map for plugins.
+#[derive(Clone, Debug, Default)]
+pub struct Registry {
+    entries: Vec<PluginEntry>,
+}
+
+impl Registry {
+    /// An empty registry.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Registers `P` under `P::NAME` (a later registration of the same name replaces it).
+    pub fn register<P: SimPlugin>(&mut self) -> &mut Self {
+        self.entries.retain(|e| e.name != P::NAME);
+        self.entries.push(PluginEntry {
+            name: P::NAME,
+            summary: P::SUMMARY,
+            parse: parse_plugin::<P>,
+        });
+        self
+    }
+
+    /// The entry registered under `name`.
+    pub fn get(&self, name: &str) -> Option<&PluginEntry> {
+        self.entries.iter().find(|e| e.name == name)
+    }
+
+    /// Registered names in registration order.
+    pub fn names(&self) -> Vec<&'static str> {
+        self.entries.iter().map(|e| e.name).collect()
+    }
+
+    /// All entries.
+    pub fn entries(&self) -> &[PluginEntry] {
+        &self.entries
+    }
+}

@@ -1,0 +1,473 @@
+//! The simulation: a `bevy_ecs` [`World`] plus one ordered `Step` schedule of named sets.
+//!
+//! Systems are added to a [`StepSet`] with a label; the schedule is a total order — sets in
+//! the order below, systems within a set in the order they were added — so a run is
+//! deterministic and [`Sim::plan`] can print exactly what will execute.
+
+use crate::components::*;
+use crate::kernels::{Kernel, KernelKind};
+use crate::math::{Real, Vector};
+use crate::neighbours::Neighbours;
+use crate::sweep::{Fields, Formulation, PairTerm, PairTerms};
+use bevy_ecs::prelude::*;
+use bevy_ecs::schedule::{ScheduleLabel, SingleThreadedExecutor};
+use bevy_ecs::system::ScheduleSystem;
+use std::collections::BTreeSet;
+use std::marker::PhantomData;
+
+/// Errors from building or running a simulation.
+#[derive(Debug, thiserror::Error)]
+pub enum SimError {
+    /// A plugin could not be built (message says why).
+    #[error("build error: {0}")]
+    Build(String),
+    /// The state became unphysical; the message names step, time, particle and quantity.
+    #[error("blow-up: {0}")]
+    BlowUp(String),
+}
+
+/// The ordered stages of one time step.
+#[derive(SystemSet, Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum StepSet {
+    /// Choose dt (fixed or CFL/force/viscous).
+    TimeStep,
+    /// Leapfrog predictor (§6, step 1).
+    Predict,
+    /// Smoothing-length update every m steps (Eq. 6.1).
+    SmoothingLength,
+    /// Copy components into the dense arrays used by hot loops.
+    Gather,
+    /// Neighbour-list rebuild (when the skin rule requires it).
+    Neighbours,
+    /// Own-support pass: summation density.
+    Density,
+    /// Own-support pass: kernel-gradient correction matrices (Eq. 2.10).
+    Correction,
+    /// Own-support pass: velocity gradients (Eq. 7.4).
+    Gradients,
+    /// Equation of state: pressure and sound speed.
+    Eos,
+    /// The support/dual-support pair sweep and other rates (continuity).
+    Forces,
+    /// Body forces (gravity).
+    BodyForces,
+    /// Leapfrog corrector (§6, step 3).
+    Correct,
+    /// Boundary conditions (specular walls).
+    Boundary,
+    /// Advance the clock.
+    Advance,
+    /// Conservation diagnostics and checks.
+    Diagnostics,
+}
+
+impl StepSet {
+    /// Every set in schedule order.
+    pub const ALL: [StepSet; 15] = [
+        StepSet::TimeStep,
+        StepSet::Predict,
+        StepSet::SmoothingLength,
+        StepSet::Gather,
+        StepSet::Neighbours,
+        StepSet::Density,
+        StepSet::Correction,
+        StepSet::Gradients,
+        StepSet::Eos,
+        StepSet::Forces,
+        StepSet::BodyForces,
+        StepSet::Correct,
+        StepSet::Boundary,
+        StepSet::Advance,
+        StepSet::Diagnostics,
+    ];
+
+    /// Sets skipped by the initial evaluation (which only computes rates at t = 0).
+    pub fn advances_state(self) -> bool {
+        matches!(
+            self,
+            StepSet::TimeStep
+                | StepSet::Predict
+                | StepSet::SmoothingLength
+                | StepSet::Correct
+                | StepSet::Boundary
+                | StepSet::Advance
+        )
+    }
+}
+
+/// The step schedule's label.
+#[derive(ScheduleLabel, Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Step;
+
+#[derive(SystemSet, Debug, Clone, Copy, PartialEq, Eq, Hash)]
+struct Slot(usize);
+
+/// Time, step counter and dt.
+#[derive(Resource, Clone, Copy, Debug, PartialEq)]
+pub struct SimClock {
+    /// Simulated time.
+    pub t: Real,
+    /// Completed steps.
+    pub step: u64,
+    /// Time step of the current (or last) step.
+    pub dt: Real,
+    /// True during the initial evaluation of rates at t = 0.
+    pub initializing: bool,
+    /// End time: the last dt is shortened to land on it exactly.
+    pub t_end: Real,
+}
+
+/// The kernel of the scene, normalised for its dimension.
+#[derive(Resource, Clone, Copy, Debug)]
+pub struct KernelRes(pub Kernel);
+
+/// The computational box.
+#[derive(Resource, Clone, Copy, Debug)]
+pub struct Domain<V: Vector> {
+    /// Lower corner.
+    pub min: V,
+    /// Upper corner.
+    pub max: V,
+}
+
+/// How dt is chosen.
+#[derive(Resource, Clone, Copy, Debug, PartialEq)]
+pub enum TimeStepping {
+    /// A fixed dt.
+    Fixed(Real),
+    /// `dt = min(C_cfl h_i/(c_i + |v_i|), C_f sqrt(h_i/|a_i|), C_v ρ_i h_i²/μ)`, capped by `max_dt`.
+    Adaptive {
+        /// Courant number (on the support radius h).
+        courant: Real,
+        /// Force criterion coefficient.
+        force: Real,
+        /// Viscous criterion coefficient.
+        viscous: Real,
+        /// Upper bound on dt.
+        max_dt: Real,
+    },
+}
+
+/// Largest kinematic viscosity source `μ` in the scene (set by viscosity plugins, used by dt).
+#[derive(Resource, Clone, Copy, Debug, Default)]
+pub struct MaxViscosity(pub Real);
+
+/// Initial state of one particle.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ParticleInit<V: Vector> {
+    /// Position.
+    pub pos: V,
+    /// Velocity.
+    pub vel: V,
+    /// Mass.
+    pub mass: Real,
+    /// Density.
+    pub density: Real,
+    /// Support radius.
+    pub h: Real,
+    /// Specific internal energy (used only if an energy equation is added).
+    pub internal_energy: Real,
+}
+
+/// Initial internal energies by particle id, kept until a plugin adds the energy equation.
+#[derive(Resource, Clone, Debug, Default)]
+pub struct InitialInternalEnergy(pub Vec<Real>);
+
+/// Static settings of a simulation.
+#[derive(Clone, Copy, Debug)]
+pub struct SimConfig<V: Vector> {
+    /// Kernel profile.
+    pub kernel: KernelKind,
+    /// Support/dual-support formulation.
+    pub formulation: Formulation,
+    /// Domain box.
+    pub domain: Domain<V>,
+    /// Verlet skin (fraction of h).
+    pub skin: Real,
+    /// dt rule.
+    pub time_stepping: TimeStepping,
+}
+
+type Adder = Box<dyn FnOnce(&mut Schedule, Slot) + Send + Sync>;
+
+struct SystemEntry {
+    set: StepSet,
+    label: String,
+    add: Option<Adder>,
+}
+
+/// What a scene will run: the systems in order and the particle components.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Plan {
+    /// `(set, label)` in execution order.
+    pub systems: Vec<(StepSet, String)>,
+    /// Component type names carried by the particles.
+    pub components: Vec<String>,
+    /// Pair terms fused into the sweep, in order.
+    pub pair_terms: Vec<String>,
+}
+
+/// A simulation: world, schedule under construction or built, and its features.
+pub struct Sim<V: Vector> {
+    /// The ECS world: particles are entities, shared state is resources.
+    pub world: World,
+    systems: Vec<SystemEntry>,
+    features: BTreeSet<&'static str>,
+    requirements: Vec<(&'static str, String)>,
+    schedule: Option<Schedule>,
+    _v: PhantomData<V>,
+}
+
+impl<V: Vector> Sim<V> {
+    /// A simulation with the core resources and no particles yet.
+    pub fn new(config: SimConfig<V>) -> Self {
+        let mut world = World::new();
+        world.insert_resource(SimClock {
+            t: 0.0,
+            step: 0,
+            dt: 0.0,
+            initializing: false,
+            t_end: Real::INFINITY,
+        });
+        world.insert_resource(KernelRes(Kernel::new(config.kernel, V::DIM)));
+        world.insert_resource(config.formulation);
+        world.insert_resource(config.domain);
+        world.insert_resource(config.time_stepping);
+        world.insert_resource(Neighbours::<V>::new(config.skin));
+        world.insert_resource(Fields::<V>::default());
+        world.insert_resource(PairTerms::<V>::default());
+        world.insert_resource(MaxViscosity::default());
+        world.insert_resource(InitialInternalEnergy::default());
+        world.insert_resource(crate::diagnostics::Diagnostics::default());
+        let mut sim = Sim {
+            world,
+            systems: Vec::new(),
+            features: BTreeSet::new(),
+            requirements: Vec::new(),
+            schedule: None,
+            _v: PhantomData,
+        };
+        crate::integrator::add_core_systems(&mut sim);
+        sim
+    }
+
+    /// Spawns particles with the core components; ids are `0..n` in the given order.
+    pub fn spawn_particles(&mut self, particles: &[ParticleInit<V>]) {
+        let start = self.particle_count() as u32;
+        let mut eps = std::mem::take(&mut self.world.resource_mut::<InitialInternalEnergy>().0);
+        for (k, p) in particles.iter().enumerate() {
+            self.world.spawn((
+                ParticleId(start + k as u32),
+                Position(p.pos),
+                Velocity(p.vel),
+                Mass(p.mass),
+                Density(p.density),
+                SmoothingLength(p.h),
+                Acceleration(V::zero()),
+                Kinematics {
+                    v0: p.vel,
+                    a0: V::zero(),
+                },
+            ));
+            eps.push(p.internal_energy);
+        }
+        self.world.resource_mut::<InitialInternalEnergy>().0 = eps;
+        let n = self.particle_count();
+        self.world.resource_mut::<Fields<V>>().resize(n);
+    }
+
+    /// Number of particles.
+    pub fn particle_count(&self) -> usize {
+        self.world.resource::<InitialInternalEnergy>().0.len()
+    }
+
+    /// Adds a component to every particle, computed from its id.
+    pub fn insert_particle_component<C: Component>(&mut self, f: impl Fn(u32) -> C) {
+        let entities: Vec<(Entity, u32)> = self
+            .world
+            .query::<(Entity, &ParticleId)>()
+            .iter(&self.world)
+            .map(|(e, id)| (e, id.0))
+            .collect();
+        for (e, id) in entities {
+            self.world.entity_mut(e).insert(f(id));
+        }
+    }
+
+    /// Records a feature; returns true the first time (so shared systems are added once).
+    pub fn enable_feature(&mut self, name: &'static str) -> bool {
+        self.features.insert(name)
+    }
+
+    /// True if the feature was enabled.
+    pub fn has_feature(&self, name: &str) -> bool {
+        self.features.contains(name)
+    }
+
+    /// Declares that `feature` must be enabled by some plugin before the run starts;
+    /// `message` explains who needs it (checked by [`Sim::finish`]).
+    pub fn require_feature(&mut self, feature: &'static str, message: impl Into<String>) {
+        self.requirements.push((feature, message.into()));
+    }
+
+    /// Adds a system to a set, after every system already in that set.
+    pub fn add_system<M: 'static>(
+        &mut self,
+        set: StepSet,
+        label: impl Into<String>,
+        system: impl IntoScheduleConfigs<ScheduleSystem, M> + Send + Sync + 'static,
+    ) {
+        let adder: Adder = Box::new(move |schedule: &mut Schedule, slot: Slot| {
+            schedule.add_systems(system.in_set(slot));
+        });
+        self.systems.push(SystemEntry {
+            set,
+            label: label.into(),
+            add: Some(adder),
+        });
+    }
+
+    /// Adds a term to the pair sweep (and the sweep itself, the first time).
+    pub fn add_pair_term(&mut self, term: impl PairTerm<V>) {
+        self.world
+            .resource_mut::<PairTerms<V>>()
+            .terms
+            .push(std::sync::Arc::new(term));
+        if self.enable_feature("pair_sweep") {
+            crate::sweep::add_sweep_system(self);
+        }
+    }
+
+    fn ordered(&self) -> Vec<usize> {
+        let mut idx: Vec<usize> = (0..self.systems.len()).collect();
+        idx.sort_by_key(|&k| (self.systems[k].set, k));
+        idx
+    }
+
+    /// The systems in execution order, the particle components and the pair terms.
+    pub fn plan(&mut self) -> Plan {
+        let systems = self
+            .ordered()
+            .into_iter()
+            .map(|k| (self.systems[k].set, self.systems[k].label.clone()))
+            .collect();
+        let mut components = Vec::new();
+        let first = self
+            .world
+            .query::<(Entity, &ParticleId)>()
+            .iter(&self.world)
+            .next()
+            .map(|(e, _)| e);
+        if let Some(e) = first
+            && let Ok(infos) = self.world.inspect_entity(e)
+        {
+            {
+                components = infos
+                    .map(|(_, c)| short_type_name(&c.name().to_string()))
+                    .collect();
+            }
+        }
+        components.sort();
+        let pair_terms = self
+            .world
+            .resource::<PairTerms<V>>()
+            .terms
+            .iter()
+            .map(|t| t.name().to_string())
+            .collect();
+        Plan {
+            systems,
+            components,
+            pair_terms,
+        }
+    }
+
+    /// Checks plugin requirements and builds the schedule (idempotent).
+    pub fn finish(&mut self) -> Result<(), SimError> {
+        for (feature, message) in &self.requirements {
+            if !self.features.contains(feature) {
+                return Err(SimError::Build(message.clone()));
+            }
+        }
+        self.build_schedule();
+        Ok(())
+    }
+
+    fn build_schedule(&mut self) {
+        if self.schedule.is_some() {
+            return;
+        }
+        if !self.has_feature("pair_sweep") && self.enable_feature("no_pair_sweep") {
+            crate::sweep::add_zero_acceleration_system(self);
+        }
+        let mut schedule = Schedule::new(Step);
+        schedule.set_executor(SingleThreadedExecutor::new());
+        let order = self.ordered();
+        for (pos, &k) in order.iter().enumerate() {
+            let slot = Slot(pos);
+            if pos > 0 {
+                schedule.configure_sets(slot.after(Slot(pos - 1)));
+            }
+            if self.systems[k].set.advances_state() {
+                schedule.configure_sets(slot.run_if(|c: Res<SimClock>| !c.initializing));
+            }
+            if let Some(add) = self.systems[k].add.take() {
+                add(&mut schedule, slot);
+            }
+        }
+        self.schedule = Some(schedule);
+    }
+
+    /// Evaluates neighbours, densities and rates at t = 0 without advancing (call once).
+    pub fn initialize(&mut self) -> Result<(), SimError> {
+        self.finish()?;
+        self.world.resource_mut::<SimClock>().initializing = true;
+        self.run_schedule();
+        self.world.resource_mut::<SimClock>().initializing = false;
+        Ok(())
+    }
+
+    /// Advances one time step.
+    pub fn step(&mut self) -> Result<(), SimError> {
+        if self.schedule.is_none() {
+            self.initialize()?;
+        }
+        self.run_schedule();
+        Ok(())
+    }
+
+    fn run_schedule(&mut self) {
+        if let Some(schedule) = self.schedule.as_mut() {
+            schedule.run(&mut self.world);
+        }
+    }
+
+    /// The clock.
+    pub fn clock(&self) -> SimClock {
+        *self.world.resource::<SimClock>()
+    }
+
+    /// The latest diagnostics.
+    pub fn diagnostics(&self) -> crate::diagnostics::Diagnostics {
+        self.world
+            .resource::<crate::diagnostics::Diagnostics>()
+            .clone()
+    }
+}
+
+/// `dualsph_core::components::Position<glam::DVec2>` → `Position<DVec2>`.
+pub fn short_type_name(full: &str) -> String {
+    let mut out = String::new();
+    let mut token = String::new();
+    for ch in full.chars() {
+        if ch.is_alphanumeric() || ch == '_' || ch == ':' {
+            token.push(ch);
+        } else {
+            out.push_str(token.rsplit("::").next().unwrap_or(""));
+            token.clear();
+            out.push(ch);
+        }
+    }
+    out.push_str(token.rsplit("::").next().unwrap_or(""));
+    out
+}

@@ -1,0 +1,255 @@
+//! CSV formatting and parsing: particle tables, the diagnostics table and the
+//! snapshot index. Writing is done by hand (every field is a number or a plain
+//! file name, so no quoting is ever needed); reading uses the `csv` crate.
+
+use std::fmt::Write as _;
+use std::io::{self, Write};
+use std::path::Path;
+use std::str::FromStr;
+
+use crate::{DiagnosticsRow, OutputError, ParticleRecord, Real};
+
+/// Column names of every particle CSV (snapshots and `final.csv`), in order.
+pub const PARTICLE_COLUMNS: [&str; 12] = [
+    "id", "x", "y", "z", "vx", "vy", "vz", "m", "rho", "p", "e", "h",
+];
+
+/// Fixed leading column names of `diagnostics.csv`; extra columns follow.
+pub const DIAGNOSTICS_FIXED_COLUMNS: [&str; 13] = [
+    "t", "step", "dt", "n", "mass", "px", "py", "pz", "lz", "e_kin", "e_int", "e_pot", "e_tot",
+];
+
+/// Column names of `snapshots.csv`.
+pub const SNAPSHOT_INDEX_COLUMNS: [&str; 3] = ["step", "t", "file"];
+
+/// Append `x` so that parsing it back with `str::parse::<f64>` gives the same
+/// bits. Rust's `Display`/`LowerExp` without precision print the shortest
+/// round-tripping digits; exponent form is used for very small/large
+/// magnitudes to keep the text short. NaN and infinities print as `NaN`,
+/// `inf`, `-inf`, which `f64::from_str` accepts.
+pub(crate) fn push_real(out: &mut String, x: Real) {
+    let a = x.abs();
+    // `write!` into a String cannot fail.
+    let _ = if a != 0.0 && a.is_finite() && !(1e-5..1e16).contains(&a) {
+        write!(out, "{x:e}")
+    } else {
+        write!(out, "{x}")
+    };
+}
+
+/// Format one real (see [`push_real`]).
+pub(crate) fn fmt_real(x: Real) -> String {
+    let mut s = String::new();
+    push_real(&mut s, x);
+    s
+}
+
+/// Write a particle table (header + one line per particle).
+pub(crate) fn write_particles(w: &mut dyn Write, particles: &[ParticleRecord]) -> io::Result<()> {
+    writeln!(w, "{}", PARTICLE_COLUMNS.join(","))?;
+    let mut line = String::with_capacity(256);
+    for p in particles {
+        line.clear();
+        let _ = write!(line, "{}", p.id);
+        let reals = [
+            p.pos[0], p.pos[1], p.pos[2], p.vel[0], p.vel[1], p.vel[2], p.mass, p.rho, p.p, p.e,
+            p.h,
+        ];
+        for x in reals {
+            line.push(',');
+            push_real(&mut line, x);
+        }
+        line.push('\n');
+        w.write_all(line.as_bytes())?;
+    }
+    Ok(())
+}
+
+/// Format one diagnostics row (without trailing newline).
+pub(crate) fn format_diagnostics_row(row: &DiagnosticsRow) -> String {
+    let mut s = String::with_capacity(256);
+    push_real(&mut s, row.t);
+    let _ = write!(s, ",{}", row.step);
+    s.push(',');
+    push_real(&mut s, row.dt);
+    let _ = write!(s, ",{}", row.n);
+    let reals = [
+        row.mass, row.p[0], row.p[1], row.p[2], row.lz, row.e_kin, row.e_int, row.e_pot, row.e_tot,
+    ];
+    for x in reals.into_iter().chain(row.extra.iter().copied()) {
+        s.push(',');
+        push_real(&mut s, x);
+    }
+    s
+}
+
+/// Full header of `diagnostics.csv` for the given extra columns.
+pub(crate) fn diagnostics_header(extra: &[String]) -> Vec<String> {
+    DIAGNOSTICS_FIXED_COLUMNS
+        .iter()
+        .map(|s| s.to_string())
+        .chain(extra.iter().cloned())
+        .collect()
+}
+
+/// Open a headered CSV reader on `path`, mapping errors to [`OutputError`].
+fn open_reader(path: &Path) -> Result<csv::Reader<std::fs::File>, OutputError> {
+    let file = std::fs::File::open(path).map_err(|source| OutputError::Io {
+        path: path.to_path_buf(),
+        op: "open",
+        source,
+    })?;
+    Ok(csv::ReaderBuilder::new()
+        .has_headers(true)
+        .trim(csv::Trim::All)
+        .from_reader(file))
+}
+
+/// Read the header row and all records of a CSV file as strings.
+/// Each record is returned with its 1-based line number.
+pub(crate) fn read_table(
+    path: &Path,
+) -> Result<(Vec<String>, Vec<(u64, csv::StringRecord)>), OutputError> {
+    let csv_err = |source| OutputError::Csv {
+        path: path.to_path_buf(),
+        source,
+    };
+    let mut rdr = open_reader(path)?;
+    let header = rdr
+        .headers()
+        .map_err(csv_err)?
+        .iter()
+        .map(str::to_owned)
+        .collect();
+    let mut rows = Vec::new();
+    for rec in rdr.records() {
+        let rec = rec.map_err(csv_err)?;
+        let line = rec.position().map_or(0, |p| p.line());
+        rows.push((line, rec));
+    }
+    Ok((header, rows))
+}
+
+/// Parse field `i` of `rec` as `T`, with an error naming path, line and column.
+pub(crate) fn parse_field<T: FromStr>(
+    path: &Path,
+    line: u64,
+    rec: &csv::StringRecord,
+    i: usize,
+    column: &str,
+) -> Result<T, OutputError> {
+    let raw = rec.get(i).unwrap_or("");
+    raw.parse().map_err(|_| OutputError::Parse {
+        path: path.to_path_buf(),
+        line,
+        msg: format!("column `{column}`: cannot parse {raw:?}"),
+    })
+}
+
+/// Error for a header that differs from the expected one.
+pub(crate) fn header_mismatch(path: &Path, found: &[String], expected: &[String]) -> OutputError {
+    OutputError::Parse {
+        path: path.to_path_buf(),
+        line: 1,
+        msg: format!(
+            "unexpected header `{}`, expected `{}`",
+            found.join(","),
+            expected.join(",")
+        ),
+    }
+}
+
+/// Read a particle CSV written by this crate (snapshot or `final.csv`).
+///
+/// The header must be exactly `id,x,y,z,vx,vy,vz,m,rho,p,e,h`. Values are
+/// bit-for-bit the ones that were written.
+pub fn read_particles_csv(path: &Path) -> Result<Vec<ParticleRecord>, OutputError> {
+    let (header, rows) = read_table(path)?;
+    if header != PARTICLE_COLUMNS {
+        let expected: Vec<String> = PARTICLE_COLUMNS.iter().map(|s| s.to_string()).collect();
+        return Err(header_mismatch(path, &header, &expected));
+    }
+    let mut out = Vec::with_capacity(rows.len());
+    for (line, rec) in rows {
+        let mut r = [0.0; 11];
+        for (k, v) in r.iter_mut().enumerate() {
+            *v = parse_field(path, line, &rec, k + 1, PARTICLE_COLUMNS[k + 1])?;
+        }
+        out.push(ParticleRecord {
+            id: parse_field(path, line, &rec, 0, "id")?,
+            pos: [r[0], r[1], r[2]],
+            vel: [r[3], r[4], r[5]],
+            mass: r[6],
+            rho: r[7],
+            p: r[8],
+            e: r[9],
+            h: r[10],
+        });
+    }
+    Ok(out)
+}
+
+/// Read a diagnostics CSV: returns the header and every row as reals
+/// (integer columns such as `step` and `n` are converted to `f64`).
+pub fn read_diagnostics_csv(path: &Path) -> Result<(Vec<String>, Vec<Vec<Real>>), OutputError> {
+    let (header, rows) = read_table(path)?;
+    let mut out = Vec::with_capacity(rows.len());
+    for (line, rec) in rows {
+        let vals = (0..rec.len())
+            .map(|i| parse_field(path, line, &rec, i, &header[i]))
+            .collect::<Result<Vec<Real>, _>>()?;
+        out.push(vals);
+    }
+    Ok((header, out))
+}
+
+/// One entry of the snapshot index `snapshots.csv`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SnapshotEntry {
+    /// Simulation step of the snapshot.
+    pub step: u64,
+    /// Simulation time of the snapshot.
+    pub t: Real,
+    /// File name (relative to the output directory) of the particle CSV.
+    pub file: String,
+}
+
+impl SnapshotEntry {
+    /// File name (relative to the output directory) of the matching `.vtp`.
+    pub fn vtp_file(&self) -> String {
+        match self.file.strip_suffix(".csv") {
+            Some(stem) => format!("{stem}.vtp"),
+            None => format!("{}.vtp", self.file),
+        }
+    }
+}
+
+/// Write the snapshot index.
+pub(crate) fn write_snapshot_index(w: &mut dyn Write, entries: &[SnapshotEntry]) -> io::Result<()> {
+    writeln!(w, "{}", SNAPSHOT_INDEX_COLUMNS.join(","))?;
+    for e in entries {
+        writeln!(w, "{},{},{}", e.step, fmt_real(e.t), e.file)?;
+    }
+    Ok(())
+}
+
+/// Read the snapshot index.
+pub(crate) fn read_snapshot_index(path: &Path) -> Result<Vec<SnapshotEntry>, OutputError> {
+    let (header, rows) = read_table(path)?;
+    if header != SNAPSHOT_INDEX_COLUMNS {
+        let expected: Vec<String> = SNAPSHOT_INDEX_COLUMNS
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
+        return Err(header_mismatch(path, &header, &expected));
+    }
+    rows.into_iter()
+        .map(|(line, rec)| {
+            Ok(SnapshotEntry {
+                step: parse_field(path, line, &rec, 0, "step")?,
+                t: parse_field(path, line, &rec, 1, "t")?,
+                file: rec.get(2).unwrap_or("").to_owned(),
+            })
+        })
+        .collect()
+}

@@ -1,0 +1,250 @@
+//! [`OutputDir`]: the set of output files of one run.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use crate::csv_out::{
+    DIAGNOSTICS_FIXED_COLUMNS, SnapshotEntry, diagnostics_header, format_diagnostics_row,
+    header_mismatch, parse_field, read_snapshot_index, read_table, write_particles,
+    write_snapshot_index,
+};
+use crate::{DiagnosticsRow, OutputError, ParticleRecord, Real, vtk, write_atomic_with};
+
+/// File name of the diagnostics table.
+pub const DIAGNOSTICS_FILE: &str = "diagnostics.csv";
+/// File name of the snapshot index.
+pub const SNAPSHOT_INDEX_FILE: &str = "snapshots.csv";
+/// File name of the ParaView collection of all snapshots.
+pub const PVD_FILE: &str = "particles.pvd";
+/// File name of the final particle table.
+pub const FINAL_FILE: &str = "final.csv";
+
+/// File stem of the snapshot of `step`: `particles_NNNNNN` with the step
+/// zero-padded to 6 digits (more digits if the step needs them).
+pub fn snapshot_stem(step: u64) -> String {
+    format!("particles_{step:06}")
+}
+
+/// The output directory of a run and the in-memory state of its growing
+/// files (diagnostics rows and snapshot index).
+///
+/// Every method that changes a file rewrites it completely and atomically, see
+/// the [crate documentation](crate).
+#[derive(Debug)]
+pub struct OutputDir {
+    dir: PathBuf,
+    extra: Vec<String>,
+    /// `(step, formatted CSV line)` of every diagnostics row, in file order.
+    diag: Vec<(u64, String)>,
+    /// Snapshot index, sorted by step.
+    snapshots: Vec<SnapshotEntry>,
+}
+
+impl OutputDir {
+    /// Create `dir` (and its parents) if needed and start a fresh run there.
+    ///
+    /// `diagnostics.csv` (header only), `snapshots.csv` (header only) and an
+    /// empty `particles.pvd` are written immediately, replacing those of any
+    /// earlier run in the same directory; this also checks that the directory
+    /// is writable. Old snapshot files are left alone. Extra column names must
+    /// be non-empty, unique, and free of `,` `"` and line breaks.
+    pub fn create(dir: &Path, extra_diag_columns: Vec<String>) -> Result<Self, OutputError> {
+        let out = Self::empty(dir, extra_diag_columns)?;
+        out.rewrite_indexes()?;
+        Ok(out)
+    }
+
+    /// Resume a run in `dir`: re-read its `diagnostics.csv` and
+    /// `snapshots.csv`, keep only rows with `step <= up_to_step`, and rewrite
+    /// both files and `particles.pvd` atomically with the kept rows.
+    ///
+    /// Missing index files (or a missing directory) count as empty. The
+    /// diagnostics header must match `extra_diag_columns`. Snapshot files of
+    /// dropped steps stay on disk but are no longer listed; they are
+    /// overwritten if the resumed run writes the same steps again.
+    pub fn reopen(
+        dir: &Path,
+        extra_diag_columns: Vec<String>,
+        up_to_step: u64,
+    ) -> Result<Self, OutputError> {
+        let mut out = Self::empty(dir, extra_diag_columns)?;
+
+        let diag_path = out.path(DIAGNOSTICS_FILE);
+        if diag_path.exists() {
+            let (header, rows) = read_table(&diag_path)?;
+            let expected = diagnostics_header(&out.extra);
+            if header != expected {
+                return Err(header_mismatch(&diag_path, &header, &expected));
+            }
+            for (line, rec) in rows {
+                let step: u64 = parse_field(&diag_path, line, &rec, 1, "step")?;
+                if step <= up_to_step {
+                    out.diag
+                        .push((step, rec.iter().collect::<Vec<_>>().join(",")));
+                }
+            }
+        }
+
+        let index_path = out.path(SNAPSHOT_INDEX_FILE);
+        if index_path.exists() {
+            out.snapshots = read_snapshot_index(&index_path)?;
+            out.snapshots.retain(|e| e.step <= up_to_step);
+            out.snapshots.sort_by_key(|e| e.step);
+        }
+
+        out.rewrite_indexes()?;
+        Ok(out)
+    }
+
+    /// Validate the column names and create the directory; no file is written.
+    fn empty(dir: &Path, extra: Vec<String>) -> Result<Self, OutputError> {
+        let diag_path = dir.join(DIAGNOSTICS_FILE);
+        for (i, name) in extra.iter().enumerate() {
+            let bad = name.is_empty()
+                || name.contains([',', '"', '\n', '\r'])
+                || name.trim() != name
+                || DIAGNOSTICS_FIXED_COLUMNS.contains(&name.as_str())
+                || extra[..i].contains(name);
+            if bad {
+                return Err(OutputError::Invalid {
+                    path: diag_path,
+                    msg: format!("invalid or duplicate extra column name {name:?}"),
+                });
+            }
+        }
+        std::fs::create_dir_all(dir).map_err(|source| OutputError::Io {
+            path: dir.to_path_buf(),
+            op: "create directory",
+            source,
+        })?;
+        Ok(Self {
+            dir: dir.to_path_buf(),
+            extra,
+            diag: Vec::new(),
+            snapshots: Vec::new(),
+        })
+    }
+
+    /// The output directory.
+    pub fn dir(&self) -> &Path {
+        &self.dir
+    }
+
+    /// Names of the extra diagnostics columns, in order.
+    pub fn extra_diag_columns(&self) -> &[String] {
+        &self.extra
+    }
+
+    /// The snapshot index (as in `snapshots.csv`), sorted by step.
+    pub fn snapshots(&self) -> &[SnapshotEntry] {
+        &self.snapshots
+    }
+
+    /// Number of rows currently in `diagnostics.csv`.
+    pub fn diagnostics_len(&self) -> usize {
+        self.diag.len()
+    }
+
+    fn path(&self, name: &str) -> PathBuf {
+        self.dir.join(name)
+    }
+
+    /// Append a row and rewrite `DIR/diagnostics.csv` (header + all rows)
+    /// atomically.
+    ///
+    /// Steps are expected to increase; a row whose step is not larger than
+    /// earlier rows supersedes them (rows with `step >= row.step` are dropped
+    /// first), so re-running a step after a resume never duplicates rows.
+    /// `row.extra` must have one value per extra column.
+    pub fn push_diagnostics(&mut self, row: DiagnosticsRow) -> Result<(), OutputError> {
+        if row.extra.len() != self.extra.len() {
+            return Err(OutputError::Invalid {
+                path: self.path(DIAGNOSTICS_FILE),
+                msg: format!(
+                    "row has {} extra values but there are {} extra columns ({})",
+                    row.extra.len(),
+                    self.extra.len(),
+                    self.extra.join(",")
+                ),
+            });
+        }
+        let line = format_diagnostics_row(&row);
+        let keep = self.diag.partition_point(|(s, _)| *s < row.step);
+        let dropped = self.diag.split_off(keep);
+        self.diag.push((row.step, line));
+        let res = self.write_diagnostics();
+        if res.is_err() {
+            // Keep memory in sync with the (unchanged) file.
+            self.diag.pop();
+            self.diag.extend(dropped);
+        }
+        res
+    }
+
+    /// Write `DIR/particles_NNNNNN.csv` and `DIR/particles_NNNNNN.vtp`
+    /// (`NNNNNN` = step zero-padded to 6 digits, more digits if needed), then
+    /// rewrite `DIR/snapshots.csv` (`step,t,file`, file = the CSV name) and
+    /// `DIR/particles.pvd` (every `.vtp` with `timestep` = t) atomically.
+    ///
+    /// The VTK file holds one point and one vertex per particle with point
+    /// data `id` (Int64), `velocity` (3 components), `mass`, `density`,
+    /// `pressure`, `internal_energy` and `smoothing_length`. Writing a step
+    /// that is already indexed replaces its entry.
+    pub fn write_snapshot(
+        &mut self,
+        step: u64,
+        t: Real,
+        particles: &[ParticleRecord],
+    ) -> Result<(), OutputError> {
+        let stem = snapshot_stem(step);
+        let csv_name = format!("{stem}.csv");
+        write_atomic_with(&self.path(&csv_name), |w| write_particles(w, particles))?;
+        write_atomic_with(&self.path(&format!("{stem}.vtp")), |w| {
+            vtk::write_vtp(w, particles)
+        })?;
+
+        let entry = SnapshotEntry {
+            step,
+            t,
+            file: csv_name,
+        };
+        let old = self.snapshots.clone();
+        match self.snapshots.binary_search_by_key(&step, |e| e.step) {
+            Ok(i) => self.snapshots[i] = entry,
+            Err(i) => self.snapshots.insert(i, entry),
+        }
+        let res = self.write_snapshot_indexes();
+        if res.is_err() {
+            self.snapshots = old;
+        }
+        res
+    }
+
+    /// Write `DIR/final.csv` with the same columns as the snapshot CSVs.
+    pub fn write_final(&self, particles: &[ParticleRecord]) -> Result<(), OutputError> {
+        write_atomic_with(&self.path(FINAL_FILE), |w| write_particles(w, particles))
+    }
+
+    fn write_diagnostics(&self) -> Result<(), OutputError> {
+        let header = diagnostics_header(&self.extra).join(",");
+        write_atomic_with(&self.path(DIAGNOSTICS_FILE), |w: &mut dyn Write| {
+            writeln!(w, "{header}")?;
+            for (_, line) in &self.diag {
+                writeln!(w, "{line}")?;
+            }
+            Ok(())
+        })
+    }
+
+    fn write_snapshot_indexes(&self) -> Result<(), OutputError> {
+        write_atomic_with(&self.path(SNAPSHOT_INDEX_FILE), |w| {
+            write_snapshot_index(w, &self.snapshots)
+        })?;
+        write_atomic_with(&self.path(PVD_FILE), |w| vtk::write_pvd(w, &self.snapshots))
+    }
+
+    fn rewrite_indexes(&self) -> Result<(), OutputError> {
+        self.write_diagnostics()?;
+        self.write_snapshot_indexes()
+    }
+}

@@ -1,0 +1,206 @@
+//! Particle generation: lattice points of each generator, in a deterministic order.
+
+use crate::schema::{Generator, Lattice, Velocity};
+
+/// The most particles a scene may generate (checked from an estimate before generating).
+pub const MAX_PARTICLES: usize = 50_000_000;
+
+/// One generated particle. Components beyond the scene dimension are 0.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ParticleSpec {
+    /// Position.
+    pub pos: [f64; 3],
+    /// Velocity.
+    pub vel: [f64; 3],
+    /// Mass `density · Δx^d` (the lattice cell volume times the density).
+    pub mass: f64,
+    /// Initial density.
+    pub density: f64,
+    /// Support radius `h_factor · Δx`.
+    pub h: f64,
+    /// Initial specific internal energy.
+    pub internal_energy: f64,
+    /// Group tag (the generator's `group`, or its index in `particles`).
+    pub group: u32,
+}
+
+/// Component `k` of `v`, NaN when missing (so malformed input never panics and never passes
+/// a comparison).
+fn comp(v: &[f64], k: usize) -> f64 {
+    v.get(k).copied().unwrap_or(f64::NAN)
+}
+
+/// The box whose lattice the generator samples: the block itself, or the disk's bounding box.
+pub(crate) fn lattice_box(g: &Generator, d: usize) -> ([f64; 3], [f64; 3]) {
+    let (mut lo, mut hi) = ([0.0; 3], [0.0; 3]);
+    for k in 0..d.min(3) {
+        match g {
+            Generator::Block(b) => {
+                lo[k] = comp(&b.min, k);
+                hi[k] = comp(&b.max, k);
+            }
+            Generator::Disk(c) => {
+                lo[k] = comp(&c.center, k) - c.radius;
+                hi[k] = comp(&c.center, k) + c.radius;
+            }
+        }
+    }
+    (lo, hi)
+}
+
+/// Per-axis lattice index ranges `[start, end)`: the whole box lattice (`round(L/Δx)` points
+/// per axis), narrowed to the clip box when there is one. Unused axes have the range `[0, 1)`.
+fn index_ranges(g: &Generator, d: usize) -> [(f64, f64); 3] {
+    let c = g.common();
+    let dx = c.spacing;
+    let (lo, hi) = lattice_box(g, d);
+    let mut r = [(0.0, 1.0); 3];
+    for k in 0..d.min(3) {
+        let n = ((hi[k] - lo[k]) / dx).round().max(0.0);
+        let (mut a, mut b) = (0.0_f64, n);
+        if let Some(clip) = c.clip {
+            // Offsets lie in [0.25, 0.75]: keep every index whose point could be in the clip box.
+            a = a.max(((comp(&clip.min, k) - lo[k]) / dx - 0.75).floor());
+            b = b.min(((comp(&clip.max, k) - lo[k]) / dx - 0.25).floor() + 1.0);
+        }
+        r[k] = (a, b.max(a));
+    }
+    r
+}
+
+/// An upper estimate of how many particles `g` generates, computed without generating;
+/// infinite when the spacing or geometry is not usable.
+pub(crate) fn estimate_count(g: &Generator, d: usize) -> f64 {
+    let dx = g.spacing();
+    if !(dx > 0.0 && dx.is_finite() && (1..=3).contains(&d)) {
+        return f64::INFINITY;
+    }
+    let n: f64 = index_ranges(g, d).iter().map(|(a, b)| b - a).product();
+    if n.is_nan() {
+        return f64::INFINITY;
+    }
+    match g {
+        Generator::Block(_) => n,
+        // The lattice of the bounding box, times the ball's share of it (plus a margin of a
+        // surface layer), but never more than the box itself.
+        Generator::Disk(_) => {
+            let share = [1.0, std::f64::consts::PI / 4.0, std::f64::consts::PI / 6.0][d - 1];
+            (n * share * 1.1).min(n)
+        }
+    }
+}
+
+/// Lattice offset (in units of Δx) of axis `k` for the point with index `idx`.
+fn offset(lattice: Lattice, d: usize, k: usize, idx: [usize; 3]) -> f64 {
+    let stagger = |parity: usize| if parity.is_multiple_of(2) { 0.25 } else { 0.75 };
+    match (lattice, d) {
+        (Lattice::Staggered, 2) if k == 0 => stagger(idx[1]),
+        (Lattice::Staggered, 3) if k < 2 => stagger(idx[2]),
+        _ => 0.5,
+    }
+}
+
+/// The positions `g` generates, in lexicographic index order (axis 0 slowest). Empty when the
+/// estimate exceeds [`MAX_PARTICLES`] or the spacing is unusable.
+pub(crate) fn positions(g: &Generator, d: usize) -> Vec<[f64; 3]> {
+    let est = estimate_count(g, d);
+    if est.is_nan() || est > MAX_PARTICLES as f64 {
+        return Vec::new();
+    }
+    let c = g.common();
+    let dx = c.spacing;
+    let (lo, _) = lattice_box(g, d);
+    let ranges = index_ranges(g, d).map(|(a, b)| (a as usize, b as usize));
+    let disk = match g {
+        Generator::Disk(disk) => {
+            let centre: Vec<f64> = (0..d).map(|k| comp(&disk.center, k)).collect();
+            Some((centre, disk.radius * disk.radius * (1.0 + 1e-12)))
+        }
+        Generator::Block(_) => None,
+    };
+    let mut out = Vec::with_capacity(est as usize);
+    for i0 in ranges[0].0..ranges[0].1 {
+        for i1 in ranges[1].0..ranges[1].1 {
+            for i2 in ranges[2].0..ranges[2].1 {
+                let idx = [i0, i1, i2];
+                let mut p = [0.0; 3];
+                for k in 0..d {
+                    p[k] = lo[k] + (idx[k] as f64 + offset(c.lattice, d, k, idx)) * dx;
+                }
+                if let Some((centre, r2)) = &disk {
+                    let dist2: f64 = (0..d).map(|k| (p[k] - centre[k]).powi(2)).sum();
+                    if dist2.is_nan() || dist2 > *r2 {
+                        continue;
+                    }
+                }
+                if c.clip.is_some_and(|b| !b.contains(&p, d)) {
+                    continue;
+                }
+                if c.cut.iter().any(|b| b.contains(&p, d)) {
+                    continue;
+                }
+                out.push(p);
+            }
+        }
+    }
+    out
+}
+
+/// Velocity of a particle at `p`.
+fn velocity(v: Option<&Velocity>, p: &[f64; 3], d: usize) -> [f64; 3] {
+    let mut out = [0.0; 3];
+    match v {
+        None => {}
+        Some(Velocity::Uniform(u)) => {
+            for k in 0..d {
+                out[k] = u.get(k).copied().unwrap_or(0.0);
+            }
+        }
+        Some(Velocity::Linear(g)) => {
+            for a in 0..d {
+                let row = g.get(a).map(Vec::as_slice).unwrap_or(&[]);
+                out[a] = (0..d)
+                    .map(|b| row.get(b).copied().unwrap_or(0.0) * p[b])
+                    .sum();
+            }
+        }
+    }
+    out
+}
+
+/// The particles of generator number `index`.
+pub(crate) fn particles(g: &Generator, index: usize, d: usize) -> Vec<ParticleSpec> {
+    let c = g.common();
+    let dx = c.spacing;
+    let mass = c.density * dx.powi(d as i32);
+    let group = c.group.unwrap_or(index as u32);
+    positions(g, d)
+        .into_iter()
+        .map(|pos| ParticleSpec {
+            pos,
+            vel: velocity(c.velocity, &pos, d),
+            mass,
+            density: c.density,
+            h: c.h_factor * dx,
+            internal_energy: c.internal_energy,
+            group,
+        })
+        .collect()
+}
+
+/// All particles of all generators, in order. Empty for an unusable dimension or when the
+/// estimated total exceeds [`MAX_PARTICLES`].
+pub(crate) fn generate_all(generators: &[Generator], d: usize) -> Vec<ParticleSpec> {
+    if !(1..=3).contains(&d) {
+        return Vec::new();
+    }
+    let total: f64 = generators.iter().map(|g| estimate_count(g, d)).sum();
+    if total.is_nan() || total > MAX_PARTICLES as f64 {
+        return Vec::new();
+    }
+    generators
+        .iter()
+        .enumerate()
+        .flat_map(|(i, g)| particles(g, i, d))
+        .collect()
+}

@@ -1,0 +1,409 @@
+//! The parts of a scene file. Every struct rejects unknown fields; vectors are RON lists whose
+//! length must equal the scene dimension (checked by validation, not by the parser).
+
+use serde::Deserialize;
+use serde::de::{self, DeserializeSeed, Deserializer, MapAccess, Visitor};
+use std::fmt;
+
+/// Which SPH formulation the engine runs (mapped onto the core's sweep by the engine).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Deserialize)]
+pub enum Formulation {
+    /// Dual-support SPH: every pair interacts through the support of one particle and the
+    /// dual-support of the other, so momentum and energy are conserved exactly (paper 001).
+    DualSupport,
+    /// Variable-h SPH that uses only each particle's own support (not exactly conservative).
+    SingleSupport,
+    /// Classical SPH with one common smoothing length.
+    ConstantH,
+    /// Variable-h SPH symmetrised by averaging the two kernels of a pair.
+    AveragedKernel,
+}
+
+/// The simulation box `[min, max]` (one component per axis).
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Domain {
+    /// Lower corner.
+    pub min: Vec<f64>,
+    /// Upper corner.
+    pub max: Vec<f64>,
+}
+
+/// An axis-aligned box used by `clip` and `cut`; a point is inside when
+/// `min_k <= x_k <= max_k` on every axis.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BoxRegion {
+    /// Lower corner.
+    pub min: Vec<f64>,
+    /// Upper corner.
+    pub max: Vec<f64>,
+}
+
+impl BoxRegion {
+    /// Whether `p` lies in the box (bounds included) on the first `d` axes.
+    pub fn contains(&self, p: &[f64; 3], d: usize) -> bool {
+        (0..d).all(|k| {
+            let lo = self.min.get(k).copied().unwrap_or(f64::NAN);
+            let hi = self.max.get(k).copied().unwrap_or(f64::NAN);
+            lo <= p[k] && p[k] <= hi
+        })
+    }
+}
+
+/// How lattice points fill a generator's box.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Deserialize)]
+pub enum Lattice {
+    /// Cell-centred square/cubic lattice: `min + (i + 0.5)·Δx` on every axis.
+    Square,
+    /// Like `Square`, but alternate rows (index along axis 1; in 3-D alternate layers along
+    /// axis 2, shifting axes 0 and 1) use offsets `0.25Δx` (even) and `0.75Δx` (odd) instead
+    /// of `0.5Δx`. In 1-D it equals `Square`.
+    Staggered,
+}
+
+/// The initial velocity of a generator's particles.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+pub enum Velocity {
+    /// The same velocity for every particle.
+    Uniform(Vec<f64>),
+    /// `v = G·x` with `G` given by its rows (a d×d matrix) and `x` the absolute position.
+    Linear(Vec<Vec<f64>>),
+}
+
+/// A rectangular block of particles.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Block {
+    /// Lower corner.
+    pub min: Vec<f64>,
+    /// Upper corner.
+    pub max: Vec<f64>,
+    /// Lattice spacing Δx.
+    pub spacing: f64,
+    /// Lattice kind.
+    pub lattice: Lattice,
+    /// Initial density; particle mass is `density · Δx^d`.
+    pub density: f64,
+    /// Support radius in units of Δx: `h = h_factor · Δx`.
+    pub h_factor: f64,
+    /// Keep only the points inside this box.
+    #[serde(default, deserialize_with = "deserialize_clip")]
+    pub clip: Option<BoxRegion>,
+    /// Drop the points inside any of these boxes.
+    #[serde(default)]
+    pub cut: Vec<BoxRegion>,
+    /// Initial velocity (zero when absent).
+    #[serde(default)]
+    pub velocity: Option<Velocity>,
+    /// Initial specific internal energy.
+    #[serde(default)]
+    pub internal_energy: f64,
+    /// Group tag; defaults to the generator's index in `particles`.
+    #[serde(default, deserialize_with = "int::de_opt")]
+    pub group: Option<u32>,
+}
+
+/// A disk (2-D), ball (3-D) or segment (1-D): the points of the lattice of the bounding box
+/// `[center − radius, center + radius]` with `|x − center| <= radius`.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Disk {
+    /// Centre.
+    pub center: Vec<f64>,
+    /// Radius.
+    pub radius: f64,
+    /// Lattice spacing Δx.
+    pub spacing: f64,
+    /// Lattice kind.
+    pub lattice: Lattice,
+    /// Initial density; particle mass is `density · Δx^d`.
+    pub density: f64,
+    /// Support radius in units of Δx: `h = h_factor · Δx`.
+    pub h_factor: f64,
+    /// Keep only the points inside this box.
+    #[serde(default, deserialize_with = "deserialize_clip")]
+    pub clip: Option<BoxRegion>,
+    /// Drop the points inside any of these boxes.
+    #[serde(default)]
+    pub cut: Vec<BoxRegion>,
+    /// Initial velocity (zero when absent).
+    #[serde(default)]
+    pub velocity: Option<Velocity>,
+    /// Initial specific internal energy.
+    #[serde(default)]
+    pub internal_energy: f64,
+    /// Group tag; defaults to the generator's index in `particles`.
+    #[serde(default, deserialize_with = "int::de_opt")]
+    pub group: Option<u32>,
+}
+
+/// One entry of the scene's `particles` list.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+pub enum Generator {
+    /// `Block(min: [..], max: [..], spacing: .., ...)`.
+    Block(Block),
+    /// `Disk(center: [..], radius: .., spacing: .., ...)`.
+    Disk(Disk),
+}
+
+/// The settings both generator kinds share, borrowed.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Common<'a> {
+    pub spacing: f64,
+    pub lattice: Lattice,
+    pub density: f64,
+    pub h_factor: f64,
+    pub clip: Option<&'a BoxRegion>,
+    pub cut: &'a [BoxRegion],
+    pub velocity: Option<&'a Velocity>,
+    pub internal_energy: f64,
+    pub group: Option<u32>,
+}
+
+impl Generator {
+    /// `"Block"` or `"Disk"`.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Generator::Block(_) => "Block",
+            Generator::Disk(_) => "Disk",
+        }
+    }
+
+    /// Lattice spacing Δx.
+    pub fn spacing(&self) -> f64 {
+        self.common().spacing
+    }
+
+    pub(crate) fn common(&self) -> Common<'_> {
+        match self {
+            Generator::Block(b) => Common {
+                spacing: b.spacing,
+                lattice: b.lattice,
+                density: b.density,
+                h_factor: b.h_factor,
+                clip: b.clip.as_ref(),
+                cut: &b.cut,
+                velocity: b.velocity.as_ref(),
+                internal_energy: b.internal_energy,
+                group: b.group,
+            },
+            Generator::Disk(c) => Common {
+                spacing: c.spacing,
+                lattice: c.lattice,
+                density: c.density,
+                h_factor: c.h_factor,
+                clip: c.clip.as_ref(),
+                cut: &c.cut,
+                velocity: c.velocity.as_ref(),
+                internal_energy: c.internal_energy,
+                group: c.group,
+            },
+        }
+    }
+}
+
+/// Optional neighbour-search settings.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct NeighbourSettings {
+    /// Verlet skin added to the search radius (>= 0); default 0.15.
+    pub skin: f64,
+}
+
+impl Default for NeighbourSettings {
+    fn default() -> Self {
+        NeighbourSettings { skin: 0.15 }
+    }
+}
+
+fn default_courant() -> f64 {
+    0.2
+}
+fn default_force() -> f64 {
+    0.25
+}
+fn default_viscous() -> f64 {
+    0.125
+}
+
+/// How the time step is chosen.
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum TimeStep {
+    /// A constant step `Fixed(1e-4)`.
+    Fixed(f64),
+    /// CFL-type step from the three coefficients, each in (0, 1].
+    Adaptive {
+        /// Acoustic (Courant) coefficient; default 0.2.
+        #[serde(default = "default_courant")]
+        courant: f64,
+        /// Force (acceleration) coefficient; default 0.25.
+        #[serde(default = "default_force")]
+        force: f64,
+        /// Viscous-diffusion coefficient; default 0.125.
+        #[serde(default = "default_viscous")]
+        viscous: f64,
+    },
+}
+
+/// The `integrator` section.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct IntegratorSettings {
+    /// Time-step rule.
+    pub dt: TimeStep,
+    /// Upper bound on the step.
+    #[serde(default)]
+    pub max_dt: Option<f64>,
+}
+
+/// The optional `output` section.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct OutputSettings {
+    /// Steps between diagnostics lines (>= 1); default 10.
+    #[serde(deserialize_with = "int::de")]
+    pub diagnostics_every: u64,
+    /// Steps between snapshots (0 = none); default 200.
+    #[serde(deserialize_with = "int::de")]
+    pub snapshot_every: u64,
+    /// Whether snapshots are also written as VTK; default true.
+    pub vtk: bool,
+}
+
+impl Default for OutputSettings {
+    fn default() -> Self {
+        OutputSettings {
+            diagnostics_every: 10,
+            snapshot_every: 200,
+            vtk: true,
+        }
+    }
+}
+
+/// Deserializes an identifier (a struct field or enum variant name) as an owned string.
+pub(crate) struct Ident;
+
+impl<'de> DeserializeSeed<'de> for Ident {
+    type Value = String;
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<String, D::Error> {
+        d.deserialize_identifier(IdentVisitor)
+    }
+}
+
+struct IdentVisitor;
+
+impl Visitor<'_> for IdentVisitor {
+    type Value = String;
+    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("an identifier")
+    }
+    fn visit_str<E: de::Error>(self, v: &str) -> Result<String, E> {
+        Ok(v.to_owned())
+    }
+}
+
+/// `clip` accepts `Some((min: .., max: ..))`, `Some(min: .., max: ..)`, `(min: .., max: ..)`
+/// and `None`. (With ron's `UNWRAP_VARIANT_NEWTYPES` a derived struct inside `Some(..)`
+/// would reject the double parentheses, hence this hand-written visitor that takes the box
+/// from whatever map ron offers.)
+fn deserialize_clip<'de, D: Deserializer<'de>>(d: D) -> Result<Option<BoxRegion>, D::Error> {
+    Ok(Option::<AnyBox>::deserialize(d)?.map(|b| b.0))
+}
+
+struct AnyBox(BoxRegion);
+
+impl<'de> Deserialize<'de> for AnyBox {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        d.deserialize_any(AnyBoxVisitor)
+    }
+}
+
+struct AnyBoxVisitor;
+
+impl<'de> Visitor<'de> for AnyBoxVisitor {
+    type Value = AnyBox;
+    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("a clip box `(min: [..], max: [..])`")
+    }
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<AnyBox, A::Error> {
+        let (mut min, mut max) = (None, None);
+        while let Some(key) = map.next_key_seed(Ident)? {
+            let slot = match key.as_str() {
+                "min" => &mut min,
+                "max" => &mut max,
+                other => {
+                    return Err(de::Error::custom(format!(
+                        "unknown field `{other}` in clip box, expected `min` or `max`"
+                    )));
+                }
+            };
+            if slot.is_some() {
+                return Err(de::Error::custom(format!(
+                    "duplicate field `{key}` in clip box"
+                )));
+            }
+            *slot = Some(map.next_value::<Vec<f64>>()?);
+        }
+        let missing = |f: &str| de::Error::custom(format!("clip box is missing field `{f}`"));
+        let min = min.ok_or_else(|| missing("min"))?;
+        let max = max.ok_or_else(|| missing("max"))?;
+        Ok(AnyBox(BoxRegion { min, max }))
+    }
+}
+
+/// Integer fields read through `deserialize_any`, so a float or a string is reported as "expected
+/// a non-negative integer" at its own position (ron's typed integer parser would stop at the
+/// `.` of `2.5` and complain about a missing comma instead).
+pub(crate) mod int {
+    use serde::de::{self, Deserializer, Unexpected, Visitor};
+    use std::fmt;
+    use std::marker::PhantomData;
+
+    struct Int;
+
+    impl Visitor<'_> for Int {
+        type Value = u64;
+        fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+            f.write_str("a non-negative integer")
+        }
+        fn visit_u64<E: de::Error>(self, v: u64) -> Result<u64, E> {
+            Ok(v)
+        }
+        fn visit_i64<E: de::Error>(self, v: i64) -> Result<u64, E> {
+            u64::try_from(v).map_err(|_| E::invalid_value(Unexpected::Signed(v), &self))
+        }
+        fn visit_f64<E: de::Error>(self, v: f64) -> Result<u64, E> {
+            Err(E::invalid_type(Unexpected::Float(v), &self))
+        }
+    }
+
+    /// A non-negative integer that fits `T`.
+    pub(crate) fn de<'de, D: Deserializer<'de>, T: TryFrom<u64>>(d: D) -> Result<T, D::Error> {
+        let v = d.deserialize_any(Int)?;
+        T::try_from(v).map_err(|_| de::Error::custom(format!("integer {v} is out of range")))
+    }
+
+    struct OptInt<T>(PhantomData<T>);
+
+    impl<'de, T: TryFrom<u64>> Visitor<'de> for OptInt<T> {
+        type Value = Option<T>;
+        fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+            f.write_str("`None` or a non-negative integer")
+        }
+        fn visit_none<E: de::Error>(self) -> Result<Option<T>, E> {
+            Ok(None)
+        }
+        fn visit_some<D: Deserializer<'de>>(self, d: D) -> Result<Option<T>, D::Error> {
+            de(d).map(Some)
+        }
+    }
+
+    /// `None`, `Some(n)` or (implicitly) `n`.
+    pub(crate) fn de_opt<'de, D: Deserializer<'de>, T: TryFrom<u64>>(
+        d: D,
+    ) -> Result<Option<T>, D::Error> {
+        d.deserialize_option(OptInt(PhantomData))
+    }
+}

@@ -1,0 +1,379 @@
+//! Semantic checks of a parsed scene; the first problem found is reported.
+
+use crate::Scene;
+use crate::error::Problem;
+use crate::generate::{self, MAX_PARTICLES};
+use crate::schema::{BoxRegion, Generator, TimeStep, Velocity};
+use dualsph_core::plugin::SceneInfo;
+use std::cmp::Ordering;
+
+type Check = Result<(), Problem>;
+
+/// A vector with exactly `d` finite components.
+fn vector(field: &str, v: &[f64], d: usize) -> Check {
+    if v.len() != d {
+        return Err(Problem::new(
+            field,
+            format!("expected {d} components for dimension {d}, got {}", v.len()),
+        ));
+    }
+    match v.iter().position(|x| !x.is_finite()) {
+        Some(k) => Err(Problem::new(
+            field,
+            format!("component {k} is not finite ({})", v[k]),
+        )),
+        None => Ok(()),
+    }
+}
+
+/// A finite number `> 0`.
+fn positive(field: &str, x: f64) -> Check {
+    if x.is_finite() && x > 0.0 {
+        Ok(())
+    } else {
+        Err(Problem::new(
+            field,
+            format!("must be a finite number > 0, got {x}"),
+        ))
+    }
+}
+
+/// `max > min` on every axis (both already checked to have `d` components).
+fn ordered(field: &str, min: &[f64], max: &[f64]) -> Check {
+    match (0..min.len()).find(|&k| max[k].partial_cmp(&min[k]) != Some(Ordering::Greater)) {
+        Some(k) => Err(Problem::new(
+            field,
+            format!(
+                "max must exceed min on every axis; on axis {k} max is {} and min is {}",
+                max[k], min[k]
+            ),
+        )),
+        None => Ok(()),
+    }
+}
+
+fn boxes(field: &str, b: &BoxRegion, d: usize) -> Check {
+    vector(&format!("{field}.min"), &b.min, d)?;
+    vector(&format!("{field}.max"), &b.max, d)
+}
+
+fn generator(i: usize, g: &Generator, d: usize) -> Check {
+    let f = |name: &str| format!("particles[{i}].{name}");
+    match g {
+        Generator::Block(b) => {
+            vector(&f("min"), &b.min, d)?;
+            vector(&f("max"), &b.max, d)?;
+            ordered(&f("max"), &b.min, &b.max)?;
+        }
+        Generator::Disk(c) => {
+            vector(&f("center"), &c.center, d)?;
+            positive(&f("radius"), c.radius)?;
+        }
+    }
+    let c = g.common();
+    positive(&f("spacing"), c.spacing)?;
+    positive(&f("density"), c.density)?;
+    positive(&f("h_factor"), c.h_factor)?;
+    if let Some(clip) = c.clip {
+        boxes(&f("clip"), clip, d)?;
+        ordered(&f("clip.max"), &clip.min, &clip.max)?;
+    }
+    for (j, cut) in c.cut.iter().enumerate() {
+        boxes(&f(&format!("cut[{j}]")), cut, d)?;
+    }
+    match c.velocity {
+        None => {}
+        Some(Velocity::Uniform(v)) => vector(&f("velocity"), v, d)?,
+        Some(Velocity::Linear(rows)) => {
+            if rows.len() != d {
+                return Err(Problem::new(
+                    f("velocity"),
+                    format!(
+                        "expected a {d}x{d} matrix (one row per axis) for dimension {d}, got {} rows",
+                        rows.len()
+                    ),
+                ));
+            }
+            for (r, row) in rows.iter().enumerate() {
+                vector(&f(&format!("velocity[{r}]")), row, d)?;
+            }
+        }
+    }
+    if !(c.internal_energy.is_finite() && c.internal_energy >= 0.0) {
+        return Err(Problem::new(
+            f("internal_energy"),
+            format!("must be a finite number >= 0, got {}", c.internal_energy),
+        ));
+    }
+    Ok(())
+}
+
+fn fraction(field: &str, x: f64) -> Check {
+    if x > 0.0 && x <= 1.0 {
+        Ok(())
+    } else {
+        Err(Problem::new(field, format!("must lie in (0, 1], got {x}")))
+    }
+}
+
+/// Everything that can be checked without generating particles.
+fn settings(s: &Scene) -> Check {
+    let d = s.dimension;
+    if !(1..=3).contains(&d) {
+        return Err(Problem::new(
+            "dimension",
+            format!("must be 1, 2 or 3, got {d}"),
+        ));
+    }
+    vector("domain.min", &s.domain.min, d)?;
+    vector("domain.max", &s.domain.max, d)?;
+    ordered("domain.max", &s.domain.min, &s.domain.max)?;
+    let skin = s.neighbours.skin;
+    if !(skin.is_finite() && skin >= 0.0) {
+        return Err(Problem::new(
+            "neighbours.skin",
+            format!("must be a finite number >= 0, got {skin}"),
+        ));
+    }
+    if s.particles.is_empty() {
+        return Err(Problem::new(
+            "particles",
+            "the scene has no particle generators",
+        ));
+    }
+    for (i, g) in s.particles.iter().enumerate() {
+        generator(i, g, d)?;
+    }
+    match s.integrator.dt {
+        TimeStep::Fixed(dt) => positive("integrator.dt", dt)?,
+        TimeStep::Adaptive {
+            courant,
+            force,
+            viscous,
+        } => {
+            fraction("integrator.dt.courant", courant)?;
+            fraction("integrator.dt.force", force)?;
+            fraction("integrator.dt.viscous", viscous)?;
+        }
+    }
+    if let Some(max_dt) = s.integrator.max_dt {
+        positive("integrator.max_dt", max_dt)?;
+    }
+    positive("end_time", s.end_time)?;
+    if s.max_steps == Some(0) {
+        return Err(Problem::new("max_steps", "must be at least 1 (or None)"));
+    }
+    if s.output.diagnostics_every == 0 {
+        return Err(Problem::new(
+            "output.diagnostics_every",
+            "must be at least 1",
+        ));
+    }
+    let info = SceneInfo { dimension: d };
+    for (i, p) in s.plugins.iter().enumerate() {
+        p.validate(&info)
+            .map_err(|m| Problem::new(format!("plugins[{i}] ({})", p.name()), m))?;
+    }
+    Ok(())
+}
+
+/// The particle-count guard, evaluated before anything is generated.
+fn count_guard(s: &Scene) -> Check {
+    let d = s.dimension;
+    let counts: Vec<f64> = s
+        .particles
+        .iter()
+        .map(|g| generate::estimate_count(g, d))
+        .collect();
+    let total: f64 = counts.iter().sum();
+    if total <= MAX_PARTICLES as f64 {
+        return Ok(());
+    }
+    let (worst, n) = counts.iter().enumerate().fold(
+        (0, 0.0),
+        |acc, (i, &n)| if n > acc.1 { (i, n) } else { acc },
+    );
+    Err(Problem::new(
+        "particles",
+        format!(
+            "the generators would create about {total:.3e} particles, more than the limit of \
+             {MAX_PARTICLES}; the largest is particles[{worst}] with about {n:.3e} (increase its spacing)"
+        ),
+    ))
+}
+
+/// A dense cell grid (cell size = one generator's spacing) over that generator's particles,
+/// stored as counting-sorted index lists.
+struct CellGrid {
+    origin: [f64; 3],
+    cell: f64,
+    dims: [usize; 3],
+    starts: Vec<usize>,
+    items: Vec<usize>,
+}
+
+impl CellGrid {
+    fn new(points: &[[f64; 3]], cell: f64, d: usize) -> Self {
+        let mut origin = [0.0; 3];
+        let mut dims = [1; 3];
+        for k in 0..d {
+            let lo = points.iter().map(|p| p[k]).fold(f64::INFINITY, f64::min);
+            let hi = points
+                .iter()
+                .map(|p| p[k])
+                .fold(f64::NEG_INFINITY, f64::max);
+            origin[k] = lo;
+            dims[k] = ((hi - lo) / cell).floor() as usize + 1;
+        }
+        let mut grid = CellGrid {
+            origin,
+            cell,
+            dims,
+            starts: Vec::new(),
+            items: Vec::new(),
+        };
+        let keys: Vec<usize> = points.iter().map(|p| grid.key(p).unwrap_or(0)).collect();
+        let mut starts = vec![0; dims.iter().product::<usize>() + 1];
+        for &k in &keys {
+            starts[k + 1] += 1;
+        }
+        for c in 1..starts.len() {
+            starts[c] += starts[c - 1];
+        }
+        let mut fill = starts.clone();
+        let mut items = vec![0; points.len()];
+        for (i, &k) in keys.iter().enumerate() {
+            items[fill[k]] = i;
+            fill[k] += 1;
+        }
+        grid.starts = starts;
+        grid.items = items;
+        grid
+    }
+
+    fn coord(&self, x: f64, k: usize) -> i64 {
+        ((x - self.origin[k]) / self.cell).floor() as i64
+    }
+
+    fn key(&self, p: &[f64; 3]) -> Option<usize> {
+        let mut key = 0;
+        for k in 0..3 {
+            let c = usize::try_from(self.coord(p[k], k))
+                .ok()
+                .filter(|&c| c < self.dims[k])?;
+            key = key * self.dims[k] + c;
+        }
+        Some(key)
+    }
+
+    /// The first indexed point closer than `r` (at most one cell size) to `p`.
+    fn near(&self, points: &[[f64; 3]], p: &[f64; 3], r: f64, d: usize) -> Option<usize> {
+        let span = |k: usize| if k < d { -1..=1 } else { 0..=0 };
+        for a in span(0) {
+            for b in span(1) {
+                for c in span(2) {
+                    let q = [
+                        p[0] + a as f64 * self.cell,
+                        p[1] + b as f64 * self.cell,
+                        p[2] + c as f64 * self.cell,
+                    ];
+                    let Some(key) = self.key(&q) else { continue };
+                    for &j in &self.items[self.starts[key]..self.starts[key + 1]] {
+                        let dist2: f64 = (0..d).map(|k| (points[j][k] - p[k]).powi(2)).sum();
+                        if dist2 < r * r {
+                            return Some(j);
+                        }
+                    }
+                }
+            }
+        }
+        None
+    }
+}
+
+fn fmt_point(p: &[f64; 3], d: usize) -> String {
+    let parts: Vec<String> = p[..d].iter().map(|x| format!("{x}")).collect();
+    format!("({})", parts.join(", "))
+}
+
+/// Two particles of different generators closer than half the smaller spacing. Each particle
+/// of the finer generator of a pair is looked up in a grid of the coarser one (cell size =
+/// the coarser spacing >= the search radius), so the check is linear in the particle count.
+fn overlaps(s: &Scene, pos: &[Vec<[f64; 3]>]) -> Check {
+    let d = s.dimension;
+    let spacing: Vec<f64> = s.particles.iter().map(Generator::spacing).collect();
+    let grids: Vec<CellGrid> = pos
+        .iter()
+        .zip(&spacing)
+        .map(|(p, &dx)| CellGrid::new(p, dx, d))
+        .collect();
+    for a in 0..pos.len() {
+        for b in 0..pos.len() {
+            let coarser = spacing[b] > spacing[a] || (spacing[b] == spacing[a] && b > a);
+            if !coarser {
+                continue;
+            }
+            let r = 0.5 * spacing[a];
+            for p in &pos[a] {
+                if let Some(j) = grids[b].near(&pos[b], p, r, d) {
+                    let q = &pos[b][j];
+                    let dist = (0..d).map(|k| (p[k] - q[k]).powi(2)).sum::<f64>().sqrt();
+                    let (lo, hi, plo, phi) = if a < b { (a, b, p, q) } else { (b, a, q, p) };
+                    return Err(Problem::new(
+                        format!("particles[{hi}]"),
+                        format!(
+                            "particles[{hi}] ({}) overlaps particles[{lo}] ({}): its particle at {} is \
+                             {dist:.6} from the particle at {} of particles[{lo}], closer than half the \
+                             smaller spacing ({r})",
+                            s.particles[hi].kind(),
+                            s.particles[lo].kind(),
+                            fmt_point(phi, d),
+                            fmt_point(plo, d)
+                        ),
+                    ));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Runs every check in order and returns the first problem.
+pub(crate) fn validate(s: &Scene) -> Check {
+    settings(s)?;
+    count_guard(s)?;
+    let d = s.dimension;
+    let pos: Vec<Vec<[f64; 3]>> = s
+        .particles
+        .iter()
+        .map(|g| generate::positions(g, d))
+        .collect();
+    for (i, p) in pos.iter().enumerate() {
+        if p.is_empty() {
+            return Err(Problem::new(
+                format!("particles[{i}]"),
+                format!(
+                    "particles[{i}] generates no particles (check its size, spacing, clip and cut)"
+                ),
+            ));
+        }
+    }
+    let (min, max) = (&s.domain.min, &s.domain.max);
+    for (i, p) in pos.iter().enumerate() {
+        if let Some(x) = p
+            .iter()
+            .find(|x| (0..d).any(|k| x[k] < min[k] || x[k] > max[k]))
+        {
+            return Err(Problem::new(
+                format!("particles[{i}]"),
+                format!(
+                    "particles[{i}] generates a particle at {} outside the domain {:?}..{:?}",
+                    fmt_point(x, d),
+                    min,
+                    max
+                ),
+            ));
+        }
+    }
+    overlaps(s, &pos)
+}

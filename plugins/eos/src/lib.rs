@@ -1,0 +1,201 @@
+//! Equations of state: `TaitEos(rho0, gamma, c0 | p0)` (Eq. 7.5) and `IdealGas(gamma)`
+//! (Eq. 7.3). Each adds `Pressure` and `SoundSpeed` to the particles and fills the dense
+//! arrays used by the pair sweep.
+
+use dualsph_core::bevy_ecs::prelude::*;
+use dualsph_core::integrator::ensure_energy_equation;
+use dualsph_core::prelude::*;
+use serde::Deserialize;
+
+/// Weakly compressible Tait equation (Eq. 7.5): `p = p0((ρ/ρ0)^γ − 1)`, `p0 = c0²ρ0/γ`,
+/// `c = c0 (ρ/ρ0)^{(γ−1)/2}`. Give either `c0` or `p0`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TaitEos {
+    /// Reference density ρ0.
+    pub rho0: Real,
+    /// Exponent γ (7 for water).
+    pub gamma: Real,
+    /// Reference sound speed c0.
+    #[serde(default)]
+    pub c0: Option<Real>,
+    /// Bulk modulus p0 (alternative to c0).
+    #[serde(default)]
+    pub p0: Option<Real>,
+}
+
+/// Ideal gas (Eq. 7.3): `p = (γ − 1) ρ ε`, `c = sqrt(γ p / ρ)`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct IdealGas {
+    /// Adiabatic index γ.
+    pub gamma: Real,
+}
+
+/// The EOS as a resource.
+#[derive(Resource, Clone, Copy, Debug, PartialEq)]
+pub enum Eos {
+    /// Tait with ρ0, γ, p0, c0.
+    Tait {
+        /// ρ0.
+        rho0: Real,
+        /// γ.
+        gamma: Real,
+        /// p0.
+        p0: Real,
+        /// c0.
+        c0: Real,
+    },
+    /// Ideal gas with γ.
+    Ideal {
+        /// γ.
+        gamma: Real,
+    },
+}
+
+impl Eos {
+    /// `(p, c)` at density ρ and specific internal energy ε.
+    #[inline]
+    pub fn eval(&self, rho: Real, eps: Real) -> (Real, Real) {
+        match *self {
+            Eos::Tait {
+                rho0,
+                gamma,
+                p0,
+                c0,
+            } => {
+                let x = rho / rho0;
+                (p0 * (x.powf(gamma) - 1.0), c0 * x.powf(0.5 * (gamma - 1.0)))
+            }
+            Eos::Ideal { gamma } => {
+                let p = (gamma - 1.0) * rho * eps;
+                (p, (gamma * p.max(0.0) / rho).sqrt())
+            }
+        }
+    }
+}
+
+/// Evaluates the EOS for every particle.
+pub fn apply_eos<V: Vector>(
+    eos: Res<Eos>,
+    mut fields: ResMut<Fields<V>>,
+    mut q: Query<(&ParticleId, &mut Pressure, &mut SoundSpeed)>,
+) {
+    let n = fields.len();
+    let f = &mut *fields;
+    f.pressure.resize(n, 0.0);
+    f.sound.resize(n, 0.0);
+    for i in 0..n {
+        let eps = f.eps.get(i).copied().unwrap_or(0.0);
+        let (p, c) = eos.eval(f.rho[i], eps);
+        f.pressure[i] = p;
+        f.sound[i] = c;
+    }
+    for (id, mut p, mut c) in &mut q {
+        p.0 = f.pressure[id.0 as usize];
+        c.0 = f.sound[id.0 as usize];
+    }
+}
+
+fn install<V: Vector>(sim: &mut Sim<V>, eos: Eos, label: &str) -> Result<(), SimError> {
+    if !sim.enable_feature("eos") {
+        return Err(SimError::Build(
+            "only one equation of state may be used".into(),
+        ));
+    }
+    sim.world.insert_resource(eos);
+    sim.insert_particle_component(|_| Pressure(0.0));
+    sim.insert_particle_component(|_| SoundSpeed(0.0));
+    sim.add_system(StepSet::Eos, label.to_string(), apply_eos::<V>);
+    Ok(())
+}
+
+fn positive(name: &str, x: Real) -> Result<(), String> {
+    if x.is_finite() && x > 0.0 {
+        Ok(())
+    } else {
+        Err(format!("{name}: must be positive, got {x}"))
+    }
+}
+
+impl SimPlugin for TaitEos {
+    const NAME: &'static str = "TaitEos";
+    const SUMMARY: &'static str = "Tait equation of state p = p0((rho/rho0)^gamma - 1) (Eq. 7.5)";
+
+    fn validate(&self, _info: &SceneInfo) -> Result<(), String> {
+        positive("rho0", self.rho0)?;
+        positive("gamma", self.gamma)?;
+        match (self.c0, self.p0) {
+            (Some(c), None) => positive("c0", c),
+            (None, Some(p)) => positive("p0", p),
+            _ => Err("c0, p0: give exactly one of them".into()),
+        }
+    }
+
+    fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
+        let (p0, c0) = match (self.c0, self.p0) {
+            (Some(c0), _) => (c0 * c0 * self.rho0 / self.gamma, c0),
+            (None, Some(p0)) => (p0, (self.gamma * p0 / self.rho0).sqrt()),
+            (None, None) => return Err(SimError::Build("TaitEos needs c0 or p0".into())),
+        };
+        install(
+            sim,
+            Eos::Tait {
+                rho0: self.rho0,
+                gamma: self.gamma,
+                p0,
+                c0,
+            },
+            "tait_eos (Eq. 7.5)",
+        )
+    }
+}
+
+impl SimPlugin for IdealGas {
+    const NAME: &'static str = "IdealGas";
+    const SUMMARY: &'static str = "ideal gas p = (gamma - 1) rho e (Eq. 7.3)";
+
+    fn validate(&self, _info: &SceneInfo) -> Result<(), String> {
+        if !(self.gamma.is_finite() && self.gamma > 1.0) {
+            return Err(format!("gamma: must be > 1, got {}", self.gamma));
+        }
+        Ok(())
+    }
+
+    fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
+        ensure_energy_equation(sim);
+        install(
+            sim,
+            Eos::Ideal { gamma: self.gamma },
+            "ideal_gas_eos (Eq. 7.3)",
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tait_reference_state_and_sound_speed() {
+        let e = Eos::Tait {
+            rho0: 1000.0,
+            gamma: 7.0,
+            p0: 100.0f64.powi(2) * 1000.0 / 7.0,
+            c0: 100.0,
+        };
+        assert_eq!(e.eval(1000.0, 0.0), (0.0, 100.0));
+        // c² = dp/dρ, checked by a central difference
+        let (d, rho) = (1e-4, 1010.0);
+        let dp = (e.eval(rho + d, 0.0).0 - e.eval(rho - d, 0.0).0) / (2.0 * d);
+        let c = e.eval(rho, 0.0).1;
+        assert!((dp - c * c).abs() < 1e-6 * c * c);
+    }
+
+    #[test]
+    fn ideal_gas_sod_states() {
+        let e = Eos::Ideal { gamma: 5.0 / 3.0 };
+        assert!((e.eval(1.0, 1.5).0 - 1.0).abs() < 1e-15);
+        assert!((e.eval(0.125, 1.2).0 - 0.1).abs() < 1e-15);
+    }
+}

@@ -1,0 +1,242 @@
+//! Viscosity plugins for the dual-support sweep.
+//!
+//! * `ArtificialViscosity(alpha, beta, eta_factor)` — Eq. 4.17 in the dual form of Eq. 4.19:
+//!   `f_ij = −m_i m_j (Π_ij/2) ∇_iW_ij` on i, `−f_ij` on j; the dissipated work `−f_ij·v_ij ≥ 0`
+//!   is shared ½/½ as internal energy (Eq. 4.20).
+//! * `PhysicalViscosity(mu)` — Eq. 4.23: `f_ij = m_i m_j (μ/ρ_i²) (r_ij·∇_iW_ij)/(r_ij²+η²) v_ij`,
+//!   `η = 0.1 h_i`, work shared ½/½ (Eq. 4.24).
+//! * `NewtonianViscosity(mu, lambda)` — the viscous part of the Newtonian stress (Eq. 4.6),
+//!   `τ_i = μ(G_i + G_iᵀ) + λ tr(G_i) I` with the velocity gradient G of Eq. 7.4, in the
+//!   general dual form Eq. 4.13 with `1/(ρ_iρ_j)` (§5.2): `f_ij = m_i m_j/(ρ_iρ_j) τ_i·∇̃_iW_ij`
+//!   on i, `−f_ij` on j; its work goes to i (Eq. 4.15). With the kernel correction, the stress
+//!   being symmetric, angular momentum is conserved exactly.
+
+use dualsph_core::integrator::ensure_energy_equation;
+use dualsph_core::passes::ensure_velocity_gradient;
+use dualsph_core::prelude::*;
+use dualsph_core::sim::MaxViscosity;
+use serde::Deserialize;
+
+/// Monaghan artificial viscosity.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ArtificialViscosity {
+    /// Linear coefficient α.
+    pub alpha: Real,
+    /// Quadratic coefficient β.
+    pub beta: Real,
+    /// η = eta_factor · h̄ (default 0.1).
+    #[serde(default = "default_eta")]
+    pub eta_factor: Real,
+}
+
+fn default_eta() -> Real {
+    0.1
+}
+
+/// The artificial-viscosity pair term.
+#[derive(Debug, Clone, Copy)]
+pub struct ArtificialViscosityTerm {
+    /// α.
+    pub alpha: Real,
+    /// β.
+    pub beta: Real,
+    /// η / h̄.
+    pub eta_factor: Real,
+}
+
+impl ArtificialViscosityTerm {
+    /// `Π_ij` of Eq. 4.17 (0 for receding pairs).
+    #[inline]
+    pub fn pi<V: Vector>(&self, p: &Pair<'_, V>) -> Real {
+        let f = p.fields;
+        let (i, j) = (p.i, p.j);
+        let vr = p.vij().dot(p.rij);
+        if vr >= 0.0 {
+            return 0.0;
+        }
+        let hbar = 0.5 * (f.h[i] + f.h[j]);
+        let eta = self.eta_factor * hbar;
+        let mu = hbar * vr / (p.r * p.r + eta * eta);
+        let cbar = 0.5 * (f.sound[i] + f.sound[j]);
+        let rhobar = 0.5 * (f.rho[i] + f.rho[j]);
+        (-self.alpha * cbar * mu + self.beta * mu * mu) / rhobar
+    }
+}
+
+impl<V: Vector> PairTerm<V> for ArtificialViscosityTerm {
+    fn name(&self) -> &str {
+        "artificial viscosity (Eq. 4.17)"
+    }
+
+    #[inline]
+    fn interact(&self, p: &Pair<'_, V>, out: &mut PairOut<V>) {
+        let pi = self.pi(p);
+        if pi == 0.0 {
+            return;
+        }
+        let f = p.fields;
+        let coef = f.mass[p.i] * f.mass[p.j] * 0.5 * pi;
+        let force = p.grad_raw * (-coef);
+        out.force += force;
+        let heat = 0.5 * coef * p.vij().dot(p.grad_raw);
+        out.power_i += heat;
+        out.power_j += heat;
+    }
+}
+
+impl SimPlugin for ArtificialViscosity {
+    const NAME: &'static str = "ArtificialViscosity";
+    const SUMMARY: &'static str = "Monaghan artificial viscosity (Eq. 4.17) in dual-support form";
+
+    fn validate(&self, _info: &SceneInfo) -> Result<(), String> {
+        for (n, x) in [
+            ("alpha", self.alpha),
+            ("beta", self.beta),
+            ("eta_factor", self.eta_factor),
+        ] {
+            if !(x.is_finite() && x >= 0.0) {
+                return Err(format!("{n}: must be >= 0, got {x}"));
+            }
+        }
+        Ok(())
+    }
+
+    fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
+        sim.require_feature(
+            "eos",
+            "ArtificialViscosity needs an equation of state for the sound speed",
+        );
+        ensure_energy_equation(sim);
+        sim.add_pair_term(ArtificialViscosityTerm {
+            alpha: self.alpha,
+            beta: self.beta,
+            eta_factor: self.eta_factor,
+        });
+        Ok(())
+    }
+}
+
+/// Morris-type physical viscosity.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PhysicalViscosity {
+    /// Dynamic viscosity μ.
+    pub mu: Real,
+}
+
+/// The physical-viscosity pair term (Eq. 4.23).
+#[derive(Debug, Clone, Copy)]
+pub struct PhysicalViscosityTerm {
+    /// μ.
+    pub mu: Real,
+}
+
+impl<V: Vector> PairTerm<V> for PhysicalViscosityTerm {
+    fn name(&self) -> &str {
+        "physical viscosity (Eq. 4.23)"
+    }
+
+    #[inline]
+    fn interact(&self, p: &Pair<'_, V>, out: &mut PairOut<V>) {
+        let f = p.fields;
+        let (i, j) = (p.i, p.j);
+        let eta = 0.1 * f.h[i];
+        let coef = f.mass[i] * f.mass[j] * self.mu / (f.rho[i] * f.rho[i]) * p.rij.dot(p.grad_raw)
+            / (p.r * p.r + eta * eta);
+        let vij = p.vij();
+        out.force += vij * coef;
+        let heat = -0.5 * coef * vij.length_squared();
+        out.power_i += heat;
+        out.power_j += heat;
+    }
+}
+
+impl SimPlugin for PhysicalViscosity {
+    const NAME: &'static str = "PhysicalViscosity";
+    const SUMMARY: &'static str = "physical viscosity, Morris form in dual-support (Eq. 4.23)";
+
+    fn validate(&self, _info: &SceneInfo) -> Result<(), String> {
+        if !(self.mu.is_finite() && self.mu >= 0.0) {
+            return Err(format!("mu: must be >= 0, got {}", self.mu));
+        }
+        Ok(())
+    }
+
+    fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
+        ensure_energy_equation(sim);
+        raise_viscosity(sim, self.mu);
+        sim.add_pair_term(PhysicalViscosityTerm { mu: self.mu });
+        Ok(())
+    }
+}
+
+/// Newtonian viscous stress.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct NewtonianViscosity {
+    /// Dynamic viscosity μ.
+    pub mu: Real,
+    /// Second viscosity coefficient λ (default 0, as in the paper's Eq. 4.6 example).
+    #[serde(default)]
+    pub lambda: Real,
+}
+
+/// The viscous-stress pair term.
+#[derive(Debug, Clone, Copy)]
+pub struct ViscousStressTerm {
+    /// μ.
+    pub mu: Real,
+    /// λ.
+    pub lambda: Real,
+}
+
+impl<V: Vector> PairTerm<V> for ViscousStressTerm {
+    fn name(&self) -> &str {
+        "Newtonian viscous stress (Eqs. 4.6, 4.13, 7.4)"
+    }
+
+    #[inline]
+    fn interact(&self, p: &Pair<'_, V>, out: &mut PairOut<V>) {
+        let f = p.fields;
+        let (i, j) = (p.i, p.j);
+        let g = f.vgrad[i];
+        let tau = (g + g.transpose()) * self.mu + V::Mat::identity() * (self.lambda * g.trace());
+        let coef = f.mass[i] * f.mass[j] / (f.rho[i] * f.rho[j]);
+        let force = tau.mul_vec(p.grad) * coef;
+        out.force += force;
+        out.power_i -= force.dot(p.vij());
+    }
+}
+
+impl SimPlugin for NewtonianViscosity {
+    const NAME: &'static str = "NewtonianViscosity";
+    const SUMMARY: &'static str =
+        "Newtonian viscous stress from the velocity gradient (Eqs. 4.6, 7.4)";
+
+    fn validate(&self, _info: &SceneInfo) -> Result<(), String> {
+        if !(self.mu.is_finite() && self.mu >= 0.0) {
+            return Err(format!("mu: must be >= 0, got {}", self.mu));
+        }
+        if !self.lambda.is_finite() {
+            return Err("lambda: must be finite".into());
+        }
+        Ok(())
+    }
+
+    fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
+        ensure_energy_equation(sim);
+        ensure_velocity_gradient(sim);
+        raise_viscosity(sim, self.mu + self.lambda.abs());
+        sim.add_pair_term(ViscousStressTerm {
+            mu: self.mu,
+            lambda: self.lambda,
+        });
+        Ok(())
+    }
+}
+
+fn raise_viscosity<V: Vector>(sim: &mut Sim<V>, mu: Real) {
+    let mut m = sim.world.resource_mut::<MaxViscosity>();
+    m.0 = m.0.max(mu);
+}

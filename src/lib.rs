@@ -1,0 +1,160 @@
+//! # dualsph
+//!
+//! An entity-component-system engine for **Dual-Support Smoothed Particle Hydrodynamics**
+//! (Ren, Dai, Zhuang & Rabczuk). Particles are `bevy_ecs` entities; physics are plugins that
+//! add components, scheduled systems and pair terms; scenes are RON files that compose plugins.
+//!
+//! This crate is the facade: it re-exports the engine ([`core`]), scenes ([`scene`]) and
+//! output ([`io`]), registers the built-in plugins ([`default_registry`]), builds a [`Sim`]
+//! from a scene ([`build_sim`]) and runs it headless ([`runner`]).
+
+pub mod runner;
+
+pub use dualsph_core as core;
+pub use dualsph_io as io;
+pub use dualsph_scene as scene;
+
+pub use dualsph_core::prelude::*;
+
+/// The most used items of the engine.
+pub mod prelude {
+    pub use dualsph_core::prelude::*;
+}
+
+use dualsph_scene::Scene;
+
+/// The built-in plugins, by the names used in RON scenes.
+pub mod plugins {
+    pub use dualsph_density::{ContinuityDensity, ContinuityForm, SummationDensity};
+    pub use dualsph_eos::{IdealGas, TaitEos};
+    pub use dualsph_gravity::Gravity;
+    pub use dualsph_heat::HeatConduction;
+    pub use dualsph_kernel_correction::KernelCorrection;
+    pub use dualsph_pressure::PressureForce;
+    pub use dualsph_smoothing_length::SmoothingLengthUpdate;
+    pub use dualsph_viscosity::{ArtificialViscosity, NewtonianViscosity, PhysicalViscosity};
+    pub use dualsph_walls::SpecularWalls;
+}
+
+/// A registry with every built-in plugin; add your own with `register::<YourPlugin>()`.
+pub fn default_registry() -> Registry {
+    use plugins::*;
+    let mut r = Registry::new();
+    r.register::<SummationDensity>()
+        .register::<ContinuityDensity>()
+        .register::<TaitEos>()
+        .register::<IdealGas>()
+        .register::<PressureForce>()
+        .register::<ArtificialViscosity>()
+        .register::<PhysicalViscosity>()
+        .register::<NewtonianViscosity>()
+        .register::<HeatConduction>()
+        .register::<KernelCorrection>()
+        .register::<SmoothingLengthUpdate>()
+        .register::<Gravity>()
+        .register::<SpecularWalls>();
+    r
+}
+
+/// Maps the scene's formulation to the engine's.
+pub fn formulation_of(f: dualsph_scene::Formulation) -> Formulation {
+    match f {
+        dualsph_scene::Formulation::DualSupport => Formulation::DualSupport,
+        dualsph_scene::Formulation::SingleSupport => Formulation::SingleSupport,
+        dualsph_scene::Formulation::ConstantH => Formulation::ConstantH,
+        dualsph_scene::Formulation::AveragedKernel => Formulation::AveragedKernel,
+    }
+}
+
+fn vector<V: Vector>(x: &[Real], what: &str) -> Result<V, SimError> {
+    V::from_slice(x).ok_or_else(|| {
+        SimError::Build(format!(
+            "{what}: expected {} components, got {}",
+            V::DIM,
+            x.len()
+        ))
+    })
+}
+
+/// Builds a simulation of dimension `V::DIM` from a validated scene: core resources,
+/// particles from the generators, then each plugin in the order listed.
+pub fn build_sim<V: Vector>(scene: &Scene) -> Result<Sim<V>, SimError> {
+    let domain = Domain {
+        min: vector::<V>(&scene.domain.min, "domain.min")?,
+        max: vector::<V>(&scene.domain.max, "domain.max")?,
+    };
+    let time_stepping = match scene.integrator.dt {
+        dualsph_scene::TimeStep::Fixed(dt) => TimeStepping::Fixed(dt),
+        dualsph_scene::TimeStep::Adaptive {
+            courant,
+            force,
+            viscous,
+        } => TimeStepping::Adaptive {
+            courant,
+            force,
+            viscous,
+            max_dt: scene.integrator.max_dt.unwrap_or(Real::INFINITY),
+        },
+    };
+    let formulation = formulation_of(scene.formulation);
+    let mut sim = Sim::<V>::new(SimConfig {
+        kernel: scene.kernel,
+        formulation,
+        domain,
+        skin: scene.neighbours.skin,
+        time_stepping,
+    });
+    let particles: Vec<ParticleInit<V>> = scene
+        .generate()
+        .iter()
+        .map(|p| ParticleInit {
+            pos: vector::<V>(&p.pos[..V::DIM], "position").unwrap_or_else(|_| V::zero()),
+            vel: vector::<V>(&p.vel[..V::DIM], "velocity").unwrap_or_else(|_| V::zero()),
+            mass: p.mass,
+            density: p.density,
+            h: p.h,
+            internal_energy: p.internal_energy,
+        })
+        .collect();
+    if formulation == Formulation::ConstantH
+        && let Some(first) = particles.first()
+        && let Some(other) = particles.iter().find(|p| p.h != first.h)
+    {
+        return Err(SimError::Build(format!(
+            "formulation ConstantH needs one h for all particles, found {} and {} (use one h_factor × spacing)",
+            first.h, other.h
+        )));
+    }
+    sim.spawn_particles(&particles);
+    {
+        let mut clock = sim.world.resource_mut::<SimClock>();
+        clock.t_end = scene.end_time;
+    }
+    for p in &scene.plugins {
+        p.build_into(&mut sim)
+            .map_err(|e| SimError::Build(format!("plugin {}: {e}", p.name())))?;
+    }
+    sim.finish()?;
+    Ok(sim)
+}
+
+/// Runs `f` with the scene's dimension as a type: `Vec1`, `DVec2` or `DVec3`.
+#[macro_export]
+macro_rules! with_dimension {
+    ($dim:expr, $v:ident => $body:expr) => {
+        match $dim {
+            1 => {
+                type $v = $crate::core::math::Vec1;
+                $body
+            }
+            2 => {
+                type $v = $crate::core::glam::DVec2;
+                $body
+            }
+            _ => {
+                type $v = $crate::core::glam::DVec3;
+                $body
+            }
+        }
+    };
+}

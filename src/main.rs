@@ -1,0 +1,119 @@
+//! The `dualsph` command: run, check and plan scenes.
+
+use clap::{Parser, Subcommand};
+use dualsph::runner::{self, Progress, RunOptions};
+use dualsph::scene::Scene;
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(
+    name = "dualsph",
+    version,
+    about = "Dual-support SPH: run, check and plan RON scenes"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run a scene headless and write diagnostics and snapshots.
+    Run {
+        /// The scene file (.ron).
+        scene: PathBuf,
+        /// Output directory (default: out/<scene name>).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// No progress output.
+        #[arg(long)]
+        quiet: bool,
+    },
+    /// Parse and validate a scene without running it.
+    Check {
+        /// The scene file (.ron).
+        scene: PathBuf,
+    },
+    /// Print the systems (in order), pair terms and particle components a scene produces.
+    Plan {
+        /// The scene file (.ron).
+        scene: PathBuf,
+    },
+    /// List the registered plugins.
+    Plugins,
+}
+
+fn load(path: &std::path::Path) -> Result<Scene, String> {
+    Scene::load(path, &dualsph::default_registry()).map_err(|e| e.to_string())
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result: Result<(), String> = match cli.command {
+        Command::Run { scene, out, quiet } => load(&scene).and_then(|s| {
+            let progress = if quiet {
+                Progress::Silent
+            } else if std::io::stderr().is_terminal() {
+                Progress::Bar
+            } else {
+                Progress::Log
+            };
+            let out = out.unwrap_or_else(|| runner::default_out_dir(&scene));
+            eprintln!("dualsph: running {} ({}-D, {} particles generated) → {}", scene.display(), s.dimension, s.generate().len(), out.display());
+            let summary = runner::run(&s, &RunOptions { out: out.clone(), progress }).map_err(|e| format!("{}: {e}", scene.display()))?;
+            println!(
+                "done: {} particles, {} steps to t = {:.6} s in {:.2} s wall ({:.3e} particle-steps/s); output in {}",
+                summary.particles,
+                summary.steps,
+                summary.t,
+                summary.wall_seconds,
+                summary.particle_steps_per_second,
+                out.display()
+            );
+            let (a, b) = (&summary.initial, &summary.last);
+            println!(
+                "conservation: mass {:.3e} → {:.3e}, momentum [{:.3e}, {:.3e}, {:.3e}], E_tot {:.6e} → {:.6e}",
+                a.mass, b.mass, b.momentum[0], b.momentum[1], b.momentum[2], a.e_tot, b.e_tot
+            );
+            Ok(())
+        }),
+        Command::Check { scene } => load(&scene).map(|s| {
+            println!("{}: ok ({}-D, {} particles, {} plugins)", scene.display(), s.dimension, s.generate().len(), s.plugins.len());
+        }),
+        Command::Plan { scene } => load(&scene).and_then(|s| {
+            let plan = runner::plan(&s).map_err(|e| format!("{}: {e}", scene.display()))?;
+            println!("scene {} ({}-D, formulation {:?}, kernel {:?})", s.name, s.dimension, s.formulation, s.kernel);
+            println!("\nschedule (in order):");
+            for (k, (set, label)) in plan.systems.iter().enumerate() {
+                println!("  {:>2}. {:<16} {}", k + 1, format!("{set:?}"), label);
+            }
+            println!("\npair terms fused into the sweep:");
+            if plan.pair_terms.is_empty() {
+                println!("  (none)");
+            }
+            for t in &plan.pair_terms {
+                println!("  - {t}");
+            }
+            println!("\nparticle components:");
+            for c in &plan.components {
+                println!("  - {c}");
+            }
+            Ok(())
+        }),
+        Command::Plugins => {
+            for e in dualsph::default_registry().entries() {
+                println!("{:<22} {}", e.name, e.summary);
+            }
+            Ok(())
+        }
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(msg) => {
+            eprintln!("error: {msg}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -1,0 +1,233 @@
+//! Headless runs: step a scene to its end time, writing diagnostics and snapshots.
+
+use crate::{build_sim, with_dimension};
+use dualsph_core::diagnostics::{Diagnostics, Health};
+use dualsph_core::prelude::*;
+use dualsph_io::{DiagnosticsRow, OutputDir, ParticleRecord};
+use dualsph_scene::Scene;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// Extra diagnostics columns appended after the fixed ones.
+pub const EXTRA_COLUMNS: [&str; 3] = ["lx", "ly", "rho_var_max"];
+
+/// How to report progress.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Progress {
+    /// No progress output.
+    Silent,
+    /// A progress bar (terminal).
+    Bar,
+    /// Plain log lines on stderr.
+    Log,
+}
+
+/// Options of a run.
+#[derive(Clone, Debug)]
+pub struct RunOptions {
+    /// Output directory.
+    pub out: PathBuf,
+    /// Progress reporting.
+    pub progress: Progress,
+}
+
+/// What a finished run reports.
+#[derive(Clone, Debug)]
+pub struct RunSummary {
+    /// Particles.
+    pub particles: u64,
+    /// Steps taken.
+    pub steps: u64,
+    /// Final time.
+    pub t: Real,
+    /// Wall-clock seconds of the stepping loop.
+    pub wall_seconds: f64,
+    /// Particle-steps per wall second.
+    pub particle_steps_per_second: f64,
+    /// Diagnostics at t = 0.
+    pub initial: Diagnostics,
+    /// Diagnostics at the end.
+    pub last: Diagnostics,
+}
+
+/// Errors of a run.
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    /// Building or stepping failed.
+    #[error(transparent)]
+    Sim(#[from] SimError),
+    /// Output failed.
+    #[error(transparent)]
+    Output(#[from] dualsph_io::OutputError),
+}
+
+/// The particles as output records, in id order.
+pub fn particle_records<V: Vector>(sim: &mut Sim<V>) -> Vec<ParticleRecord> {
+    let world = &mut sim.world;
+    let mut q = world.query::<(
+        &ParticleId,
+        &Position<V>,
+        &Velocity<V>,
+        &Mass,
+        &Density,
+        &SmoothingLength,
+        Option<&Pressure>,
+        Option<&InternalEnergy>,
+    )>();
+    let mut out: Vec<ParticleRecord> = q
+        .iter(world)
+        .map(|(id, r, v, m, rho, h, p, e)| ParticleRecord {
+            id: id.0 as u64,
+            pos: r.0.to_xyz(),
+            vel: v.0.to_xyz(),
+            mass: m.0,
+            rho: rho.0,
+            p: p.map_or(0.0, |p| p.0),
+            e: e.map_or(0.0, |e| e.0),
+            h: h.0,
+        })
+        .collect();
+    out.sort_unstable_by_key(|r| r.id);
+    out
+}
+
+fn diag_row(d: &Diagnostics) -> DiagnosticsRow {
+    DiagnosticsRow {
+        t: d.t,
+        step: d.step,
+        dt: d.dt,
+        n: d.n,
+        mass: d.mass,
+        p: d.momentum,
+        lz: d.angular_momentum[2],
+        e_kin: d.e_kin,
+        e_int: d.e_int,
+        e_pot: d.e_pot,
+        e_tot: d.e_tot,
+        extra: vec![
+            d.angular_momentum[0],
+            d.angular_momentum[1],
+            d.max_density_variation,
+        ],
+    }
+}
+
+fn check<V: Vector>(sim: &Sim<V>) -> Result<(), SimError> {
+    if let Some((id, what, value)) = sim.world.resource::<Health>().problem {
+        let c = sim.clock();
+        return Err(SimError::BlowUp(format!(
+            "step {}, t = {:.6e}: particle {id} has {what} = {value:e} (dt = {:.3e}; a dt above the CFL limit or too few neighbours is the usual cause)",
+            c.step, c.t, c.dt
+        )));
+    }
+    Ok(())
+}
+
+/// Builds and runs a scene of dimension `V::DIM`.
+pub fn run_dim<V: Vector>(scene: &Scene, opts: &RunOptions) -> Result<RunSummary, RunError> {
+    let mut sim = build_sim::<V>(scene)?;
+    sim.initialize()?;
+    check(&sim)?;
+    let mut out = OutputDir::create(
+        &opts.out,
+        EXTRA_COLUMNS.iter().map(|s| s.to_string()).collect(),
+    )?;
+    let initial = sim.diagnostics();
+    out.push_diagnostics(diag_row(&initial))?;
+    let snap_every = scene.output.snapshot_every;
+    let diag_every = scene.output.diagnostics_every.max(1);
+    if snap_every > 0 {
+        out.write_snapshot(0, 0.0, &particle_records(&mut sim))?;
+    }
+    let n = sim.particle_count() as u64;
+    let end = scene.end_time;
+    let max_steps = scene.max_steps.unwrap_or(u64::MAX);
+    let bar = (opts.progress == Progress::Bar).then(|| {
+        let b = indicatif::ProgressBar::new(1_000_000);
+        b.set_style(
+            indicatif::ProgressStyle::with_template("{bar:40} {percent:>3}% | {msg} | ETA {eta}")
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        b
+    });
+    let started = Instant::now();
+    let mut last_log = Instant::now();
+    let mut last_written = 0;
+    while sim.clock().t < end * (1.0 - 1e-12) && sim.clock().step < max_steps {
+        sim.step()?;
+        check(&sim)?;
+        let c = sim.clock();
+        if c.step % diag_every == 0 {
+            out.push_diagnostics(diag_row(&sim.diagnostics()))?;
+            last_written = c.step;
+        }
+        if snap_every > 0 && c.step % snap_every == 0 {
+            out.write_snapshot(c.step, c.t, &particle_records(&mut sim))?;
+        }
+        let frac = (c.t / end).clamp(0.0, 1.0);
+        match (&bar, opts.progress) {
+            (Some(b), _) => {
+                b.set_position((frac * 1e6) as u64);
+                b.set_message(format!(
+                    "step {} t = {:.5} s dt = {:.2e}",
+                    c.step, c.t, c.dt
+                ));
+            }
+            (None, Progress::Log) if last_log.elapsed().as_secs_f64() > 5.0 => {
+                eprintln!(
+                    "step {:>8}  t = {:.6e} s  ({:5.1} %)  dt = {:.3e}",
+                    c.step,
+                    c.t,
+                    100.0 * frac,
+                    c.dt
+                );
+                last_log = Instant::now();
+            }
+            _ => {}
+        }
+    }
+    if let Some(b) = bar {
+        b.finish_and_clear();
+    }
+    let wall = started.elapsed().as_secs_f64();
+    let last = sim.diagnostics();
+    if last.step != last_written {
+        out.push_diagnostics(diag_row(&last))?;
+    }
+    let records = particle_records(&mut sim);
+    if snap_every > 0 && last.step % snap_every != 0 {
+        out.write_snapshot(last.step, last.t, &records)?;
+    }
+    out.write_final(&records)?;
+    Ok(RunSummary {
+        particles: n,
+        steps: last.step,
+        t: last.t,
+        wall_seconds: wall,
+        particle_steps_per_second: (n * last.step) as f64 / wall.max(1e-9),
+        initial,
+        last,
+    })
+}
+
+/// Runs a scene in its own dimension.
+pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunSummary, RunError> {
+    with_dimension!(scene.dimension, V => run_dim::<V>(scene, opts))
+}
+
+/// The plan of a scene in its own dimension.
+pub fn plan(scene: &Scene) -> Result<dualsph_core::sim::Plan, SimError> {
+    with_dimension!(scene.dimension, V => {
+        let mut sim = build_sim::<V>(scene)?;
+        Ok(sim.plan())
+    })
+}
+
+/// Default output directory for a scene file: `out/<file stem>`.
+pub fn default_out_dir(scene_path: &Path) -> PathBuf {
+    let stem = scene_path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "run".into());
+    PathBuf::from("out").join(stem)
+}
