@@ -307,7 +307,7 @@ mod tests {
                 }
             }
         }
-        assert!(rebuilt >= 1 && rebuilt < 40, "rebuilt {rebuilt} times");
+        assert!((1..40).contains(&rebuilt), "rebuilt {rebuilt} times");
         nb.dirty = true;
         assert!(nb.needs_rebuild(&pos));
     }
