@@ -8,7 +8,9 @@ fn bin() -> Command {
 }
 
 fn scene(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes").join(name)
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenes")
+        .join(name)
 }
 
 #[test]
@@ -17,7 +19,12 @@ fn check_accepts_every_shipped_scene() {
         let path = entry.unwrap().path();
         if path.extension().is_some_and(|e| e == "ron") {
             let out = bin().arg("check").arg(&path).output().unwrap();
-            assert!(out.status.success(), "{}: {}", path.display(), String::from_utf8_lossy(&out.stderr));
+            assert!(
+                out.status.success(),
+                "{}: {}",
+                path.display(),
+                String::from_utf8_lossy(&out.stderr)
+            );
         }
     }
 }
@@ -25,7 +32,9 @@ fn check_accepts_every_shipped_scene() {
 #[test]
 fn check_reports_a_typo_with_file_line_and_column() {
     let dir = tempfile::tempdir().unwrap();
-    let text = std::fs::read_to_string(scene("heat_1d.ron")).unwrap().replacen("spacing: 0.005", "spacng: 0.005", 1);
+    let text = std::fs::read_to_string(scene("heat_1d.ron"))
+        .unwrap()
+        .replacen("spacing: 0.005", "spacng: 0.005", 1);
     let line = text.lines().position(|l| l.contains("spacng")).unwrap() + 1;
     let col = text.lines().nth(line - 1).unwrap().find("spacng").unwrap() + 1;
     let path = dir.path().join("typo.ron");
@@ -34,34 +43,69 @@ fn check_reports_a_typo_with_file_line_and_column() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success());
     assert!(!err.contains("panicked"), "{err}");
-    assert!(err.contains(&format!("typo.ron:{line}:{col}")), "expected typo.ron:{line}:{col} in: {err}");
-    assert!(err.contains("spacing"), "the message should name the expected field: {err}");
+    assert!(
+        err.contains(&format!("typo.ron:{line}:{col}")),
+        "expected typo.ron:{line}:{col} in: {err}"
+    );
+    assert!(
+        err.contains("spacing"),
+        "the message should name the expected field: {err}"
+    );
 }
 
 #[test]
 fn check_names_registered_plugins_for_an_unknown_one() {
     let dir = tempfile::tempdir().unwrap();
-    let text = std::fs::read_to_string(scene("heat_1d.ron")).unwrap().replace("HeatConduction(", "HeatConductoin(");
+    let text = std::fs::read_to_string(scene("heat_1d.ron"))
+        .unwrap()
+        .replace("HeatConduction(", "HeatConductoin(");
     let path = dir.path().join("bad_plugin.ron");
     std::fs::write(&path, &text).unwrap();
     let out = bin().arg("check").arg(&path).output().unwrap();
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success());
-    assert!(err.contains("HeatConductoin") && err.contains("HeatConduction") && err.contains("PressureForce"), "{err}");
+    assert!(
+        err.contains("HeatConductoin")
+            && err.contains("HeatConduction")
+            && err.contains("PressureForce"),
+        "{err}"
+    );
 }
 
 #[test]
 fn plan_shows_only_what_the_scene_needs() {
-    let out = bin().arg("plan").arg(scene("dam_break_2d.ron")).output().unwrap();
+    let out = bin()
+        .arg("plan")
+        .arg(scene("dam_break_2d.ron"))
+        .output()
+        .unwrap();
     assert!(out.status.success());
     let text = String::from_utf8_lossy(&out.stdout);
-    assert!(text.contains("pair_sweep") && text.contains("pressure (Eq. 4.19)") && text.contains("Pressure"), "{text}");
-    assert!(!text.to_lowercase().contains("heat"), "dam break has no heat conduction:\n{text}");
-    assert!(!text.contains("Conductivity"), "no temperature/conductivity component expected:\n{text}");
+    assert!(
+        text.contains("pair_sweep")
+            && text.contains("pressure (Eq. 4.19)")
+            && text.contains("Pressure"),
+        "{text}"
+    );
+    assert!(
+        !text.to_lowercase().contains("heat"),
+        "dam break has no heat conduction:\n{text}"
+    );
+    assert!(
+        !text.contains("Conductivity"),
+        "no temperature/conductivity component expected:\n{text}"
+    );
 
-    let out = bin().arg("plan").arg(scene("heat_1d.ron")).output().unwrap();
+    let out = bin()
+        .arg("plan")
+        .arg(scene("heat_1d.ron"))
+        .output()
+        .unwrap();
     let text = String::from_utf8_lossy(&out.stdout);
-    assert!(text.contains("heat conduction (Eq. 3.13)") && text.contains("Conductivity"), "{text}");
+    assert!(
+        text.contains("heat conduction (Eq. 3.13)") && text.contains("Conductivity"),
+        "{text}"
+    );
     assert!(!text.contains("Pressure"), "heat scene has no EOS:\n{text}");
 }
 
@@ -69,9 +113,27 @@ fn plan_shows_only_what_the_scene_needs() {
 fn run_writes_every_output_file() {
     let dir = tempfile::tempdir().unwrap();
     let out_dir = dir.path().join("heat");
-    let out = bin().args(["run", "--quiet"]).arg(scene("heat_1d.ron")).arg("--out").arg(&out_dir).output().unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    for f in ["diagnostics.csv", "snapshots.csv", "particles.pvd", "final.csv", "particles_000000.csv", "particles_000000.vtp", "particles_000400.csv"] {
+    let out = bin()
+        .args(["run", "--quiet"])
+        .arg(scene("heat_1d.ron"))
+        .arg("--out")
+        .arg(&out_dir)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for f in [
+        "diagnostics.csv",
+        "snapshots.csv",
+        "particles.pvd",
+        "final.csv",
+        "particles_000000.csv",
+        "particles_000000.vtp",
+        "particles_000400.csv",
+    ] {
         assert!(out_dir.join(f).is_file(), "missing {f}");
     }
     let leftovers: Vec<_> = std::fs::read_dir(&out_dir)
@@ -86,5 +148,8 @@ fn run_writes_every_output_file() {
 fn missing_scene_file_is_a_clear_error() {
     let out = bin().args(["check", "no/such/scene.ron"]).output().unwrap();
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(!out.status.success() && err.contains("no/such/scene.ron") && !err.contains("panicked"), "{err}");
+    assert!(
+        !out.status.success() && err.contains("no/such/scene.ron") && !err.contains("panicked"),
+        "{err}"
+    );
 }

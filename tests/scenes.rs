@@ -7,7 +7,9 @@ use dualsph::scene::{Formulation, Scene};
 use std::path::Path;
 
 fn load(name: &str) -> Scene {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes").join(name);
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenes")
+        .join(name);
     Scene::load(&path, &dualsph::default_registry()).unwrap()
 }
 
@@ -16,25 +18,53 @@ fn run_short(name: &str, steps: u64) -> (tempfile::TempDir, runner::RunSummary) 
     scene.max_steps = Some(steps);
     scene.output.snapshot_every = steps / 2;
     let dir = tempfile::tempdir().unwrap();
-    let summary = runner::run(&scene, &RunOptions { out: dir.path().to_path_buf(), progress: Progress::Silent }).unwrap();
+    let summary = runner::run(
+        &scene,
+        &RunOptions {
+            out: dir.path().to_path_buf(),
+            progress: Progress::Silent,
+        },
+    )
+    .unwrap();
     (dir, summary)
 }
 
 #[test]
 fn scenes_of_each_dimension_run_and_write_outputs() {
-    for (name, dim) in [("heat_1d.ron", 1), ("sod_1d.ron", 1), ("dam_break_2d.ron", 2), ("column_3d.ron", 3)] {
+    for (name, dim) in [
+        ("heat_1d.ron", 1),
+        ("sod_1d.ron", 1),
+        ("dam_break_2d.ron", 2),
+        ("column_3d.ron", 3),
+    ] {
         let (dir, s) = run_short(name, 20);
         assert_eq!(s.steps, 20, "{name}");
         let parts = read_particles_csv(&dir.path().join("final.csv")).unwrap();
         assert_eq!(parts.len() as u64, s.particles, "{name}");
-        assert!(parts.iter().all(|p| p.pos.iter().all(|x| x.is_finite())), "{name}");
+        assert!(
+            parts.iter().all(|p| p.pos.iter().all(|x| x.is_finite())),
+            "{name}"
+        );
         if dim < 3 {
-            assert!(parts.iter().all(|p| p.pos[2] == 0.0), "{name}: unused z must be 0");
+            assert!(
+                parts.iter().all(|p| p.pos[2] == 0.0),
+                "{name}: unused z must be 0"
+            );
         }
         let (header, rows) = read_diagnostics_csv(&dir.path().join("diagnostics.csv")).unwrap();
-        assert_eq!(&header[..13], &["t", "step", "dt", "n", "mass", "px", "py", "pz", "lz", "e_kin", "e_int", "e_pot", "e_tot"]);
+        assert_eq!(
+            &header[..13],
+            &[
+                "t", "step", "dt", "n", "mass", "px", "py", "pz", "lz", "e_kin", "e_int", "e_pot",
+                "e_tot"
+            ]
+        );
         assert!(rows.len() >= 2, "{name}");
-        assert!(dir.path().join("particles_000010.vtp").is_file() && dir.path().join("particles.pvd").is_file(), "{name}");
+        assert!(
+            dir.path().join("particles_000010.vtp").is_file()
+                && dir.path().join("particles.pvd").is_file(),
+            "{name}"
+        );
     }
 }
 
@@ -45,22 +75,45 @@ fn free_drop_conserves_momentum_with_dual_support_and_variable_h() {
     scene.end_time = 1.0;
     scene.output.snapshot_every = 0;
     let dir = tempfile::tempdir().unwrap();
-    let s = runner::run(&scene, &RunOptions { out: dir.path().to_path_buf(), progress: Progress::Silent }).unwrap();
+    let s = runner::run(
+        &scene,
+        &RunOptions {
+            out: dir.path().to_path_buf(),
+            progress: Progress::Silent,
+        },
+    )
+    .unwrap();
     assert_eq!(s.steps, 1000);
-    let drift = (0..3).map(|k| (s.last.momentum[k] - s.initial.momentum[k]).abs()).fold(0.0, f64::max);
+    let drift = (0..3)
+        .map(|k| (s.last.momentum[k] - s.initial.momentum[k]).abs())
+        .fold(0.0, f64::max);
     let rel = drift / s.initial.momentum_scale;
     let l_drift = (s.last.angular_momentum[2] - s.initial.angular_momentum[2]).abs();
-    println!("DualSupport drop: momentum drift {rel:.2e} (relative to Σ|m v|), Lz drift {l_drift:.2e}");
+    println!(
+        "DualSupport drop: momentum drift {rel:.2e} (relative to Σ|m v|), Lz drift {l_drift:.2e}"
+    );
     assert!(rel <= 1e-12, "momentum drift {rel:e}");
 
     scene.formulation = Formulation::SingleSupport;
     scene.max_steps = Some(200);
     let dir = tempfile::tempdir().unwrap();
-    let s = runner::run(&scene, &RunOptions { out: dir.path().to_path_buf(), progress: Progress::Silent }).unwrap();
-    let drift = (0..3).map(|k| (s.last.momentum[k] - s.initial.momentum[k]).abs()).fold(0.0, f64::max);
+    let s = runner::run(
+        &scene,
+        &RunOptions {
+            out: dir.path().to_path_buf(),
+            progress: Progress::Silent,
+        },
+    )
+    .unwrap();
+    let drift = (0..3)
+        .map(|k| (s.last.momentum[k] - s.initial.momentum[k]).abs())
+        .fold(0.0, f64::max);
     let rel_single = drift / s.initial.momentum_scale;
     println!("SingleSupport drop: momentum drift {rel_single:.2e} after 200 steps");
-    assert!(rel_single > 1e-8, "SingleSupport should drift, got {rel_single:e}");
+    assert!(
+        rel_single > 1e-8,
+        "SingleSupport should drift, got {rel_single:e}"
+    );
 }
 
 #[test]
@@ -69,5 +122,9 @@ fn heat_conduction_conserves_energy_with_a_refined_band() {
     let rel = (s.last.e_int - s.initial.e_int).abs() / s.initial.e_int;
     println!("1-D heat, DualSupport: ΔE/E = {rel:.2e}");
     assert!(rel <= 1e-13, "ΔE/E = {rel:e}");
-    assert!((s.initial.e_int - 0.75).abs() < 1e-12, "E_total = {}", s.initial.e_int);
+    assert!(
+        (s.initial.e_int - 0.75).abs() < 1e-12,
+        "E_total = {}",
+        s.initial.e_int
+    );
 }

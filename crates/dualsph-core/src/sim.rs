@@ -214,6 +214,7 @@ pub struct Sim<V: Vector> {
     systems: Vec<SystemEntry>,
     features: BTreeSet<&'static str>,
     requirements: Vec<(&'static str, String)>,
+    components: BTreeSet<String>,
     schedule: Option<Schedule>,
     _v: PhantomData<V>,
 }
@@ -244,6 +245,7 @@ impl<V: Vector> Sim<V> {
             systems: Vec::new(),
             features: BTreeSet::new(),
             requirements: Vec::new(),
+            components: BTreeSet::new(),
             schedule: None,
             _v: PhantomData,
         };
@@ -272,6 +274,18 @@ impl<V: Vector> Sim<V> {
             eps.push(p.internal_energy);
         }
         self.world.resource_mut::<InitialInternalEnergy>().0 = eps;
+        for name in [
+            std::any::type_name::<ParticleId>(),
+            std::any::type_name::<Position<V>>(),
+            std::any::type_name::<Velocity<V>>(),
+            std::any::type_name::<Mass>(),
+            std::any::type_name::<Density>(),
+            std::any::type_name::<SmoothingLength>(),
+            std::any::type_name::<Acceleration<V>>(),
+            std::any::type_name::<Kinematics<V>>(),
+        ] {
+            self.components.insert(short_type_name(name));
+        }
         let n = self.particle_count();
         self.world.resource_mut::<Fields<V>>().resize(n);
     }
@@ -283,6 +297,8 @@ impl<V: Vector> Sim<V> {
 
     /// Adds a component to every particle, computed from its id.
     pub fn insert_particle_component<C: Component>(&mut self, f: impl Fn(u32) -> C) {
+        self.components
+            .insert(short_type_name(std::any::type_name::<C>()));
         let entities: Vec<(Entity, u32)> = self
             .world
             .query::<(Entity, &ParticleId)>()
@@ -351,23 +367,7 @@ impl<V: Vector> Sim<V> {
             .into_iter()
             .map(|k| (self.systems[k].set, self.systems[k].label.clone()))
             .collect();
-        let mut components = Vec::new();
-        let first = self
-            .world
-            .query::<(Entity, &ParticleId)>()
-            .iter(&self.world)
-            .next()
-            .map(|(e, _)| e);
-        if let Some(e) = first
-            && let Ok(infos) = self.world.inspect_entity(e)
-        {
-            {
-                components = infos
-                    .map(|(_, c)| short_type_name(&c.name().to_string()))
-                    .collect();
-            }
-        }
-        components.sort();
+        let components: Vec<String> = self.components.iter().cloned().collect();
         let pair_terms = self
             .world
             .resource::<PairTerms<V>>()

@@ -1,6 +1,9 @@
 //! `SpecularWalls()`: the faces of the domain box reflect particles specularly (Eq. 7.7):
-//! `v' = v − 2 (v·n) n` if `v·n < 0`, with n the inward normal. A particle found beyond a face
-//! is mirrored back inside. Reflection leaves |v| unchanged, so kinetic energy is untouched.
+//! `v' = v − 2 (v·n) n` if `v·n < 0`, with n the inward normal, for a particle on or beyond a
+//! face. Positions are not moved: a particle that overshot a face by `|v|Δt` comes back on
+//! its own with the reflected velocity. (Mirroring the position instead would lift it in a
+//! gravity field and inject potential energy at every bounce.) Reflection leaves |v|
+//! unchanged, so the kinetic energy — and the total energy — are untouched.
 
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::prelude::*;
