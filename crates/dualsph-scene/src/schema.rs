@@ -218,7 +218,9 @@ impl Default for NeighbourSettings {
 }
 
 fn default_courant() -> f64 {
-    0.2
+    // on the support radius h (= 2Δx for h_factor 2): 0.1 h/c = 0.2 Δx/c; 0.2 h/c blows up
+    // the 2-D dam break near t = 0.22 s
+    0.1
 }
 fn default_force() -> f64 {
     0.25
@@ -235,7 +237,7 @@ pub enum TimeStep {
     Fixed(f64),
     /// CFL-type step from the three coefficients, each in (0, 1].
     Adaptive {
-        /// Acoustic (Courant) coefficient; default 0.2.
+        /// Acoustic (Courant) coefficient on the support radius h; default 0.1.
         #[serde(default = "default_courant")]
         courant: f64,
         /// Force (acceleration) coefficient; default 0.25.

@@ -153,7 +153,7 @@ fn adaptive_without_settings_uses_defaults() {
     assert_eq!(
         s.integrator.dt,
         TimeStep::Adaptive {
-            courant: 0.2,
+            courant: 0.1,
             force: 0.25,
             viscous: 0.125
         }
