@@ -13,13 +13,11 @@ fn load(name: &str) -> Scene {
     Scene::load(&path, &dualsph::default_registry()).unwrap()
 }
 
-fn run_short(name: &str, steps: u64) -> (tempfile::TempDir, runner::RunSummary) {
-    let mut scene = load(name);
-    scene.max_steps = Some(steps);
-    scene.output.snapshot_every = steps / 2;
+/// Runs a scene silently into a fresh temporary directory.
+fn run_in_tempdir(scene: &Scene) -> (tempfile::TempDir, runner::RunSummary) {
     let dir = tempfile::tempdir().unwrap();
     let summary = runner::run(
-        &scene,
+        scene,
         &RunOptions {
             out: dir.path().to_path_buf(),
             progress: Progress::Silent,
@@ -27,6 +25,21 @@ fn run_short(name: &str, steps: u64) -> (tempfile::TempDir, runner::RunSummary) 
     )
     .unwrap();
     (dir, summary)
+}
+
+/// Largest momentum change over the run, relative to Σ|m v| at t = 0.
+fn momentum_drift(s: &runner::RunSummary) -> f64 {
+    (0..3)
+        .map(|k| (s.last.momentum[k] - s.initial.momentum[k]).abs())
+        .fold(0.0, f64::max)
+        / s.initial.momentum_scale
+}
+
+fn run_short(name: &str, steps: u64) -> (tempfile::TempDir, runner::RunSummary) {
+    let mut scene = load(name);
+    scene.max_steps = Some(steps);
+    scene.output.snapshot_every = steps / 2;
+    run_in_tempdir(&scene)
 }
 
 #[test]
@@ -74,20 +87,9 @@ fn free_drop_conserves_momentum_with_dual_support_and_variable_h() {
     scene.max_steps = Some(1000);
     scene.end_time = 1.0;
     scene.output.snapshot_every = 0;
-    let dir = tempfile::tempdir().unwrap();
-    let s = runner::run(
-        &scene,
-        &RunOptions {
-            out: dir.path().to_path_buf(),
-            progress: Progress::Silent,
-        },
-    )
-    .unwrap();
+    let (_dir, s) = run_in_tempdir(&scene);
     assert_eq!(s.steps, 1000);
-    let drift = (0..3)
-        .map(|k| (s.last.momentum[k] - s.initial.momentum[k]).abs())
-        .fold(0.0, f64::max);
-    let rel = drift / s.initial.momentum_scale;
+    let rel = momentum_drift(&s);
     let l_drift = (s.last.angular_momentum[2] - s.initial.angular_momentum[2]).abs();
     println!(
         "DualSupport drop: momentum drift {rel:.2e} (relative to Σ|m v|), Lz drift {l_drift:.2e}"
@@ -96,19 +98,8 @@ fn free_drop_conserves_momentum_with_dual_support_and_variable_h() {
 
     scene.formulation = Formulation::SingleSupport;
     scene.max_steps = Some(200);
-    let dir = tempfile::tempdir().unwrap();
-    let s = runner::run(
-        &scene,
-        &RunOptions {
-            out: dir.path().to_path_buf(),
-            progress: Progress::Silent,
-        },
-    )
-    .unwrap();
-    let drift = (0..3)
-        .map(|k| (s.last.momentum[k] - s.initial.momentum[k]).abs())
-        .fold(0.0, f64::max);
-    let rel_single = drift / s.initial.momentum_scale;
+    let (_dir, s) = run_in_tempdir(&scene);
+    let rel_single = momentum_drift(&s);
     println!("SingleSupport drop: momentum drift {rel_single:.2e} after 200 steps");
     assert!(
         rel_single > 1e-8,

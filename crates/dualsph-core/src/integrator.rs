@@ -7,7 +7,7 @@
 //! Corrector:  `v^{t+Δt} = v^t + Δt/2 (a^t + a^{t+Δt})`, and likewise for ρ and ε.
 
 use crate::components::*;
-use crate::math::{Real, Vector};
+use crate::math::Vector;
 use crate::neighbours::Neighbours;
 use crate::sim::{InitialInternalEnergy, MaxViscosity, Sim, SimClock, StepSet, TimeStepping};
 use crate::sweep::Fields;
@@ -217,13 +217,4 @@ pub fn ensure_density_integration<V: Vector>(sim: &mut Sim<V>) {
     });
     sim.add_system(StepSet::Predict, "predict_density", predict_density);
     sim.add_system(StepSet::Correct, "correct_density", correct_density);
-}
-
-/// Largest `|a|·dt` style sanity number, used by tests: max speed in the world.
-pub fn max_speed<V: Vector>(world: &mut World) -> Real {
-    world
-        .query::<&Velocity<V>>()
-        .iter(world)
-        .map(|v| v.0.length())
-        .fold(0.0, Real::max)
 }
