@@ -1,8 +1,9 @@
 //! The `dualsph` command: run, check and plan scenes.
 
 use clap::{Parser, Subcommand};
+use dualsph::report::{Benchmark, ReportOptions};
 use dualsph::runner::{self, Progress, RunOptions};
-use dualsph::scene::Scene;
+use dualsph::scene::{Formulation, Scene};
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -18,6 +19,26 @@ struct Cli {
     command: Command,
 }
 
+/// Formulations selectable on the command line.
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum FormulationArg {
+    DualSupport,
+    SingleSupport,
+    ConstantH,
+    AveragedKernel,
+}
+
+impl From<FormulationArg> for Formulation {
+    fn from(f: FormulationArg) -> Self {
+        match f {
+            FormulationArg::DualSupport => Formulation::DualSupport,
+            FormulationArg::SingleSupport => Formulation::SingleSupport,
+            FormulationArg::ConstantH => Formulation::ConstantH,
+            FormulationArg::AveragedKernel => Formulation::AveragedKernel,
+        }
+    }
+}
+
 #[derive(Subcommand)]
 enum Command {
     /// Run a scene headless and write diagnostics and snapshots.
@@ -30,6 +51,27 @@ enum Command {
         /// No progress output.
         #[arg(long)]
         quiet: bool,
+        /// Replace the scene's formulation (e.g. SingleSupport to rerun a paper's Case I).
+        #[arg(long, value_enum)]
+        formulation: Option<FormulationArg>,
+    },
+    /// Run the paper's benchmarks, grade them against their references, write report.md + PNGs.
+    Report {
+        /// Benchmarks to run (default: all four).
+        #[arg(value_enum)]
+        benchmarks: Vec<Benchmark>,
+        /// Folder holding the scene files.
+        #[arg(long, default_value = "scenes")]
+        scenes: PathBuf,
+        /// Output folder for report.md and the plots.
+        #[arg(long, default_value = "docs/validation")]
+        out: PathBuf,
+        /// Multiply every particle spacing by this factor (1 = the paper's resolution).
+        #[arg(long, default_value_t = 1.0)]
+        coarsen: f64,
+        /// Replace the dam break's end time (s).
+        #[arg(long)]
+        end_time: Option<f64>,
     },
     /// Parse and validate a scene without running it.
     Check {
@@ -52,7 +94,19 @@ fn load(path: &std::path::Path) -> Result<Scene, String> {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result: Result<(), String> = match cli.command {
-        Command::Run { scene, out, quiet } => load(&scene).and_then(|s| {
+        Command::Report { benchmarks, scenes, out, coarsen, end_time } => {
+            let list = if benchmarks.is_empty() { Benchmark::ALL.to_vec() } else { benchmarks };
+            let opts = ReportOptions { scenes, out, coarsen, end_time, log: true };
+            let command: Vec<String> = std::env::args().skip(1).collect();
+            let command = format!("cargo run --release -- {}", command.join(" "));
+            dualsph::report::write_report(&list, &opts, &command)
+                .map(|path| println!("report written: {}", path.display()))
+                .map_err(|e| e.to_string())
+        }
+        Command::Run { scene, out, quiet, formulation } => load(&scene).and_then(|mut s| {
+            if let Some(f) = formulation {
+                s.formulation = f.into();
+            }
             let progress = if quiet {
                 Progress::Silent
             } else if std::io::stderr().is_terminal() {

@@ -129,15 +129,20 @@ impl LinePlot {
             .y_label_area_size(72)
             .build_cartesian_2d(x, y)
             .map_err(|e| e.to_string())?;
-        chart
-            .configure_mesh()
-            .x_desc(&self.x_label)
+        let sci = |v: &f64| format!("{v:.0e}");
+        let mut mesh = chart.configure_mesh();
+        mesh.x_desc(&self.x_label)
             .y_desc(&self.y_label)
             .label_style((font::FAMILY, 15))
             .axis_desc_style((font::FAMILY, 17))
-            .light_line_style(RGBColor(235, 235, 235))
-            .draw()
-            .map_err(|e| e.to_string())?;
+            .light_line_style(RGBColor(240, 240, 240));
+        if self.log_x {
+            mesh.x_label_formatter(&sci);
+        }
+        if self.log_y {
+            mesh.y_label_formatter(&sci);
+        }
+        mesh.draw().map_err(|e| e.to_string())?;
         for s in &self.series {
             let colour = palette(s.colour);
             let legend_style = ShapeStyle::from(colour).stroke_width(2);

@@ -35,7 +35,12 @@ mod tests {
 
     #[test]
     fn erf_profile_limits_and_centre() {
-        let s = HeatStep { e_left: 1.0, e_right: 2.0, x_c: 0.25, alpha: 1e-4 };
+        let s = HeatStep {
+            e_left: 1.0,
+            e_right: 2.0,
+            x_c: 0.25,
+            alpha: 1e-4,
+        };
         assert!((s.energy(0.25, 4.0) - 1.5).abs() < 1e-15);
         assert!((s.energy(0.0, 4.0) - 1.0).abs() < 1e-12);
         assert!((s.energy(0.5, 4.0) - 2.0).abs() < 1e-12);
@@ -47,10 +52,19 @@ mod tests {
     #[test]
     fn profile_solves_the_heat_equation() {
         // ∂e/∂t = α ∂²e/∂x² by central differences at a point inside the front.
-        let s = HeatStep { e_left: 1.0, e_right: 2.0, x_c: 0.25, alpha: 1e-4 };
+        let s = HeatStep {
+            e_left: 1.0,
+            e_right: 2.0,
+            x_c: 0.25,
+            alpha: 1e-4,
+        };
         let (x, t, dx, dt) = (0.27, 4.0, 1e-4, 1e-4);
         let et = (s.energy(x, t + dt) - s.energy(x, t - dt)) / (2.0 * dt);
         let exx = (s.energy(x + dx, t) - 2.0 * s.energy(x, t) + s.energy(x - dx, t)) / (dx * dx);
-        assert!((et - s.alpha * exx).abs() < 1e-5 * et.abs(), "{et} vs {}", s.alpha * exx);
+        assert!(
+            (et - s.alpha * exx).abs() < 1e-5 * et.abs(),
+            "{et} vs {}",
+            s.alpha * exx
+        );
     }
 }

@@ -40,13 +40,16 @@ pub fn relative_l2(values: &[f64], reference: &[f64], volumes: &[f64]) -> f64 {
     (num / den).sqrt()
 }
 
-/// The L1 error `(1/N) Σ |u_i − u_ref(x_i)|` over the samples, as usual for shock tubes.
-pub fn mean_abs_error(values: &[f64], reference: &[f64]) -> f64 {
-    let n = values.len().min(reference.len());
-    if n == 0 {
-        return f64::NAN;
+/// The L1 error over a region, `∫|u − u_ref| dx / ∫dx ≈ Σ_i |u_i − u_ref(x_i)| V_i / Σ_i V_i`
+/// with the particles' volumes `V_i`, so that finely and coarsely resolved parts of the region
+/// count by their length, not by their particle count.
+pub fn l1_error(values: &[f64], reference: &[f64], volumes: &[f64]) -> f64 {
+    let (mut num, mut den) = (0.0, 0.0);
+    for ((u, r), v) in values.iter().zip(reference).zip(volumes) {
+        num += (u - r).abs() * v;
+        den += v;
     }
-    values.iter().zip(reference).map(|(u, r)| (u - r).abs()).sum::<f64>() / n as f64
+    if den > 0.0 { num / den } else { f64::NAN }
 }
 
 #[cfg(test)]
@@ -68,7 +71,13 @@ mod tests {
 
     #[test]
     fn l2_and_l1() {
-        assert!((relative_l2(&[1.1, 2.0], &[1.0, 2.0], &[1.0, 1.0]) - (0.01f64 / 5.0).sqrt()).abs() < 1e-15);
-        assert!((mean_abs_error(&[1.0, 3.0], &[2.0, 2.0]) - 1.0).abs() < 1e-15);
+        assert!(
+            (relative_l2(&[1.1, 2.0], &[1.0, 2.0], &[1.0, 1.0]) - (0.01f64 / 5.0).sqrt()).abs()
+                < 1e-15
+        );
+        assert!((l1_error(&[1.0, 3.0], &[2.0, 2.0], &[1.0, 1.0]) - 1.0).abs() < 1e-15);
+        // A coarse particle counts by its length: 3 × the weight of a fine one.
+        assert!((l1_error(&[1.0, 2.0], &[1.0, 1.0], &[1.0, 3.0]) - 0.75).abs() < 1e-15);
+        assert!(l1_error(&[], &[], &[]).is_nan());
     }
 }

@@ -67,9 +67,10 @@ impl Riemann {
         let du = right.u - left.u;
         // Start from the two-rarefaction approximation (Toro 4.46), always positive.
         let z = (gamma - 1.0) / (2.0 * gamma);
-        let mut p = ((cl + cr - 0.5 * (gamma - 1.0) * du) / (cl / left.p.powf(z) + cr / right.p.powf(z)))
-            .powf(1.0 / z)
-            .max(1e-12 * left.p.min(right.p));
+        let mut p = ((cl + cr - 0.5 * (gamma - 1.0) * du)
+            / (cl / left.p.powf(z) + cr / right.p.powf(z)))
+        .powf(1.0 / z)
+        .max(1e-12 * left.p.min(right.p));
         for _ in 0..100 {
             let (fl, dfl) = wave_function(p, &left, gamma);
             let (fr, dfr) = wave_function(p, &right, gamma);
@@ -80,8 +81,15 @@ impl Riemann {
                 break;
             }
         }
-        let u = 0.5 * (left.u + right.u) + 0.5 * (wave_function(p, &right, gamma).0 - wave_function(p, &left, gamma).0);
-        Ok(Riemann { left, right, gamma, p_star: p, u_star: u })
+        let u = 0.5 * (left.u + right.u)
+            + 0.5 * (wave_function(p, &right, gamma).0 - wave_function(p, &left, gamma).0);
+        Ok(Riemann {
+            left,
+            right,
+            gamma,
+            p_star: p,
+            u_star: u,
+        })
     }
 
     /// The solution at `ξ = (x − x₀)/t`.
@@ -94,13 +102,25 @@ impl Riemann {
             let c = sound(&w, g);
             if ps > w.p {
                 let s = w.u - c * ((g + 1.0) / (2.0 * g) * ps / w.p + (g - 1.0) / (2.0 * g)).sqrt();
-                if xi <= s { w } else { GasState { rho: w.rho * (ps / w.p + gm) / (gm * ps / w.p + 1.0), u: us, p: ps } }
+                if xi <= s {
+                    w
+                } else {
+                    GasState {
+                        rho: w.rho * (ps / w.p + gm) / (gm * ps / w.p + 1.0),
+                        u: us,
+                        p: ps,
+                    }
+                }
             } else {
                 let c_star = c * (ps / w.p).powf((g - 1.0) / (2.0 * g));
                 if xi <= w.u - c {
                     w
                 } else if xi > us - c_star {
-                    GasState { rho: w.rho * (ps / w.p).powf(1.0 / g), u: us, p: ps }
+                    GasState {
+                        rho: w.rho * (ps / w.p).powf(1.0 / g),
+                        u: us,
+                        p: ps,
+                    }
                 } else {
                     let u = 2.0 / (g + 1.0) * (c + 0.5 * (g - 1.0) * w.u + xi);
                     let cf = 2.0 / (g + 1.0) * (c + 0.5 * (g - 1.0) * (w.u - xi));
@@ -112,13 +132,25 @@ impl Riemann {
             let c = sound(&w, g);
             if ps > w.p {
                 let s = w.u + c * ((g + 1.0) / (2.0 * g) * ps / w.p + (g - 1.0) / (2.0 * g)).sqrt();
-                if xi >= s { w } else { GasState { rho: w.rho * (ps / w.p + gm) / (gm * ps / w.p + 1.0), u: us, p: ps } }
+                if xi >= s {
+                    w
+                } else {
+                    GasState {
+                        rho: w.rho * (ps / w.p + gm) / (gm * ps / w.p + 1.0),
+                        u: us,
+                        p: ps,
+                    }
+                }
             } else {
                 let c_star = c * (ps / w.p).powf((g - 1.0) / (2.0 * g));
                 if xi >= w.u + c {
                     w
                 } else if xi <= us + c_star {
-                    GasState { rho: w.rho * (ps / w.p).powf(1.0 / g), u: us, p: ps }
+                    GasState {
+                        rho: w.rho * (ps / w.p).powf(1.0 / g),
+                        u: us,
+                        p: ps,
+                    }
                 } else {
                     let u = 2.0 / (g + 1.0) * (-c + 0.5 * (g - 1.0) * w.u + xi);
                     let cf = 2.0 / (g + 1.0) * (c - 0.5 * (g - 1.0) * (w.u - xi));
@@ -126,7 +158,12 @@ impl Riemann {
                 }
             }
         };
-        Sample { rho: state.rho, u: state.u, p: state.p, e: state.p / ((g - 1.0) * state.rho) }
+        Sample {
+            rho: state.rho,
+            u: state.u,
+            p: state.p,
+            e: state.p / ((g - 1.0) * state.rho),
+        }
     }
 
     /// The solution at position `x` and time `t > 0` for a membrane initially at `x0`.
@@ -141,7 +178,11 @@ fn sound(s: &GasState, gamma: f64) -> f64 {
 
 /// The state inside a rarefaction fan with local velocity `u` and sound speed `cf`.
 fn fan(w: &GasState, c: f64, u: f64, cf: f64, g: f64) -> GasState {
-    GasState { rho: w.rho * (cf / c).powf(2.0 / (g - 1.0)), u, p: w.p * (cf / c).powf(2.0 * g / (g - 1.0)) }
+    GasState {
+        rho: w.rho * (cf / c).powf(2.0 / (g - 1.0)),
+        u,
+        p: w.p * (cf / c).powf(2.0 * g / (g - 1.0)),
+    }
 }
 
 /// `f_K(p)` and its derivative (Toro 4.6–4.7, 4.37).
@@ -167,8 +208,16 @@ mod tests {
 
     fn sod(gamma: f64) -> Riemann {
         Riemann::new(
-            GasState { rho: 1.0, u: 0.0, p: 1.0 },
-            GasState { rho: 0.125, u: 0.0, p: 0.1 },
+            GasState {
+                rho: 1.0,
+                u: 0.0,
+                p: 1.0,
+            },
+            GasState {
+                rho: 0.125,
+                u: 0.0,
+                p: 0.1,
+            },
             gamma,
         )
         .unwrap()
@@ -195,7 +244,11 @@ mod tests {
         // Rankine–Hugoniot: mass and momentum fluxes are continuous in the shock frame.
         let g = 5.0 / 3.0;
         let r = sod(g);
-        let right = GasState { rho: 0.125, u: 0.0, p: 0.1 };
+        let right = GasState {
+            rho: 0.125,
+            u: 0.0,
+            p: 0.1,
+        };
         let c = sound(&right, g);
         let s = c * ((g + 1.0) / (2.0 * g) * r.p_star / right.p + (g - 1.0) / (2.0 * g)).sqrt();
         let behind = r.sample(s - 1e-9);
@@ -229,11 +282,33 @@ mod tests {
 
     #[test]
     fn bad_states_are_refused() {
-        let good = GasState { rho: 1.0, u: 0.0, p: 1.0 };
-        let bad = GasState { rho: 0.0, u: 0.0, p: 1.0 };
-        assert_eq!(Riemann::new(good, bad, 1.4).unwrap_err(), RiemannError::BadState);
-        let left = GasState { rho: 1.0, u: -20.0, p: 1.0 };
-        let right = GasState { rho: 1.0, u: 20.0, p: 1.0 };
-        assert_eq!(Riemann::new(left, right, 1.4).unwrap_err(), RiemannError::Vacuum);
+        let good = GasState {
+            rho: 1.0,
+            u: 0.0,
+            p: 1.0,
+        };
+        let bad = GasState {
+            rho: 0.0,
+            u: 0.0,
+            p: 1.0,
+        };
+        assert_eq!(
+            Riemann::new(good, bad, 1.4).unwrap_err(),
+            RiemannError::BadState
+        );
+        let left = GasState {
+            rho: 1.0,
+            u: -20.0,
+            p: 1.0,
+        };
+        let right = GasState {
+            rho: 1.0,
+            u: 20.0,
+            p: 1.0,
+        };
+        assert_eq!(
+            Riemann::new(left, right, 1.4).unwrap_err(),
+            RiemannError::Vacuum
+        );
     }
 }

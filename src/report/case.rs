@@ -1,0 +1,207 @@
+//! One case of a benchmark: a scene (possibly with its formulation overridden and its
+//! resolution coarsened), run in-process while time series and snapshots are recorded.
+
+use crate::runner::particle_records;
+use crate::{build_sim, with_dimension};
+use dualsph_core::diagnostics::{Diagnostics, Health};
+use dualsph_core::prelude::*;
+use dualsph_io::ParticleRecord;
+use dualsph_scene::{Formulation as SceneFormulation, Generator, Scene};
+use std::time::Instant;
+
+/// What to record while a case runs.
+#[derive(Clone, Debug, Default)]
+pub struct Recording {
+    /// Record diagnostics (and the front) every this many steps (0: only first and last).
+    pub every: u64,
+    /// Snapshot the particles at the first step at or after each of these times.
+    pub snapshot_times: Vec<Real>,
+    /// Record the largest x of any particle (a dam-break water front).
+    pub front: bool,
+}
+
+/// A finished case.
+#[derive(Clone, Debug)]
+pub struct CaseRun {
+    /// Label used in tables and legends.
+    pub label: String,
+    /// Particle count.
+    pub particles: u64,
+    /// Steps taken.
+    pub steps: u64,
+    /// Wall-clock seconds of the stepping loop.
+    pub wall_seconds: f64,
+    /// CPU seconds (user + system, all threads) of the stepping loop.
+    pub cpu_seconds: f64,
+    /// Diagnostics at t = 0, every `Recording::every` steps, and at the end.
+    pub diagnostics: Vec<Diagnostics>,
+    /// `(t, largest x)` when `Recording::front` is set.
+    pub front: Vec<(Real, Real)>,
+    /// The particles at t = 0.
+    pub initial: Vec<ParticleRecord>,
+    /// `(requested time, actual time, particles)`.
+    pub snapshots: Vec<(Real, Real, Vec<ParticleRecord>)>,
+    /// The particles at the end.
+    pub last: Vec<ParticleRecord>,
+}
+
+impl CaseRun {
+    /// Particle-steps per CPU second.
+    pub fn particle_steps_per_cpu_second(&self) -> f64 {
+        (self.particles * self.steps) as f64 / self.cpu_seconds.max(1e-9)
+    }
+
+    /// The last diagnostics row.
+    pub fn final_diagnostics(&self) -> &Diagnostics {
+        self.diagnostics
+            .last()
+            .expect("a run records at least its initial state")
+    }
+
+    /// Largest relative total-energy variation `max |E(t) − E(0)| / |E(0)|` over the rows.
+    pub fn max_energy_variation(&self) -> Real {
+        let e0 = self.diagnostics[0].e_tot;
+        self.diagnostics
+            .iter()
+            .map(|d| (d.e_tot - e0).abs() / e0.abs())
+            .fold(0.0, Real::max)
+    }
+
+    /// Largest density variation over the recorded rows.
+    pub fn max_density_variation(&self) -> Real {
+        self.diagnostics
+            .iter()
+            .map(|d| d.max_density_variation)
+            .fold(0.0, Real::max)
+    }
+}
+
+/// A scene as one case of a benchmark.
+#[derive(Debug)]
+pub struct CaseSpec {
+    /// Label used in tables and legends.
+    pub label: String,
+    /// The scene to run.
+    pub scene: Scene,
+}
+
+impl CaseSpec {
+    /// A case from a scene, with the formulation replaced when `formulation` is given.
+    pub fn new(
+        label: impl Into<String>,
+        mut scene: Scene,
+        formulation: Option<SceneFormulation>,
+    ) -> Self {
+        if let Some(f) = formulation {
+            scene.formulation = f;
+        }
+        CaseSpec {
+            label: label.into(),
+            scene,
+        }
+    }
+}
+
+/// Multiplies every generator's particle spacing by `factor` (> 1 coarsens), keeping the
+/// ratio of spacings, h = h_factor Δx, densities and the physics. Used to run the paper's
+/// benchmarks at a resolution that fits CI, and for the speed-against-error study.
+pub fn coarsen(scene: &mut Scene, factor: Real) {
+    for g in &mut scene.particles {
+        match g {
+            Generator::Block(b) => b.spacing *= factor,
+            Generator::Disk(d) => d.spacing *= factor,
+        }
+    }
+}
+
+/// CPU seconds (user + system) used so far by this process, all threads
+/// (`/proc/self/stat` fields 14 and 15; 0 where that file does not exist).
+pub fn process_cpu_seconds() -> f64 {
+    let Ok(stat) = std::fs::read_to_string("/proc/self/stat") else {
+        return 0.0;
+    };
+    // The command name (field 2) may hold spaces; fields after its closing parenthesis.
+    let rest = stat.rsplit_once(')').map_or("", |(_, r)| r);
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    let ticks = |k: usize| f.get(k).and_then(|s| s.parse::<f64>().ok()).unwrap_or(0.0);
+    // After ")" the fields start at #3 (state): utime is #14 → index 11, stime #15 → 12.
+    (ticks(11) + ticks(12)) / 100.0
+}
+
+fn largest_x<V: Vector>(sim: &mut Sim<V>) -> Real {
+    let mut q = sim.world.query::<&Position<V>>();
+    q.iter(&sim.world)
+        .map(|p| p.0.to_xyz()[0])
+        .fold(Real::NEG_INFINITY, Real::max)
+}
+
+fn health<V: Vector>(sim: &Sim<V>, label: &str) -> Result<(), SimError> {
+    if let Some((id, what, value)) = sim.world.resource::<Health>().problem {
+        let c = sim.clock();
+        return Err(SimError::BlowUp(format!(
+            "case {label}: step {}, t = {:.6e}: particle {id} has {what} = {value:e}",
+            c.step, c.t
+        )));
+    }
+    Ok(())
+}
+
+fn run_dim<V: Vector>(spec: &CaseSpec, rec: &Recording) -> Result<CaseRun, SimError> {
+    let scene = &spec.scene;
+    let mut sim = build_sim::<V>(scene)?;
+    sim.initialize()?;
+    health(&sim, &spec.label)?;
+    let initial = particle_records(&mut sim);
+    let mut run = CaseRun {
+        label: spec.label.clone(),
+        particles: sim.particle_count() as u64,
+        steps: 0,
+        wall_seconds: 0.0,
+        cpu_seconds: 0.0,
+        diagnostics: vec![sim.diagnostics()],
+        front: Vec::new(),
+        initial,
+        snapshots: Vec::new(),
+        last: Vec::new(),
+    };
+    if rec.front {
+        run.front.push((0.0, largest_x(&mut sim)));
+    }
+    let mut pending: Vec<Real> = rec.snapshot_times.clone();
+    pending.sort_by(Real::total_cmp);
+    pending.reverse();
+    let max_steps = scene.max_steps.unwrap_or(u64::MAX);
+    let (cpu0, wall0) = (process_cpu_seconds(), Instant::now());
+    while sim.clock().t < scene.end_time * (1.0 - 1e-12) && sim.clock().step < max_steps {
+        sim.step()?;
+        health(&sim, &spec.label)?;
+        let c = sim.clock();
+        if rec.every > 0 && c.step % rec.every == 0 {
+            run.diagnostics.push(sim.diagnostics());
+            if rec.front {
+                run.front.push((c.t, largest_x(&mut sim)));
+            }
+        }
+        while pending.last().is_some_and(|&t| c.t >= t * (1.0 - 1e-12)) {
+            let t = pending.pop().unwrap_or(c.t);
+            run.snapshots.push((t, c.t, particle_records(&mut sim)));
+        }
+    }
+    run.cpu_seconds = process_cpu_seconds() - cpu0;
+    run.wall_seconds = wall0.elapsed().as_secs_f64();
+    let last = sim.diagnostics();
+    run.steps = last.step;
+    if run.diagnostics.last().is_none_or(|d| d.step != last.step) {
+        run.diagnostics.push(last);
+        if rec.front {
+            run.front.push((sim.clock().t, largest_x(&mut sim)));
+        }
+    }
+    run.last = particle_records(&mut sim);
+    Ok(run)
+}
+
+/// Builds and runs a case in its scene's dimension.
+pub fn run_case(spec: &CaseSpec, rec: &Recording) -> Result<CaseRun, SimError> {
+    with_dimension!(spec.scene.dimension, V => run_dim::<V>(spec, rec))
+}

@@ -1,0 +1,260 @@
+//! The elliptical drop (paper 001 §7.3): semi-axes against the ODE of Eq. 7.6 and the
+//! conservation of linear momentum, angular momentum and energy, SingleSupport against
+//! DualSupport with a half-spacing quadrant.
+
+use super::{
+    COST_HEADERS, CaseRun, CaseSpec, Recording, ReportError, ReportOptions, Section, Table,
+    cost_cells, image,
+};
+use dualsph_io::ParticleRecord;
+use dualsph_plot::{LinePlot, Series, SeriesStyle};
+use dualsph_reference::drop::semi_axes;
+use dualsph_scene::Formulation;
+
+/// Initial strain rate A₀ of v = A₀(−x, y) (1/s) and radius R (m).
+pub const STRAIN_RATE: f64 = 100.0;
+
+/// One graded case.
+#[derive(Clone, Debug)]
+pub struct DropCase {
+    /// The run.
+    pub run: CaseRun,
+    /// Semi-axes (a along x, b along y) from the second moments at the end time.
+    pub axes: (f64, f64),
+    /// The ODE's semi-axes at the end time.
+    pub ode: (f64, f64),
+    /// max_t |P(t) − P(0)| / Σ|m v|(0).
+    pub momentum_drift: f64,
+    /// max_t |L(t) − L(0)| / (R Σ|m v|(0)).
+    pub angular_momentum_drift: f64,
+    /// max_t |E(t) − E(0)| / E(0).
+    pub energy_drift: f64,
+}
+
+/// Semi-axes of a uniform elliptical patch from its second moments: for an ellipse
+/// `⟨(x − x̄)²⟩ = a²/4` and `⟨(y − ȳ)²⟩ = b²/4`, the averages weighted by the volumes m/ρ.
+pub fn moment_axes(particles: &[ParticleRecord]) -> (f64, f64) {
+    let w: f64 = particles.iter().map(|p| p.mass / p.rho).sum();
+    let mean = |k: usize| {
+        particles
+            .iter()
+            .map(|p| p.mass / p.rho * p.pos[k])
+            .sum::<f64>()
+            / w
+    };
+    let (cx, cy) = (mean(0), mean(1));
+    let var = |k: usize, c: f64| {
+        particles
+            .iter()
+            .map(|p| p.mass / p.rho * (p.pos[k] - c).powi(2))
+            .sum::<f64>()
+            / w
+    };
+    (2.0 * var(0, cx).sqrt(), 2.0 * var(1, cy).sqrt())
+}
+
+/// DualSupport (the scene) and SingleSupport on the same particles.
+pub fn cases(opts: &ReportOptions) -> Result<Vec<CaseSpec>, ReportError> {
+    Ok(vec![
+        CaseSpec::new("DualSupport", opts.scene("drop_2d.ron")?, None),
+        CaseSpec::new(
+            "SingleSupport",
+            opts.scene("drop_2d.ron")?,
+            Some(Formulation::SingleSupport),
+        ),
+    ])
+}
+
+/// Grades a run.
+pub fn grade(run: CaseRun) -> DropCase {
+    let d0 = run.diagnostics[0].clone();
+    let scale = d0.momentum_scale;
+    let norm3 = |v: [f64; 3]| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    let mut drift = (0.0f64, 0.0f64, 0.0f64);
+    for d in &run.diagnostics {
+        let dp = [
+            d.momentum[0] - d0.momentum[0],
+            d.momentum[1] - d0.momentum[1],
+            d.momentum[2] - d0.momentum[2],
+        ];
+        let dl = [
+            d.angular_momentum[0] - d0.angular_momentum[0],
+            d.angular_momentum[1] - d0.angular_momentum[1],
+            d.angular_momentum[2] - d0.angular_momentum[2],
+        ];
+        drift.0 = drift.0.max(norm3(dp) / scale);
+        drift.1 = drift.1.max(norm3(dl) / scale);
+        drift.2 = drift.2.max((d.e_tot - d0.e_tot).abs() / d0.e_tot.abs());
+    }
+    let axes = moment_axes(&run.last);
+    let ode = semi_axes(STRAIN_RATE, run.final_diagnostics().t);
+    DropCase {
+        run,
+        axes,
+        ode,
+        momentum_drift: drift.0,
+        angular_momentum_drift: drift.1,
+        energy_drift: drift.2,
+    }
+}
+
+fn drift_series(
+    run: &CaseRun,
+    f: &dyn Fn(&dualsph_core::diagnostics::Diagnostics) -> f64,
+) -> Vec<(f64, f64)> {
+    run.diagnostics
+        .iter()
+        .skip(1)
+        .map(|d| (d.t * 1e3, f(d).abs().max(1e-18)))
+        .collect()
+}
+
+/// Runs, grades, plots and writes the section.
+pub fn run(opts: &ReportOptions) -> Result<(Section, Vec<DropCase>), ReportError> {
+    let graded: Vec<DropCase> = cases(opts)?
+        .iter()
+        .map(|c| {
+            opts.run(
+                c,
+                &Recording {
+                    every: 10,
+                    ..Default::default()
+                },
+            )
+            .map(grade)
+        })
+        .collect::<Result<_, _>>()?;
+    let t = graded[0].run.final_diagnostics().t;
+
+    // Shape against the ODE ellipse.
+    let (a, b) = graded[0].ode;
+    let ellipse = (0..=360).map(|k| {
+        let th = (k as f64).to_radians();
+        (a * th.cos(), b * th.sin())
+    });
+    let mut shape = LinePlot::new(
+        format!("Elliptical drop at t = {:.4} s", t),
+        "x (m)",
+        "y (m)",
+    )
+    .with(Series::new(
+        "ellipse from the ODE (Eq. 7.6)",
+        ellipse.collect(),
+        SeriesStyle::Line,
+        6,
+    ));
+    for (k, c) in graded.iter().enumerate() {
+        let pts = c.run.last.iter().map(|p| (p.pos[0], p.pos[1])).collect();
+        shape = shape.with(Series::new(
+            c.run.label.clone(),
+            pts,
+            SeriesStyle::Markers,
+            k,
+        ));
+    }
+    shape.x_range = Some((-1.25, 1.25));
+    shape.y_range = Some((-2.25, 2.25));
+    shape.size = (640, 1060);
+    let shape_png = opts.file("drop_shape.png");
+    shape.write_png(&shape_png)?;
+
+    // Conservation against time.
+    let mut images = image("drop shape", &shape_png);
+    type Pick =
+        fn(&dualsph_core::diagnostics::Diagnostics, &dualsph_core::diagnostics::Diagnostics) -> f64;
+    let plots: [(&str, &str, Pick); 3] = [
+        ("momentum", "|P(t) − P(0)| / Σ|m v|(0)", |d, d0| {
+            let dp: Vec<f64> = (0..3).map(|k| d.momentum[k] - d0.momentum[k]).collect();
+            (dp[0] * dp[0] + dp[1] * dp[1] + dp[2] * dp[2]).sqrt() / d0.momentum_scale
+        }),
+        (
+            "angular_momentum",
+            "|L(t) − L(0)| / (R Σ|m v|(0))",
+            |d, d0| (d.angular_momentum[2] - d0.angular_momentum[2]).abs() / d0.momentum_scale,
+        ),
+        ("energy", "|E(t) − E(0)| / E(0)", |d, d0| {
+            (d.e_tot - d0.e_tot).abs() / d0.e_tot.abs()
+        }),
+    ];
+    for (name, label, pick) in plots {
+        let mut p = LinePlot::new(
+            format!("Elliptical drop: {} against time", name.replace('_', " ")),
+            "t (ms)",
+            label,
+        );
+        p.log_y = true;
+        for (k, c) in graded.iter().enumerate() {
+            let d0 = c.run.diagnostics[0].clone();
+            p = p.with(Series::new(
+                c.run.label.clone(),
+                drift_series(&c.run, &|d| pick(d, &d0)),
+                SeriesStyle::Line,
+                k,
+            ));
+        }
+        let png = opts.file(&format!("drop_{name}.png"));
+        p.write_png(&png)?;
+        images += &image(&format!("drop {name}"), &png);
+    }
+
+    let mut table = Table::new(
+        [
+            "case",
+            "b (moments)",
+            "b (ODE)",
+            "b error",
+            "a·b",
+            "max momentum drift",
+            "max angular-momentum drift",
+            "max energy drift",
+        ]
+        .into_iter()
+        .chain(COST_HEADERS),
+    );
+    for c in &graded {
+        let mut cells = vec![
+            c.run.label.clone(),
+            format!("{:.5}", c.axes.1),
+            format!("{:.5}", c.ode.1),
+            format!("{:+.2} %", 100.0 * (c.axes.1 / c.ode.1 - 1.0)),
+            format!("{:.4}", c.axes.0 * c.axes.1),
+            format!("{:.1e}", c.momentum_drift),
+            format!("{:.1e}", c.angular_momentum_drift),
+            format!("{:.1e}", c.energy_drift),
+        ];
+        cells.extend(cost_cells(&c.run));
+        table.row(cells);
+    }
+    let (ds, ss) = (&graded[0], &graded[1]);
+    let mut body = String::from(
+        "Circle of R = 1 m with v = (−100x, 100y) m/s, Tait (ρ0 = 1000, γ = 7, p0 = 285.714 MPa), Newtonian stress \
+         μ = 0.5 with the kernel-gradient correction, continuity from the velocity divergence (Eq. 7.4), h = 2Δx, \
+         h-update every 50 steps; Δx = 0.05 m with the upper-right quadrant at 0.025 m (scene `drop_2d.ron`). \
+         The semi-axes come from the volume-weighted second moments of the particles (⟨y²⟩ = b²/4 for an ellipse); \
+         drifts are the largest over the run, relative to Σ|m v| at t = 0 (times R = 1 m for angular momentum).\n\n",
+    );
+    body += &table.render();
+    body += &format!(
+        "**Finding.** Both formulations follow the ODE's shape (b within {:.2} % and {:.2} %). DualSupport keeps \
+         linear and angular momentum to round-off ({:.0e}, {:.0e}) while SingleSupport with the same variable h \
+         drifts to {:.0e} and {:.0e} — the paper's Figs. 7–9. Energy drifts by {:.1e} (DualSupport) and {:.1e} \
+         (SingleSupport): time integration and the Newtonian stress's viscous heating enter here, not only the \
+         pair sums.\n\n",
+        100.0 * (ds.axes.1 / ds.ode.1 - 1.0).abs(),
+        100.0 * (ss.axes.1 / ss.ode.1 - 1.0).abs(),
+        ds.momentum_drift,
+        ds.angular_momentum_drift,
+        ss.momentum_drift,
+        ss.angular_momentum_drift,
+        ds.energy_drift,
+        ss.energy_drift
+    );
+    body += &images;
+    Ok((
+        Section {
+            title: "Elliptical drop (§7.3)".into(),
+            body,
+        },
+        graded,
+    ))
+}

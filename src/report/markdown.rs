@@ -1,0 +1,54 @@
+//! Markdown tables.
+
+/// A markdown table built row by row.
+#[derive(Clone, Debug, Default)]
+pub struct Table {
+    header: Vec<String>,
+    rows: Vec<Vec<String>>,
+}
+
+impl Table {
+    /// A table with these column headers.
+    pub fn new<S: AsRef<str>>(header: impl IntoIterator<Item = S>) -> Self {
+        Table {
+            header: header.into_iter().map(|s| s.as_ref().to_string()).collect(),
+            rows: Vec::new(),
+        }
+    }
+
+    /// Appends a row (missing cells are left empty).
+    pub fn row(&mut self, cells: Vec<String>) -> &mut Self {
+        self.rows.push(cells);
+        self
+    }
+
+    /// The table as GitHub-flavoured markdown.
+    pub fn render(&self) -> String {
+        let n = self.header.len();
+        let line = |cells: &[String]| {
+            let mut s = String::from("|");
+            for k in 0..n {
+                s += &format!(" {} |", cells.get(k).map_or("", String::as_str));
+            }
+            s + "\n"
+        };
+        let mut out = line(&self.header);
+        out += &format!("|{}\n", "---|".repeat(n));
+        for r in &self.rows {
+            out += &line(r);
+        }
+        out + "\n"
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn renders_header_rule_and_rows() {
+        let mut t = Table::new(["a", "b"]);
+        t.row(vec!["1".into()]);
+        assert_eq!(t.render(), "| a | b |\n|---|---|\n| 1 |  |\n\n");
+    }
+}

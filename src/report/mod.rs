@@ -1,0 +1,193 @@
+//! `dualsph report`: the paper's benchmarks (paper 001 §7) run case by case, graded against
+//! their references ([`dualsph_reference`]) and written up as `report.md` with PNG plots.
+//!
+//! Each benchmark module builds its cases from the scene files, runs them ([`case`]),
+//! computes the error metrics, draws the plots and returns a markdown [`Section`] together
+//! with a typed result that the end-to-end tests assert on.
+
+pub mod case;
+pub mod dam_break;
+pub mod drop;
+pub mod heat;
+mod markdown;
+pub mod sod;
+
+pub use case::{CaseRun, CaseSpec, Recording, coarsen, run_case};
+pub use markdown::Table;
+
+use dualsph_scene::Scene;
+use std::path::{Path, PathBuf};
+
+/// Where the scenes are, where the report goes, and at which resolution.
+#[derive(Clone, Debug)]
+pub struct ReportOptions {
+    /// Folder holding the scene files (`scenes/`).
+    pub scenes: PathBuf,
+    /// Folder receiving `report.md` and the PNG plots.
+    pub out: PathBuf,
+    /// Spacing multiplier: 1 is the paper's resolution, 2 halves it in every direction.
+    pub coarsen: f64,
+    /// Replaces the end time of the long cases (the dam break) when set.
+    pub end_time: Option<f64>,
+    /// Log each case as it starts and ends (stderr).
+    pub log: bool,
+}
+
+impl ReportOptions {
+    /// Loads a scene of the set, applying the resolution option.
+    pub fn scene(&self, file: &str) -> Result<Scene, ReportError> {
+        let path = self.scenes.join(file);
+        let mut scene = Scene::load(&path, &crate::default_registry())
+            .map_err(|e| ReportError::Scene(e.to_string()))?;
+        if self.coarsen != 1.0 {
+            coarsen(&mut scene, self.coarsen);
+        }
+        Ok(scene)
+    }
+
+    /// Runs a case, logging it when asked.
+    pub fn run(&self, spec: &CaseSpec, rec: &Recording) -> Result<CaseRun, ReportError> {
+        if self.log {
+            eprintln!("report: {} ({}) …", spec.label, spec.scene.name);
+        }
+        let run =
+            run_case(spec, rec).map_err(|e| ReportError::Run(format!("{}: {e}", spec.label)))?;
+        if self.log {
+            eprintln!(
+                "report: {}: {} particles, {} steps, {:.1} s CPU ({:.2e} particle-steps/CPU-s)",
+                run.label,
+                run.particles,
+                run.steps,
+                run.cpu_seconds,
+                run.particle_steps_per_cpu_second()
+            );
+        }
+        Ok(run)
+    }
+
+    /// Path of an output file.
+    pub fn file(&self, name: &str) -> PathBuf {
+        self.out.join(name)
+    }
+}
+
+/// Why a report could not be made.
+#[derive(Debug, thiserror::Error)]
+pub enum ReportError {
+    /// A scene failed to load or validate.
+    #[error("{0}")]
+    Scene(String),
+    /// A case failed to build or blew up.
+    #[error("{0}")]
+    Run(String),
+    /// A plot or the report could not be written.
+    #[error("{0}")]
+    Output(String),
+}
+
+impl From<dualsph_plot::PlotError> for ReportError {
+    fn from(e: dualsph_plot::PlotError) -> Self {
+        ReportError::Output(e.to_string())
+    }
+}
+
+/// A part of the report: a heading and its markdown body.
+#[derive(Clone, Debug)]
+pub struct Section {
+    /// Heading.
+    pub title: String,
+    /// Markdown below the heading.
+    pub body: String,
+}
+
+/// The benchmarks of the paper.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Benchmark {
+    /// 1-D heat conduction (§7.1).
+    Heat,
+    /// Sod shock tube (§7.2).
+    Sod,
+    /// Elliptical drop (§7.3).
+    Drop,
+    /// Dam break over a dry bed (§7.4).
+    DamBreak,
+}
+
+impl Benchmark {
+    /// All four, in the paper's order.
+    pub const ALL: [Benchmark; 4] = [
+        Benchmark::Heat,
+        Benchmark::Sod,
+        Benchmark::Drop,
+        Benchmark::DamBreak,
+    ];
+
+    /// Runs the benchmark and returns its section.
+    pub fn section(self, opts: &ReportOptions) -> Result<Section, ReportError> {
+        Ok(match self {
+            Benchmark::Heat => heat::run(opts)?.0,
+            Benchmark::Sod => sod::run(opts)?.0,
+            Benchmark::Drop => drop::run(opts)?.0,
+            Benchmark::DamBreak => dam_break::run(opts)?.0,
+        })
+    }
+}
+
+/// Runs the benchmarks and writes `report.md` (atomically) with their plots beside it.
+pub fn write_report(
+    benchmarks: &[Benchmark],
+    opts: &ReportOptions,
+    command: &str,
+) -> Result<PathBuf, ReportError> {
+    std::fs::create_dir_all(&opts.out)
+        .map_err(|e| ReportError::Output(format!("{}: {e}", opts.out.display())))?;
+    let mut md = String::from("# dualsph validation report: the paper's benchmarks\n\n");
+    md += &format!(
+        "Regenerate with `{command}`. Resolution: {}. Threads: {} (rayon). Wall and CPU seconds \
+         are of the stepping loop; CPU seconds add all threads. \"h\" is the support radius \
+         (W = 0 for r ≥ h), as in the paper.\n\n",
+        if opts.coarsen == 1.0 {
+            "the paper's".to_string()
+        } else {
+            format!("particle spacing × {}", opts.coarsen)
+        },
+        rayon::current_num_threads()
+    );
+    for b in benchmarks {
+        let s = b.section(opts)?;
+        md += &format!("## {}\n\n{}\n", s.title, s.body);
+    }
+    let path = opts.out.join("report.md");
+    dualsph_io::write_atomic(&path, md.as_bytes())
+        .map_err(|e| ReportError::Output(e.to_string()))?;
+    Ok(path)
+}
+
+/// The common columns of every case table: particles, steps, wall and CPU seconds, and
+/// particle-steps per CPU second.
+pub(crate) fn cost_cells(run: &CaseRun) -> Vec<String> {
+    vec![
+        run.particles.to_string(),
+        run.steps.to_string(),
+        format!("{:.1}", run.wall_seconds),
+        format!("{:.1}", run.cpu_seconds),
+        format!("{:.2e}", run.particle_steps_per_cpu_second()),
+    ]
+}
+
+/// Headers matching [`cost_cells`].
+pub(crate) const COST_HEADERS: [&str; 5] = [
+    "particles",
+    "steps",
+    "wall s",
+    "CPU s",
+    "particle-steps / CPU-s",
+];
+
+/// A markdown image link to a file in the report folder.
+pub(crate) fn image(alt: &str, path: &Path) -> String {
+    let name = path
+        .file_name()
+        .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+    format!("![{alt}]({name})\n\n")
+}

@@ -1,0 +1,183 @@
+//! The paper's four benchmarks (paper 001 §7), graded against their references
+//! (`dualsph-reference`): the erf solution, the exact Riemann solution, the drop ODE and
+//! Koshizuka & Oka's experiment. Heat, Sod and the drop run at the paper's resolution; the
+//! dam break at half of it (spacing × 2) to fit CI. `dualsph report` runs the same cases at
+//! full resolution and writes `docs/validation/report.md`.
+
+use dualsph::report::{ReportOptions, dam_break, drop, heat, sod};
+use std::path::PathBuf;
+
+fn options(coarsen: f64, end_time: Option<f64>) -> ReportOptions {
+    ReportOptions {
+        scenes: PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes"),
+        out: std::env::temp_dir(),
+        coarsen,
+        end_time,
+        log: false,
+    }
+}
+
+#[test]
+fn heat_conduction_matches_erf_and_conserves_energy_only_with_dual_support() {
+    let opts = options(1.0, None);
+    let rec = dualsph::report::Recording {
+        every: 10,
+        ..Default::default()
+    };
+    let cases: Vec<_> = heat::cases(&opts)
+        .unwrap()
+        .iter()
+        .map(|c| heat::grade(opts.run(c, &rec).unwrap()))
+        .collect();
+    let (uniform, single, dual) = (&cases[0], &cases[1], &cases[2]);
+    println!(
+        "heat: {:?}",
+        cases
+            .iter()
+            .map(|c| (c.energy_change, c.l2, c.max_relative))
+            .collect::<Vec<_>>()
+    );
+    assert!(
+        dual.energy_change.abs() <= 1e-13,
+        "DualSupport ΔE/E = {:e}",
+        dual.energy_change
+    );
+    assert!(dual.l2 <= 0.0065, "DualSupport L2 = {}", dual.l2);
+    assert!(uniform.energy_change.abs() <= 1e-13 && uniform.l2 <= 0.0075);
+    // SingleSupport with variable h does not conserve energy (the paper: 3.4e-3).
+    assert!(
+        single.energy_change.abs() > 1e-5,
+        "SingleSupport ΔE/E = {:e}",
+        single.energy_change
+    );
+    assert!(single.l2 > dual.l2);
+}
+
+#[test]
+fn sod_tube_matches_the_exact_riemann_solution() {
+    let opts = options(1.0, None);
+    let rec = dualsph::report::Recording {
+        every: 10,
+        ..Default::default()
+    };
+    let cases: Vec<_> = sod::cases(&opts)
+        .unwrap()
+        .iter()
+        .map(|c| sod::grade(opts.run(c, &rec).unwrap()))
+        .collect();
+    let dual = &cases[0];
+    println!(
+        "sod L1 (ρ, u, p, e): dual {:?}, single {:?}",
+        dual.l1, cases[1].l1
+    );
+    assert!((dual.run.final_diagnostics().t - 0.2).abs() < 1e-9);
+    // The issue asks ≤ 0.006 for density; the best SPH codes reach about 0.003.
+    assert!(dual.l1[0] <= 0.0045, "density L1 = {}", dual.l1[0]);
+    assert!(dual.l1[2] <= 0.006, "pressure L1 = {}", dual.l1[2]);
+    assert!(
+        dual.l1[1] <= 0.025 && dual.l1[3] <= 0.025,
+        "velocity / energy L1 = {:?}",
+        dual.l1
+    );
+    // The dual-support rates sum to zero, so what remains of ΔE is the leapfrog's
+    // time-integration error; SingleSupport adds the unbalanced pair sums on top.
+    let de = |c: &sod::SodCase| {
+        let d = &c.run.diagnostics;
+        (d.last().unwrap().e_tot - d[0].e_tot).abs() / d[0].e_tot
+    };
+    println!("sod ΔE/E: dual {:e}, single {:e}", de(dual), de(&cases[1]));
+    assert!(de(dual) < 1e-5, "ΔE/E = {:e}", de(dual));
+    assert!(de(&cases[1]) > 100.0 * de(dual));
+}
+
+#[test]
+fn elliptical_drop_follows_the_ode_and_conserves_momentum_with_dual_support() {
+    let opts = options(1.0, None);
+    let rec = dualsph::report::Recording {
+        every: 10,
+        ..Default::default()
+    };
+    let cases: Vec<_> = drop::cases(&opts)
+        .unwrap()
+        .iter()
+        .map(|c| drop::grade(opts.run(c, &rec).unwrap()))
+        .collect();
+    let (dual, single) = (&cases[0], &cases[1]);
+    println!(
+        "drop: b = {} (ODE {}), drifts P {:e} L {:e} E {:e}; single P {:e} L {:e}",
+        dual.axes.1,
+        dual.ode.1,
+        dual.momentum_drift,
+        dual.angular_momentum_drift,
+        dual.energy_drift,
+        single.momentum_drift,
+        single.angular_momentum_drift
+    );
+    assert!((dual.run.final_diagnostics().t - 0.008).abs() < 1e-12);
+    assert!(
+        (dual.axes.1 / dual.ode.1 - 1.0).abs() <= 0.01,
+        "b = {} vs {}",
+        dual.axes.1,
+        dual.ode.1
+    );
+    assert!(
+        dual.momentum_drift <= 1e-12,
+        "momentum drift {:e}",
+        dual.momentum_drift
+    );
+    assert!(
+        dual.angular_momentum_drift <= 1e-12,
+        "angular momentum drift {:e}",
+        dual.angular_momentum_drift
+    );
+    assert!(
+        single.momentum_drift > 1e-6,
+        "SingleSupport momentum drift {:e}",
+        single.momentum_drift
+    );
+}
+
+#[test]
+fn dam_break_dual_support_tracks_the_uniform_run_and_the_experiment() {
+    // Half the paper's resolution (Case II 1,400 particles, Case III 3,200) to t = 2.5 s.
+    let opts = options(2.0, None);
+    let specs = dam_break::cases(&opts).unwrap();
+    let rec = dam_break::recording();
+    let two_level = dam_break::grade(opts.run(&specs[1], &rec).unwrap());
+    let uniform = dam_break::grade(opts.run(&specs[2], &rec).unwrap());
+    let between = dam_break::front_rms_between(&two_level.run, &uniform.run);
+    println!(
+        "dam break: II-III front RMS {between:.4} m; vs experiment II {:.3} III {:.3}; energy II {:.4} III {:.4}; density {:.4} {:.4}",
+        two_level.front_rms_experiment,
+        uniform.front_rms_experiment,
+        two_level.energy_variation,
+        uniform.energy_variation,
+        two_level.density_variation,
+        uniform.density_variation
+    );
+    assert!((uniform.run.final_diagnostics().t - 2.5).abs() < 1e-9);
+    assert!(
+        between <= 0.05,
+        "Case II front is {between} m RMS from Case III's"
+    );
+    for c in [&two_level, &uniform] {
+        assert!(
+            c.front_points >= 13,
+            "{} experimental points compared",
+            c.front_points
+        );
+        assert!(
+            c.front_rms_experiment <= 0.30,
+            "{}: front RMS {} m",
+            c.run.label,
+            c.front_rms_experiment
+        );
+        assert!(
+            c.energy_variation <= 0.04,
+            "{}: energy varies by {}",
+            c.run.label,
+            c.energy_variation
+        );
+    }
+    assert!(two_level.run.particles * 2 < uniform.run.particles);
+}
