@@ -28,7 +28,9 @@ impl Table {
         let line = |cells: &[String]| {
             let mut s = String::from("|");
             for k in 0..n {
-                s += &format!(" {} |", cells.get(k).map_or("", String::as_str));
+                // A bare "|" inside a cell (e.g. "|ΔE|") would split the column.
+                let cell = cells.get(k).map_or("", String::as_str).replace('|', "\\|");
+                s += &format!(" {cell} |");
             }
             s + "\n"
         };
@@ -50,5 +52,8 @@ mod tests {
         let mut t = Table::new(["a", "b"]);
         t.row(vec!["1".into()]);
         assert_eq!(t.render(), "| a | b |\n|---|---|\n| 1 |  |\n\n");
+        let mut t = Table::new(["max |ΔE|/E"]);
+        t.row(vec!["1 %".into()]);
+        assert_eq!(t.render(), "| max \\|ΔE\\|/E |\n|---|\n| 1 % |\n\n");
     }
 }

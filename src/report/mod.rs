@@ -133,7 +133,8 @@ impl Benchmark {
     }
 }
 
-/// Runs the benchmarks and writes `report.md` (atomically) with their plots beside it.
+/// Runs the benchmarks and writes `report.md` (atomically, after each benchmark) with their
+/// plots beside it.
 pub fn write_report(
     benchmarks: &[Benchmark],
     opts: &ReportOptions,
@@ -153,13 +154,14 @@ pub fn write_report(
         },
         rayon::current_num_threads()
     );
+    // Rewritten after every benchmark, so a long report shows its finished parts early.
+    let path = opts.out.join("report.md");
     for b in benchmarks {
         let s = b.section(opts)?;
         md += &format!("## {}\n\n{}\n", s.title, s.body);
+        dualsph_io::write_atomic(&path, md.as_bytes())
+            .map_err(|e| ReportError::Output(e.to_string()))?;
     }
-    let path = opts.out.join("report.md");
-    dualsph_io::write_atomic(&path, md.as_bytes())
-        .map_err(|e| ReportError::Output(e.to_string()))?;
     Ok(path)
 }
 
