@@ -2,6 +2,7 @@
 //! conservation of linear momentum, angular momentum and energy, SingleSupport against
 //! DualSupport with a half-spacing quadrant.
 
+use super::final_particles;
 use super::{
     COST_HEADERS, CaseRun, CaseSpec, Recording, ReportError, ReportOptions, Section, Table,
     cost_cells, image,
@@ -9,7 +10,6 @@ use super::{
 use dualsph_io::ParticleRecord;
 use dualsph_plot::{LinePlot, Series, SeriesStyle};
 use dualsph_reference::drop::semi_axes;
-use dualsph_scene::Formulation;
 
 /// Initial strain rate A₀ of v = A₀(−x, y) (1/s) and radius R (m).
 pub const STRAIN_RATE: f64 = 100.0;
@@ -55,14 +55,7 @@ pub fn moment_axes(particles: &[ParticleRecord]) -> (f64, f64) {
 
 /// DualSupport (the scene) and SingleSupport on the same particles.
 pub fn cases(opts: &ReportOptions) -> Result<Vec<CaseSpec>, ReportError> {
-    Ok(vec![
-        CaseSpec::new("DualSupport", opts.scene("drop_2d.ron")?, None),
-        CaseSpec::new(
-            "SingleSupport",
-            opts.scene("drop_2d.ron")?,
-            Some(Formulation::SingleSupport),
-        ),
-    ])
+    opts.dual_and_single("drop_2d.ron", "DualSupport", "SingleSupport")
 }
 
 /// Grades a run.
@@ -143,15 +136,11 @@ pub fn run(opts: &ReportOptions) -> Result<(Section, Vec<DropCase>), ReportError
         SeriesStyle::Line,
         6,
     ));
-    for (k, c) in graded.iter().enumerate() {
-        let pts = c.run.last.iter().map(|p| (p.pos[0], p.pos[1])).collect();
-        shape = shape.with(Series::new(
-            c.run.label.clone(),
-            pts,
-            SeriesStyle::Markers,
-            k,
-        ));
-    }
+    shape.series.extend(final_particles(
+        graded.iter().map(|c| &c.run),
+        |_| true,
+        |p| (p.pos[0], p.pos[1]),
+    ));
     shape.x_range = Some((-1.25, 1.25));
     shape.y_range = Some((-2.25, 2.25));
     shape.size = (640, 1060);

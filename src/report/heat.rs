@@ -1,6 +1,7 @@
 //! 1-D heat conduction (paper 001 §7.1, Tables 1–2), graded against the erf solution
 //! (Eq. 7.1) by ΔE/E, the relative L2 error (Eq. 7.2) and the largest relative error.
 
+use super::final_particles;
 use super::{
     COST_HEADERS, CaseRun, CaseSpec, Recording, ReportError, ReportOptions, Section, Table,
     cost_cells, image,
@@ -108,21 +109,12 @@ pub fn run(opts: &ReportOptions) -> Result<(Section, Vec<HeatCase>), ReportError
         SeriesStyle::Line,
         6,
     ));
-    for (k, c) in graded.iter().enumerate() {
-        let pts = c
-            .run
-            .last
-            .iter()
-            .map(|p| (p.pos[0], p.e))
-            .filter(|p| (0.1..=0.4).contains(&p.0))
-            .collect();
-        plot = plot.with(Series::new(
-            c.run.label.clone(),
-            pts,
-            SeriesStyle::Markers,
-            k,
-        ));
-    }
+    let runs = graded.iter().map(|c| &c.run);
+    plot.series.extend(final_particles(
+        runs,
+        |p| (0.1..=0.4).contains(&p.pos[0]),
+        |p| (p.pos[0], p.e),
+    ));
     let png = opts.file("heat_profile.png");
     plot.write_png(&png)?;
 

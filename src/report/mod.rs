@@ -66,6 +66,23 @@ impl ReportOptions {
         Ok(run)
     }
 
+    /// A scene run twice: as written (DualSupport) and with SingleSupport, in that order.
+    pub fn dual_and_single(
+        &self,
+        file: &str,
+        dual: &str,
+        single: &str,
+    ) -> Result<Vec<CaseSpec>, ReportError> {
+        Ok(vec![
+            CaseSpec::new(dual, self.scene(file)?, None),
+            CaseSpec::new(
+                single,
+                self.scene(file)?,
+                Some(dualsph_scene::Formulation::SingleSupport),
+            ),
+        ])
+    }
+
     /// Path of an output file.
     pub fn file(&self, name: &str) -> PathBuf {
         self.out.join(name)
@@ -189,6 +206,27 @@ pub(crate) const COST_HEADERS: [&str; 5] = [
     "CPU s",
     "particle-steps / CPU-s",
 ];
+
+/// One marker series per run: the final particles kept by `keep`, as points `at(p)`, in the
+/// palette colour of the run's index.
+pub(crate) fn final_particles<'a>(
+    runs: impl IntoIterator<Item = &'a CaseRun>,
+    keep: impl Fn(&dualsph_io::ParticleRecord) -> bool,
+    at: impl Fn(&dualsph_io::ParticleRecord) -> (f64, f64),
+) -> Vec<dualsph_plot::Series> {
+    runs.into_iter()
+        .enumerate()
+        .map(|(k, run)| {
+            let pts = run.last.iter().filter(|p| keep(p)).map(&at).collect();
+            dualsph_plot::Series::new(
+                run.label.clone(),
+                pts,
+                dualsph_plot::SeriesStyle::Markers,
+                k,
+            )
+        })
+        .collect()
+}
 
 /// A markdown image link to a file in the report folder.
 pub(crate) fn image(alt: &str, path: &Path) -> String {

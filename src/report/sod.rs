@@ -1,14 +1,14 @@
 //! Sod shock tube (paper 001 §7.2), graded against the exact Riemann solution by the L1
 //! error of density, velocity, pressure and internal energy over x ∈ [−0.5, 0.5].
 
+use super::final_particles;
 use super::{
     COST_HEADERS, CaseRun, CaseSpec, Recording, ReportError, ReportOptions, Section, Table,
     cost_cells, image,
 };
 use dualsph_plot::{LinePlot, Series, SeriesStyle};
 use dualsph_reference::norms::l1_error;
-use dualsph_reference::riemann::{GasState, Riemann, Sample};
-use dualsph_scene::Formulation;
+use dualsph_reference::riemann::{Riemann, Sample};
 
 /// γ of the benchmark.
 pub const GAMMA: f64 = 5.0 / 3.0;
@@ -17,20 +17,7 @@ pub const WINDOW: f64 = 0.5;
 
 /// The exact solution of the benchmark's Riemann problem.
 pub fn exact() -> Riemann {
-    Riemann::new(
-        GasState {
-            rho: 1.0,
-            u: 0.0,
-            p: 1.0,
-        },
-        GasState {
-            rho: 0.125,
-            u: 0.0,
-            p: 0.1,
-        },
-        GAMMA,
-    )
-    .expect("Sod's states are valid")
+    Riemann::sod(GAMMA)
 }
 
 /// One graded case: L1 errors over the window.
@@ -46,14 +33,11 @@ pub struct SodCase {
 
 /// DualSupport (the scene) and SingleSupport, both with h from Eq. 6.1.
 pub fn cases(opts: &ReportOptions) -> Result<Vec<CaseSpec>, ReportError> {
-    Ok(vec![
-        CaseSpec::new("DualSupport, variable h", opts.scene("sod_1d.ron")?, None),
-        CaseSpec::new(
-            "SingleSupport, variable h",
-            opts.scene("sod_1d.ron")?,
-            Some(Formulation::SingleSupport),
-        ),
-    ])
+    opts.dual_and_single(
+        "sod_1d.ron",
+        "DualSupport, variable h",
+        "SingleSupport, variable h",
+    )
 }
 
 /// Grades a run at its end time against the exact solution.
@@ -125,21 +109,12 @@ pub fn run(opts: &ReportOptions) -> Result<(Section, Vec<SodCase>), ReportError>
                 SeriesStyle::Line,
                 6,
             ));
-        for (k, c) in graded.iter().enumerate() {
-            let pts = c
-                .run
-                .last
-                .iter()
-                .filter(|p| p.pos[0].abs() <= WINDOW)
-                .map(|p| (p.pos[0], sim_of(p)))
-                .collect();
-            plot = plot.with(Series::new(
-                c.run.label.clone(),
-                pts,
-                SeriesStyle::Markers,
-                k,
-            ));
-        }
+        let runs = graded.iter().map(|c| &c.run);
+        plot.series.extend(final_particles(
+            runs,
+            |p| p.pos[0].abs() <= WINDOW,
+            |p| (p.pos[0], sim_of(p)),
+        ));
         let png = opts.file(&format!("sod_{name}.png"));
         plot.write_png(&png)?;
         images += &image(&format!("Sod {name}"), &png);

@@ -54,6 +54,21 @@ pub struct Riemann {
 }
 
 impl Riemann {
+    /// Sod's shock tube: ρ = 1, p = 1 on the left and ρ = 0.125, p = 0.1 on the right, at rest.
+    pub fn sod(gamma: f64) -> Self {
+        let left = GasState {
+            rho: 1.0,
+            u: 0.0,
+            p: 1.0,
+        };
+        let right = GasState {
+            rho: 0.125,
+            u: 0.0,
+            p: 0.1,
+        };
+        Riemann::new(left, right, gamma).expect("Sod's states are valid for γ > 1")
+    }
+
     /// Solves for the star state.
     pub fn new(left: GasState, right: GasState, gamma: f64) -> Result<Self, RiemannError> {
         let ok = |s: &GasState| s.rho > 0.0 && s.p > 0.0 && s.rho.is_finite() && s.p.is_finite();
@@ -206,27 +221,10 @@ fn wave_function(p: f64, s: &GasState, g: f64) -> (f64, f64) {
 mod tests {
     use super::*;
 
-    fn sod(gamma: f64) -> Riemann {
-        Riemann::new(
-            GasState {
-                rho: 1.0,
-                u: 0.0,
-                p: 1.0,
-            },
-            GasState {
-                rho: 0.125,
-                u: 0.0,
-                p: 0.1,
-            },
-            gamma,
-        )
-        .unwrap()
-    }
-
     #[test]
     fn sod_star_state_gamma_five_thirds() {
         // The star state given for the paper's tube (DESIGN.md): p* = 0.293945, u* = 0.841195.
-        let r = sod(5.0 / 3.0);
+        let r = Riemann::sod(5.0 / 3.0);
         assert!((r.p_star - 0.293945).abs() < 1e-6, "{}", r.p_star);
         assert!((r.u_star - 0.841195).abs() < 1e-6, "{}", r.u_star);
     }
@@ -234,7 +232,7 @@ mod tests {
     #[test]
     fn sod_star_state_gamma_seven_fifths() {
         // Toro, Table 4.3 (test 1 is Sod with γ = 1.4): p* = 0.30313, u* = 0.92745.
-        let r = sod(1.4);
+        let r = Riemann::sod(1.4);
         assert!((r.p_star - 0.30313).abs() < 1e-5, "{}", r.p_star);
         assert!((r.u_star - 0.92745).abs() < 1e-5, "{}", r.u_star);
     }
@@ -243,7 +241,7 @@ mod tests {
     fn jump_conditions_hold_across_the_shock() {
         // Rankine–Hugoniot: mass and momentum fluxes are continuous in the shock frame.
         let g = 5.0 / 3.0;
-        let r = sod(g);
+        let r = Riemann::sod(g);
         let right = GasState {
             rho: 0.125,
             u: 0.0,
@@ -263,7 +261,7 @@ mod tests {
     #[test]
     fn rarefaction_is_isentropic_and_continuous() {
         let g = 5.0 / 3.0;
-        let r = sod(g);
+        let r = Riemann::sod(g);
         let c = (g * 1.0f64 / 1.0).sqrt();
         // p/ρ^γ is constant through the fan, and the head matches the left state.
         for k in 1..10 {
