@@ -28,7 +28,8 @@
 //! ## Files
 //! * `probes.csv`: `t,step,<one column per probe value>`; a point or gauge is one column named
 //!   after it, a line of n points is n columns `name[0]` … `name[n-1]`. One row per sample
-//!   (steps that are multiples of `every`, step 0, and the last step).
+//!   (steps that are multiples of `every`, step 0, and the last step: `t_end` or the
+//!   runner's [`StepLimit`]).
 //! * `probes_points.csv`: `column,probe,kind,quantity,x,y,z`, the position of every column.
 //!
 //! Both are rewritten whole and atomically at every sample ([`dualsph_io::write_atomic_with`],
@@ -385,6 +386,7 @@ pub fn sample_probes<V: Vector>(
     kernel: Res<KernelRes>,
     domain: Res<Domain<V>>,
     out: Option<Res<RunOutputDir>>,
+    limit: Option<Res<StepLimit>>,
     mut state: ResMut<ProbeState<V>>,
     q: Query<(
         &ParticleId,
@@ -397,7 +399,7 @@ pub fn sample_probes<V: Vector>(
         Option<&InternalEnergy>,
     )>,
 ) {
-    let at_end = clock.t >= clock.t_end * (1.0 - 1e-12);
+    let at_end = clock.t >= clock.t_end * (1.0 - 1e-12) || limit.is_some_and(|l| clock.step >= l.0);
     if !(clock.step.is_multiple_of(state.every) || at_end) {
         return;
     }
