@@ -8,11 +8,14 @@
 //! output ([`io`]), registers the built-in plugins ([`default_registry`]), builds a [`Sim`]
 //! from a scene ([`build_sim`]) and runs it headless ([`runner`]).
 
+pub mod gridded;
 pub mod report;
 pub mod runner;
 
 pub use dualsph_core as core;
 pub use dualsph_io as io;
+pub use dualsph_plot as plot;
+pub use dualsph_probes as probes;
 pub use dualsph_scene as scene;
 
 pub use dualsph_core::prelude::*;
@@ -32,6 +35,7 @@ pub mod plugins {
     pub use dualsph_heat::HeatConduction;
     pub use dualsph_kernel_correction::KernelCorrection;
     pub use dualsph_pressure::PressureForce;
+    pub use dualsph_probes::{Probe, Probes, Quantity};
     pub use dualsph_smoothing_length::SmoothingLengthUpdate;
     pub use dualsph_viscosity::{ArtificialViscosity, NewtonianViscosity, PhysicalViscosity};
     pub use dualsph_walls::SpecularWalls;
@@ -53,7 +57,8 @@ pub fn default_registry() -> Registry {
         .register::<KernelCorrection>()
         .register::<SmoothingLengthUpdate>()
         .register::<Gravity>()
-        .register::<SpecularWalls>();
+        .register::<SpecularWalls>()
+        .register::<Probes>();
     r
 }
 

@@ -12,7 +12,7 @@ use std::process::ExitCode;
 #[command(
     name = "dualsph",
     version,
-    about = "Dual-support SPH: run, check and plan RON scenes"
+    about = "Dual-support SPH: run, check and plan RON scenes; grid and plot their output"
 )]
 struct Cli {
     #[command(subcommand)]
@@ -85,6 +85,61 @@ enum Command {
     },
     /// List the registered plugins.
     Plugins,
+    /// Sample a field of a run's particle file on a regular grid: DIR/<field>_grid.vti
+    /// (ParaView) and DIR/<field>_grid.png (filled contours, white outside the fluid).
+    Grid {
+        /// The scene file the run used (for its dimension, kernel and domain).
+        scene: PathBuf,
+        /// The run's output directory (default: out/<scene name>).
+        #[arg(long)]
+        dir: Option<PathBuf>,
+        /// Particle file in DIR (final.csv or a particles_NNNNNN.csv snapshot).
+        #[arg(long, default_value = "final.csv")]
+        file: String,
+        /// Density | Pressure | VelocityX | VelocityY | VelocityZ | Speed | InternalEnergy | ShepardSum
+        #[arg(long, default_value = "Density")]
+        field: String,
+        /// Grid spacing (m).
+        #[arg(long)]
+        dx: f64,
+    },
+    /// Plot DIR/probes.csv (written by the Probes plugin) into PNGs next to it.
+    PlotProbes {
+        /// The run's output directory.
+        dir: PathBuf,
+    },
+}
+
+fn grid_command(
+    scene_path: &std::path::Path,
+    s: &Scene,
+    dir: Option<PathBuf>,
+    file: &str,
+    field: &str,
+    dx: f64,
+) -> Result<(), String> {
+    let dir = dir.unwrap_or_else(|| runner::default_out_dir(scene_path));
+    let q: dualsph::probes::Quantity = ron::from_str(field).map_err(|_| {
+        format!("--field {field:?}: expected Density, Pressure, VelocityX, VelocityY, VelocityZ, Speed, InternalEnergy or ShepardSum")
+    })?;
+    let path = dir.join(file);
+    let records = dualsph::io::read_particles_csv(&path).map_err(|e| e.to_string())?;
+    let mut lo = [0.0; 3];
+    let mut hi = [0.0; 3];
+    lo[..s.dimension].copy_from_slice(&s.domain.min);
+    hi[..s.dimension].copy_from_slice(&s.domain.max);
+    let f =
+        dualsph::gridded::sample_records(&records, s.dimension, s.kernel, q, dx, Some((lo, hi)))
+            .map_err(|e| e.to_string())?;
+    let stem = format!("{}_grid", field.to_lowercase());
+    let title = format!("{} — {field} from {file}", s.name);
+    let (vti, png) =
+        dualsph::gridded::write_field(&f, &dir, &stem, &title).map_err(|e| e.to_string())?;
+    println!("wrote {}", vti.display());
+    if s.dimension >= 2 {
+        println!("wrote {}", png.display());
+    }
+    Ok(())
 }
 
 fn load(path: &std::path::Path) -> Result<Scene, String> {
@@ -131,6 +186,10 @@ fn main() -> ExitCode {
                 "conservation: mass {:.3e} → {:.3e}, momentum [{:.3e}, {:.3e}, {:.3e}], E_tot {:.6e} → {:.6e}",
                 a.mass, b.mass, b.momentum[0], b.momentum[1], b.momentum[2], a.e_tot, b.e_tot
             );
+            if out.join(dualsph::probes::PROBES_FILE).exists() {
+                let pngs = dualsph::probes::plot_probes(&out)?;
+                println!("probes: {} plots in {}", pngs.len(), out.display());
+            }
             Ok(())
         }),
         Command::Check { scene } => load(&scene).map(|s| {
@@ -155,6 +214,14 @@ fn main() -> ExitCode {
                 println!("  - {c}");
             }
             Ok(())
+        }),
+        Command::Grid { scene, dir, file, field, dx } => {
+            load(&scene).and_then(|s| grid_command(&scene, &s, dir, &file, &field, dx))
+        }
+        Command::PlotProbes { dir } => dualsph::probes::plot_probes(&dir).map(|pngs| {
+            for p in pngs {
+                println!("wrote {}", p.display());
+            }
         }),
         Command::Plugins => {
             for e in dualsph::default_registry().entries() {

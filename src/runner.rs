@@ -126,6 +126,10 @@ fn check<V: Vector>(sim: &Sim<V>) -> Result<(), SimError> {
 /// Builds and runs a scene of dimension `V::DIM`.
 pub fn run_dim<V: Vector>(scene: &Scene, opts: &RunOptions) -> Result<RunSummary, RunError> {
     let mut sim = build_sim::<V>(scene)?;
+    sim.world.insert_resource(RunOutputDir(opts.out.clone()));
+    if let Some(limit) = scene.max_steps {
+        sim.world.insert_resource(StepLimit(limit));
+    }
     sim.initialize()?;
     check(&sim)?;
     let mut out = OutputDir::create(

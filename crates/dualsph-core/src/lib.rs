@@ -10,8 +10,10 @@ pub mod integrator;
 pub mod kernels;
 pub mod math;
 pub mod neighbours;
+pub mod output;
 pub mod passes;
 pub mod plugin;
+pub mod sampling;
 pub mod sim;
 pub mod sweep;
 
@@ -24,6 +26,7 @@ pub mod prelude {
     pub use crate::diagnostics::Diagnostics;
     pub use crate::kernels::{Kernel, KernelKind};
     pub use crate::math::{Mat1, Matrix, Real, Vec1, Vector};
+    pub use crate::output::{RunOutputDir, StepLimit};
     pub use crate::plugin::{PluginConfig, Registry, SceneInfo, SimPlugin};
     pub use crate::sim::{
         Domain, KernelRes, ParticleInit, Sim, SimClock, SimConfig, SimError, StepSet, TimeStepping,

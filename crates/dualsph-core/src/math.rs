@@ -30,6 +30,7 @@ pub trait Vector:
     + AddAssign
     + SubAssign
     + crate::neighbours::KdSearch
+    + crate::sampling::PointSearch
 {
     /// Number of spatial dimensions d.
     const DIM: usize;

@@ -249,10 +249,10 @@ pub fn palette(i: usize) -> RGBColor {
     P[i % P.len()]
 }
 
-type Area<'a> = DrawingArea<BitMapBackend<'a>, plotters::coord::Shift>;
+pub(crate) type Area<'a> = DrawingArea<BitMapBackend<'a>, plotters::coord::Shift>;
 
 /// Renders into an RGB buffer, encodes PNG and writes it atomically.
-fn render(
+pub(crate) fn render(
     path: &Path,
     size: (u32, u32),
     draw: impl FnOnce(&Area<'_>) -> Result<(), String>,

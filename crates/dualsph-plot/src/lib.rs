@@ -1,14 +1,17 @@
 //! PNG plots for dualsph reports.
 //!
 //! A thin layer over [`plotters`]: line/marker charts ([`LinePlot`]) and particle scatter
-//! pictures ([`ScatterPlot`]). Text is drawn with the DejaVu Sans font embedded through the
+//! pictures ([`ScatterPlot`]) and filled-contour maps of gridded fields with a colour bar
+//! ([`ContourPlot`]). Text is drawn with the DejaVu Sans font embedded through the
 //! `dejavu` crate, so no system font is needed. Every PNG is rendered into memory and written
 //! with [`dualsph_io::write_atomic`], so a plot file is never left half written.
 
 mod chart;
 mod font;
+mod heatmap;
 
 pub use chart::{LinePlot, ScatterPlot, Series, SeriesStyle, palette};
+pub use heatmap::{ContourPlot, viridis};
 
 use std::path::PathBuf;
 

@@ -128,6 +128,16 @@ fn settings(s: &Scene) -> Check {
     vector("domain.min", &s.domain.min, d)?;
     vector("domain.max", &s.domain.max, d)?;
     ordered("domain.max", &s.domain.min, &s.domain.max)?;
+    if !s.kernel.supports_dimension(d) {
+        return Err(Problem::new(
+            "kernel",
+            format!(
+                "{:?} cannot be normalised in {d}-D (its radial integral diverges at r = 0); \
+                 choose another kernel",
+                s.kernel
+            ),
+        ));
+    }
     let skin = s.neighbours.skin;
     if !(skin.is_finite() && skin >= 0.0) {
         return Err(Problem::new(
