@@ -18,6 +18,8 @@ pub struct Recording {
     pub snapshot_times: Vec<Real>,
     /// Record the largest x of any particle (a dam-break water front).
     pub front: bool,
+    /// Where plugins that write files of their own (probes) put them; in memory when `None`.
+    pub output_dir: Option<std::path::PathBuf>,
 }
 
 /// A finished case.
@@ -149,6 +151,12 @@ fn health<V: Vector>(sim: &Sim<V>, label: &str) -> Result<(), SimError> {
 fn run_dim<V: Vector>(spec: &CaseSpec, rec: &Recording) -> Result<CaseRun, SimError> {
     let scene = &spec.scene;
     let mut sim = build_sim::<V>(scene)?;
+    if let Some(dir) = &rec.output_dir {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| SimError::Build(format!("{}: {e}", dir.display())))?;
+        sim.world
+            .insert_resource(dualsph_core::output::RunOutputDir(dir.clone()));
+    }
     sim.initialize()?;
     health(&sim, &spec.label)?;
     let initial = particle_records(&mut sim);

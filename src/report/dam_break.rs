@@ -4,7 +4,7 @@
 
 use super::{
     COST_HEADERS, CaseRun, CaseSpec, Recording, ReportError, ReportOptions, Section, Table,
-    cost_cells, image,
+    cost_cells, image, image_in,
 };
 use dualsph_plot::{LinePlot, ScatterPlot, Series, SeriesStyle};
 use dualsph_reference::dam_break::KOSHIZUKA_OKA_FRONT;
@@ -67,8 +67,12 @@ pub fn recording() -> Recording {
         every: 20,
         snapshot_times: SNAPSHOT_TIMES.to_vec(),
         front: true,
+        output_dir: None,
     }
 }
+
+/// Time of the gridded density contour (the paper's density contour figure).
+pub const CONTOUR_TIME: f64 = 0.5;
 
 /// Grades a run against the experiment.
 pub fn grade(run: CaseRun) -> DamBreakCase {
@@ -99,9 +103,21 @@ pub fn front_rms_between(a: &CaseRun, b: &CaseRun) -> f64 {
 
 /// Runs, grades, plots and writes the section.
 pub fn run(opts: &ReportOptions) -> Result<(Section, Vec<DamBreakCase>), ReportError> {
+    // Each case writes its probes (wall pressure, gauges) into a folder of its own.
+    let case_dir = |k: usize| opts.file(&format!("dam_break_case{}", k + 1));
     let graded: Vec<DamBreakCase> = cases(opts)?
         .iter()
-        .map(|c| opts.run(c, &recording()).map(grade))
+        .enumerate()
+        .map(|(k, c)| {
+            opts.run(
+                c,
+                &Recording {
+                    output_dir: Some(case_dir(k)),
+                    ..recording()
+                },
+            )
+            .map(grade)
+        })
         .collect::<Result<_, _>>()?;
 
     let mut front =
@@ -212,6 +228,7 @@ pub fn run(opts: &ReportOptions) -> Result<(Section, Vec<DamBreakCase>), ReportE
     body += &image("total energy against time", &energy_png);
     body += "Particles coloured by their initial height band (0–0.5, 0.5–1, 1–1.5, 1.5–2 m):\n\n";
     body += &snaps.render();
+    body += &measurements(opts, &graded, &case_dir)?;
     Ok((
         Section {
             title: "Dam break over a dry bed (§7.4)".into(),
@@ -219,6 +236,58 @@ pub fn run(opts: &ReportOptions) -> Result<(Section, Vec<DamBreakCase>), ReportE
         },
         graded,
     ))
+}
+
+/// The probes of each case (wall pressure sensor and water-height gauges, declared in the
+/// scenes) and a gridded density contour of Case II.
+fn measurements(
+    opts: &ReportOptions,
+    graded: &[DamBreakCase],
+    case_dir: &dyn Fn(usize) -> std::path::PathBuf,
+) -> Result<String, ReportError> {
+    let mut md = String::from(
+        "### Probes\n\nThe scenes declare a pressure sensor on the far wall (x = 4 m, y = 0.16 m) and water-height \
+         gauges at x = 0.3, 2.0, 3.0 and 3.7 m, sampled every 50 steps into `probes.csv` (Shepard-normalised SPH \
+         interpolants; see the scene comments).\n\n",
+    );
+    for (k, c) in graded.iter().enumerate() {
+        let dir = case_dir(k);
+        if !dir.join("probes.csv").exists() {
+            continue;
+        }
+        let pngs = crate::probes::plot_probes(&dir).map_err(ReportError::Output)?;
+        md += &format!(
+            "**{}** (`{}`):\n\n",
+            c.run.label,
+            dir.strip_prefix(&opts.out)
+                .unwrap_or(&dir)
+                .join("probes.csv")
+                .display()
+        );
+        for png in pngs {
+            md += &image_in(&format!("{} probes", c.run.label), &png, &opts.out);
+        }
+    }
+    let case2 = &graded[1].run;
+    if let Some((_, t, particles)) = case2.snapshots.iter().find(|s| s.0 == CONTOUR_TIME) {
+        let dir = opts.file("dam_break_density");
+        let (vti, png) = crate::gridded::write_density_grid(
+            particles,
+            2,
+            dualsph_core::kernels::KernelKind::CubicSpline,
+            0.01,
+            &dir,
+        )
+        .map_err(|e| ReportError::Output(e.to_string()))?;
+        md += &format!(
+            "### Density field\n\n{} at t = {t:.3} s, sampled on a 0.01 m grid (white where the Shepard sum is \
+             below 0.5, i.e. outside the water); ParaView file `{}`.\n\n",
+            case2.label,
+            vti.strip_prefix(&opts.out).unwrap_or(&vti).display()
+        );
+        md += &image_in("density contour", &png, &opts.out);
+    }
+    Ok(md)
 }
 
 /// Mean of front − experiment over the compared points (> 0: the model runs ahead).

@@ -228,6 +228,12 @@ pub(crate) fn final_particles<'a>(
         .collect()
 }
 
+/// A markdown image link to a file in (or below) the report folder `base`.
+pub(crate) fn image_in(alt: &str, path: &Path, base: &Path) -> String {
+    let rel = path.strip_prefix(base).unwrap_or(path);
+    format!("![{alt}]({})\n\n", rel.to_string_lossy())
+}
+
 /// A markdown image link to a file in the report folder.
 pub(crate) fn image(alt: &str, path: &Path) -> String {
     let name = path
