@@ -336,6 +336,11 @@ impl SimPlugin for Probes {
     }
 
     fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
+        if !sim.enable_feature("probes") {
+            return Err(SimError::Build(
+                "Probes appears twice: list every probe in one Probes(...) entry".into(),
+            ));
+        }
         let columns = self.columns();
         let points = columns
             .iter()
