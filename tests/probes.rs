@@ -104,6 +104,33 @@ fn dam_break_gauges_and_wall_sensor_start_from_the_initial_column() {
 }
 
 #[test]
+fn density_grid_of_a_live_sim() {
+    let scene = Scene::load(
+        &scene_path("dam_break_2d.ron"),
+        &dualsph::default_registry(),
+    )
+    .unwrap();
+    let mut sim = dualsph::build_sim::<glam::DVec2>(&scene).unwrap();
+    sim.initialize().unwrap();
+    let f =
+        dualsph::gridded::sample_sim(&mut sim, dualsph::probes::Quantity::Density, 0.05).unwrap();
+    // the domain box [0, 4] × [0, 3] at 0.05 m; the water column [0, 1] × [0, 2] at rest
+    assert_eq!(f.grid.dims, [81, 61, 1]);
+    for n in 0..f.grid.len() {
+        let [x, y, _] = f.grid.point(n);
+        if x > 0.1 && x < 0.9 && y > 0.1 && y < 1.9 {
+            let rho = f.values[n].expect("inside the column");
+            assert!((rho - 1000.0).abs() < 1e-6, "({x}, {y}): ρ = {rho}");
+        } else if x > 1.1 || y > 2.1 {
+            assert!(f.values[n].is_none(), "({x}, {y}) should be outside");
+        }
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let (vti, png) = dualsph::gridded::write_density_grid_sim(&mut sim, 0.05, dir.path()).unwrap();
+    assert!(vti.is_file() && png.is_file());
+}
+
+#[test]
 fn cli_grid_and_plot_probes() {
     let dir = run_short("sod_1d.ron", 10);
     let bin = || Command::new(env!("CARGO_BIN_EXE_dualsph"));

@@ -194,7 +194,7 @@ fn check_quantity(field: &str, q: Quantity, d: usize) -> Result<(), String> {
 }
 
 impl Probes {
-    fn columns(&self, d: usize) -> Vec<Column> {
+    fn columns(&self) -> Vec<Column> {
         let mut out = Vec::new();
         let xyz = |v: &[Real]| {
             let mut p = [0.0; 3];
@@ -253,7 +253,6 @@ impl Probes {
                 }),
             }
         }
-        let _ = d;
         out
     }
 }
@@ -337,7 +336,12 @@ impl SimPlugin for Probes {
     }
 
     fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
-        let columns = self.columns(V::DIM);
+        if !sim.enable_feature("probes") {
+            return Err(SimError::Build(
+                "Probes appears twice: list every probe in one Probes(...) entry".into(),
+            ));
+        }
+        let columns = self.columns();
         let points = columns
             .iter()
             .map(|c| V::from_slice(&c.pos[..V::DIM]).unwrap_or_else(V::zero))

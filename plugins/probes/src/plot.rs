@@ -170,16 +170,24 @@ pub fn plot_probes(dir: &Path) -> Result<Vec<PathBuf>, String> {
             .filter(|&c| table.meta[c].0 == name && table.meta[c].1 == "line")
             .collect();
         let p0 = table.meta[cols[0]].3;
+        let p1 = table.meta[cols[cols.len() - 1]].3;
+        // an axis-parallel line is drawn against its coordinate, any other against distance
+        let varying: Vec<usize> = (0..3).filter(|&k| p1[k] != p0[k]).collect();
+        let axis = (varying.len() == 1).then(|| varying[0]);
         let dist = |c: usize| {
             let p = table.meta[c].3;
-            ((p[0] - p0[0]).powi(2) + (p[1] - p0[1]).powi(2) + (p[2] - p0[2]).powi(2)).sqrt()
+            match axis {
+                Some(k) => p[k],
+                None => ((p[0] - p0[0]).powi(2) + (p[1] - p0[1]).powi(2) + (p[2] - p0[2]).powi(2))
+                    .sqrt(),
+            }
+        };
+        let x_label = match axis {
+            Some(k) => format!("{} (m)", ["x", "y", "z"][k]),
+            None => format!("distance from ({}, {}, {}) (m)", p0[0], p0[1], p0[2]),
         };
         let q = table.meta[cols[0]].2.clone();
-        let mut plot = LinePlot::new(
-            format!("line probe {name} ({q})"),
-            format!("distance from ({}, {}, {}) (m)", p0[0], p0[1], p0[2]),
-            unit(&q),
-        );
+        let mut plot = LinePlot::new(format!("line probe {name} ({q})"), x_label, unit(&q));
         let rows = table.values.len();
         let mut picks: Vec<usize> = (0..6).map(|k| k * rows.saturating_sub(1) / 5).collect();
         picks.dedup();

@@ -118,6 +118,16 @@ fn pressure_probe_without_an_eos_is_a_build_error() {
 }
 
 #[test]
+fn a_second_probes_entry_is_a_build_error() {
+    let mut sim = block_sim(0.2, 0.05);
+    let p = parse(r#"(every: 1, probes: [Point(name: "r", at: [0.5, 0.1], quantity: Density)])"#)
+        .unwrap();
+    p.build(&mut sim).unwrap();
+    let err = p.build(&mut sim).unwrap_err().to_string();
+    assert!(err.contains("twice"), "{err}");
+}
+
+#[test]
 fn bad_settings_name_the_field() {
     let cases = [
         (
