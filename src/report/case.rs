@@ -45,6 +45,9 @@ pub struct CaseRun {
     pub snapshots: Vec<(Real, Real, Vec<ParticleRecord>)>,
     /// The particles at the end.
     pub last: Vec<ParticleRecord>,
+    /// Why the run stopped before its end time (a blow-up), if it did; the series above
+    /// then end at the last good step.
+    pub failure: Option<String>,
 }
 
 impl CaseRun {
@@ -171,6 +174,7 @@ fn run_dim<V: Vector>(spec: &CaseSpec, rec: &Recording) -> Result<CaseRun, SimEr
         initial,
         snapshots: Vec::new(),
         last: Vec::new(),
+        failure: None,
     };
     if rec.front {
         run.front.push((0.0, largest_x(&mut sim)));
@@ -181,8 +185,10 @@ fn run_dim<V: Vector>(spec: &CaseSpec, rec: &Recording) -> Result<CaseRun, SimEr
     let max_steps = scene.max_steps.unwrap_or(u64::MAX);
     let (cpu0, wall0) = (process_cpu_seconds(), Instant::now());
     while sim.clock().t < scene.end_time * (1.0 - 1e-12) && sim.clock().step < max_steps {
-        sim.step()?;
-        health(&sim, &spec.label)?;
+        if let Err(e) = sim.step().and_then(|()| health(&sim, &spec.label)) {
+            run.failure = Some(e.to_string());
+            break;
+        }
         let c = sim.clock();
         if rec.every > 0 && c.step % rec.every == 0 {
             run.diagnostics.push(sim.diagnostics());

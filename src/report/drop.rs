@@ -2,11 +2,11 @@
 //! conservation of linear momentum, angular momentum and energy, SingleSupport against
 //! DualSupport with a half-spacing quadrant.
 
-use super::final_particles;
 use super::{
     COST_HEADERS, CaseRun, CaseSpec, Recording, ReportError, ReportOptions, Section, Table,
     cost_cells, image,
 };
+use super::{failures, final_particles};
 use dualsph_io::ParticleRecord;
 use dualsph_plot::{LinePlot, Series, SeriesStyle};
 use dualsph_reference::drop::semi_axes;
@@ -223,6 +223,7 @@ pub fn run(opts: &ReportOptions) -> Result<(Section, Vec<DropCase>), ReportError
          drifts are the largest over the run, relative to Σ|m v| at t = 0 (times R = 1 m for angular momentum).\n\n",
     );
     body += &table.render();
+    body += &failures(graded.iter().map(|c| &c.run));
     body += &format!(
         "**Finding.** Both formulations follow the ODE's shape (b within {:.2} % and {:.2} %). DualSupport keeps \
          linear and angular momentum to round-off ({:.0e}, {:.0e}) while SingleSupport with the same variable h \

@@ -1,11 +1,11 @@
 //! 1-D heat conduction (paper 001 §7.1, Tables 1–2), graded against the erf solution
 //! (Eq. 7.1) by ΔE/E, the relative L2 error (Eq. 7.2) and the largest relative error.
 
-use super::final_particles;
 use super::{
     COST_HEADERS, CaseRun, CaseSpec, Recording, ReportError, ReportOptions, Section, Table,
     cost_cells, image,
 };
+use super::{failures, final_particles};
 use dualsph_plot::{LinePlot, Series, SeriesStyle};
 use dualsph_reference::heat::HeatStep;
 use dualsph_reference::norms::relative_l2;
@@ -145,6 +145,7 @@ pub fn run(opts: &ReportOptions) -> Result<(Section, Vec<HeatCase>), ReportError
          The L2 norm integrates with the particle volumes m/ρ.\n\n",
     );
     body += &table.render();
+    body += &failures(graded.iter().map(|c| &c.run));
     body += "Paper (Table 2): Case I ΔE/E = −1.2e-15, L2 = 0.0072, max −2.40 %; Case II 3.4e-3, 0.0115, −5.15 %; \
              Case III −1.2e-15, 0.0061, −2.89 %.\n\n";
     body += &verdict(&graded);

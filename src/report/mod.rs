@@ -53,6 +53,9 @@ impl ReportOptions {
         }
         let run =
             run_case(spec, rec).map_err(|e| ReportError::Run(format!("{}: {e}", spec.label)))?;
+        if let (true, Some(why)) = (self.log, &run.failure) {
+            eprintln!("report: {} STOPPED EARLY: {why}", run.label);
+        }
         if self.log {
             eprintln!(
                 "report: {}: {} particles, {} steps, {:.1} s CPU ({:.2e} particle-steps/CPU-s)",
@@ -186,10 +189,16 @@ pub fn write_report(
     Ok(path)
 }
 
-/// The common columns of every case table: particles, steps, wall and CPU seconds, and
-/// particle-steps per CPU second.
+/// The common columns of every case table: the time reached (marked when the run blew up),
+/// particles, steps, wall and CPU seconds, and particle-steps per CPU second.
 pub(crate) fn cost_cells(run: &CaseRun) -> Vec<String> {
+    let t = run.final_diagnostics().t;
     vec![
+        if run.failure.is_some() {
+            format!("**{t:.4} (blew up)**")
+        } else {
+            format!("{t:.4}")
+        },
         run.particles.to_string(),
         run.steps.to_string(),
         format!("{:.1}", run.wall_seconds),
@@ -199,13 +208,29 @@ pub(crate) fn cost_cells(run: &CaseRun) -> Vec<String> {
 }
 
 /// Headers matching [`cost_cells`].
-pub(crate) const COST_HEADERS: [&str; 5] = [
+pub(crate) const COST_HEADERS: [&str; 6] = [
+    "t reached (s)",
     "particles",
     "steps",
     "wall s",
     "CPU s",
     "particle-steps / CPU-s",
 ];
+
+/// A paragraph naming every run that stopped early and why (empty when none did).
+pub(crate) fn failures<'a>(runs: impl IntoIterator<Item = &'a CaseRun>) -> String {
+    let mut md = String::new();
+    for run in runs {
+        if let Some(why) = &run.failure {
+            md += &format!(
+                "**{} stopped early** at t = {:.4} s: {why}. Its figures cover the run up to the last good step.\n\n",
+                run.label,
+                run.final_diagnostics().t
+            );
+        }
+    }
+    md
+}
 
 /// One marker series per run: the final particles kept by `keep`, as points `at(p)`, in the
 /// palette colour of the run's index.

@@ -1,11 +1,11 @@
 //! Sod shock tube (paper 001 §7.2), graded against the exact Riemann solution by the L1
 //! error of density, velocity, pressure and internal energy over x ∈ [−0.5, 0.5].
 
-use super::final_particles;
 use super::{
     COST_HEADERS, CaseRun, CaseSpec, Recording, ReportError, ReportOptions, Section, Table,
     cost_cells, image,
 };
+use super::{failures, final_particles};
 use dualsph_plot::{LinePlot, Series, SeriesStyle};
 use dualsph_reference::norms::l1_error;
 use dualsph_reference::riemann::{Riemann, Sample};
@@ -141,6 +141,7 @@ pub fn run(opts: &ReportOptions) -> Result<(Section, Vec<SodCase>), ReportError>
         r.p_star, r.u_star
     );
     body += &table.render();
+    body += &failures(graded.iter().map(|c| &c.run));
     body += &format!(
         "**Finding.** The paper shows the profiles only (its Figs. 3–4). DualSupport's density L1 is {:.4}; \
          SingleSupport with the same variable h gives {:.4}. Both resolve the rarefaction, contact and shock; \
