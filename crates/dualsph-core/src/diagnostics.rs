@@ -53,6 +53,7 @@ pub struct Diagnostics {
 pub struct InitialDensity(pub Vec<Real>);
 
 /// Computes [`Diagnostics`].
+#[inline(never)] // a frame of its own in profiles
 pub fn compute_diagnostics<V: Vector>(
     clock: Res<SimClock>,
     potentials: Res<ExternalPotentials>,
@@ -112,6 +113,7 @@ pub struct Health {
 }
 
 /// Scans for non-finite positions/velocities and non-positive or non-finite density and h.
+#[inline(never)] // a frame of its own in profiles
 pub fn check_health<V: Vector>(
     mut health: ResMut<Health>,
     q: Query<(

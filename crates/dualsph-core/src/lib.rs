@@ -28,5 +28,7 @@ pub mod prelude {
     pub use crate::sim::{
         Domain, KernelRes, ParticleInit, Sim, SimClock, SimConfig, SimError, StepSet, TimeStepping,
     };
-    pub use crate::sweep::{Fields, Formulation, Pair, PairOut, PairTerm, SweepCtx};
+    pub use crate::sweep::{
+        Fields, Formulation, OwnerKernel, Pair, PairOut, PairTerm, Row, SweepCtx,
+    };
 }

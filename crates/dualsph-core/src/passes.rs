@@ -22,6 +22,7 @@ macro_rules! ctx {
 }
 
 /// Summation density, Eq. 4.8: `ρ_i = m_i W(0, h_i) + Σ_{j∈H_i} m_j W_ij`.
+#[inline(never)] // a frame of its own in profiles
 pub fn summation_density<V: Vector>(
     mut fields: ResMut<Fields<V>>,
     nb: Res<Neighbours<V>>,
@@ -48,6 +49,7 @@ pub fn summation_density<V: Vector>(
 
 /// Kernel-gradient correction, Eq. 2.10: `L_i = [Σ_{j∈H_i} V_j ∇_iW_ij ⊗ (r_j − r_i)]^{-1}`;
 /// the identity where the sum is singular (too few neighbours).
+#[inline(never)] // a frame of its own in profiles
 pub fn kernel_correction<V: Vector>(
     mut fields: ResMut<Fields<V>>,
     nb: Res<Neighbours<V>>,
@@ -76,6 +78,7 @@ pub fn kernel_correction<V: Vector>(
 
 /// Velocity gradient, Eq. 7.4: `(∇⊗v)_i = −Σ_{j∈H_i} V_j v_ij ⊗ ∇̃_iW_ij`, entries `∂v_k/∂x_l`
 /// (exact for linear fields when the correction is active).
+#[inline(never)] // a frame of its own in profiles
 pub fn velocity_gradient<V: Vector>(
     mut fields: ResMut<Fields<V>>,
     nb: Res<Neighbours<V>>,
@@ -104,6 +107,7 @@ pub fn velocity_gradient<V: Vector>(
 }
 
 /// Continuity, Eq. 4.9: `dρ_i/dt = Σ_{j∈H_i} m_j v_ij · ∇_iW_ij`.
+#[inline(never)] // a frame of its own in profiles
 pub fn continuity_pairwise<V: Vector>(
     fields: Res<Fields<V>>,
     nb: Res<Neighbours<V>>,
@@ -128,6 +132,7 @@ pub fn continuity_pairwise<V: Vector>(
 }
 
 /// Continuity from the velocity divergence (paper §7.3): `dρ_i/dt = −ρ_i tr(∇⊗v)_i`.
+#[inline(never)] // a frame of its own in profiles
 pub fn continuity_divergence<V: Vector>(
     fields: Res<Fields<V>>,
     mut q: Query<(&ParticleId, &mut DensityRate)>,

@@ -25,7 +25,7 @@
 //!   `W̄_ij = ½[W(r, h_i) + W(r, h_j)]` over `H_i ∪ H'_i`, classical symmetric sums.
 
 use crate::components::{Acceleration, EnergyRate, ParticleId};
-use crate::kernels::Kernel;
+use crate::kernels::{Kernel, KernelKind};
 use crate::math::{Matrix, Real, Vector};
 use crate::neighbours::Neighbours;
 use crate::sim::{KernelRes, Sim, StepSet};
@@ -181,13 +181,84 @@ impl<V: Vector> Default for PairOut<V> {
     }
 }
 
+/// One owner's support `H_i` as the sweep hands it to [`PairTerm::interact_row`]: the
+/// neighbours `j` strictly inside `h_i`, ascending, with the pair geometry as parallel slices
+/// (`rij[k]`, `r[k]`, `grad_raw[k]`, `grad[k]` belong to `j[k]`).
+#[derive(Clone, Copy, Debug)]
+pub struct Row<'a, V: Vector> {
+    /// The owner i.
+    pub i: usize,
+    /// `j ∈ H_i`, ascending.
+    pub j: &'a [u32],
+    /// `r_ij = r_i − r_j`.
+    pub rij: &'a [V],
+    /// `|r_ij|`.
+    pub r: &'a [Real],
+    /// `∇_i W_ij` as is (Eq. 2.2).
+    pub grad_raw: &'a [V],
+    /// `∇_i W_ij` with `L_i` applied when the correction is active (Eq. 2.10); the same slice
+    /// as `grad_raw` otherwise.
+    pub grad: &'a [V],
+    /// The owner's kernel (for `W_ij`, computed on demand by [`Row::w`]).
+    pub kernel: OwnerKernel,
+    /// All particle data.
+    pub fields: &'a Fields<V>,
+}
+
+impl<'a, V: Vector> Row<'a, V> {
+    /// Number of pairs.
+    #[inline]
+    pub fn len(&self) -> usize {
+        self.j.len()
+    }
+
+    /// True when `H_i` is empty.
+    #[inline]
+    pub fn is_empty(&self) -> bool {
+        self.j.is_empty()
+    }
+
+    /// `W_ij = W(r_ij, h_i)` of the k-th pair (Eq. 2.1).
+    #[inline]
+    pub fn w(&self, k: usize) -> Real {
+        self.kernel.w(self.r[k])
+    }
+
+    /// The k-th pair of the row.
+    #[inline]
+    pub fn pair(&self, k: usize) -> Pair<'a, V> {
+        Pair {
+            i: self.i,
+            j: self.j[k] as usize,
+            rij: self.rij[k],
+            r: self.r[k],
+            w: self.w(k),
+            grad_raw: self.grad_raw[k],
+            grad: self.grad[k],
+            fields: self.fields,
+        }
+    }
+}
+
 /// A physics term that joins the pair sweep. Implementations add their contribution to `out`
 /// for the pair (i owner, j ∈ H_i) and inherit the sweep's conservation and determinism.
+///
+/// Only [`PairTerm::interact`] must be written. The sweep calls [`PairTerm::interact_row`]
+/// once per owner and term; its default loops over the row calling `interact`, statically
+/// dispatched and inlined, so a term costs one dynamic call per particle, not per pair.
+/// Override it only to vectorise a term by hand; it must give the same `out` as the default.
 pub trait PairTerm<V: Vector>: Send + Sync + 'static {
     /// Name shown by `plan`.
     fn name(&self) -> &str;
     /// Adds this term's force and energy rates for the pair.
     fn interact(&self, pair: &Pair<'_, V>, out: &mut PairOut<V>);
+    /// Adds this term to `out[k]` for every pair `k` of the row (`out.len() == row.len()`).
+    #[inline]
+    fn interact_row(&self, row: &Row<'_, V>, out: &mut [PairOut<V>]) {
+        for (k, o) in out.iter_mut().enumerate() {
+            self.interact(&row.pair(k), o);
+        }
+    }
 }
 
 /// The terms fused into the sweep, in order.
@@ -214,6 +285,61 @@ pub struct SweepCtx<'a, V: Vector> {
     pub kernel: &'a Kernel,
     /// Formulation.
     pub formulation: Formulation,
+}
+
+/// The kernel of one owner i with its normalisations computed once:
+/// `W(r, h_i) = C_d h_i^{-d} f(r/h_i)` (Eq. 2.1) and `∇_iW = C_d h_i^{-d-1} f'(r/h_i) r_ij/r`
+/// (Eq. 2.2) — what [`Kernel::w`] and [`Kernel::grad`] give inside the support (to round-off:
+/// `q = r · (1/h_i)`), without their per-call divisions by powers of h.
+#[derive(Clone, Copy, Debug)]
+pub struct OwnerKernel {
+    kind: KernelKind,
+    inv_h: Real,
+    /// `h_i²`: a candidate is in `H_i` when `r² < h_i²`.
+    pub h2: Real,
+    w_norm: Real,
+    g_norm: Real,
+}
+
+impl OwnerKernel {
+    /// The kernel of an owner with support radius `h`.
+    #[inline]
+    pub fn new(kernel: &Kernel, h: Real) -> Self {
+        let hd = match kernel.dim {
+            1 => h,
+            2 => h * h,
+            _ => h * h * h,
+        };
+        OwnerKernel {
+            kind: kernel.kind,
+            inv_h: 1.0 / h,
+            h2: h * h,
+            w_norm: kernel.norm / hd,
+            g_norm: kernel.norm / (hd * h),
+        }
+    }
+
+    /// `W(r, h_i)` (Eq. 2.1) for `r < h_i`.
+    #[inline(always)]
+    pub fn w(&self, r: Real) -> Real {
+        self.w_norm * self.kind.profile(r * self.inv_h)
+    }
+
+    /// `∇_iW_ij` (Eq. 2.2) for `r = |r_ij| < h_i` (0 at `r = 0`).
+    #[inline(always)]
+    pub fn grad<V: Vector>(&self, rij: V, r: Real) -> V {
+        if r > 0.0 {
+            rij * (self.g_norm * self.kind.profile_derivative(r * self.inv_h) / r)
+        } else {
+            V::zero()
+        }
+    }
+
+    /// `(W_ij, ∇_iW_ij)` for `r = |r_ij| < h_i`.
+    #[inline(always)]
+    pub fn eval<V: Vector>(&self, rij: V, r: Real) -> (Real, V) {
+        (self.w(r), self.grad(rij, r))
+    }
 }
 
 /// Visits the union of two ascending lists in ascending order.
@@ -273,19 +399,15 @@ impl<V: Vector> SweepCtx<'_, V> {
                 },
             ),
             _ => {
+                let k = OwnerKernel::new(self.kernel, hi);
                 for &j in self.neighbours.support.row(i) {
                     let j = j as usize;
                     let rij = xi - fl.pos[j];
                     let r2 = rij.length_squared();
-                    if r2 < hi * hi {
+                    if r2 < k.h2 {
                         let r = r2.sqrt();
-                        f(
-                            j,
-                            rij,
-                            r,
-                            self.kernel.w(r, hi),
-                            self.kernel.grad(rij, r, hi),
-                        );
+                        let (w, g) = k.eval(rij, r);
+                        f(j, rij, r, w, g);
                     }
                 }
             }
@@ -293,15 +415,22 @@ impl<V: Vector> SweepCtx<'_, V> {
     }
 }
 
-/// Splits a slot buffer into the rows of a CSR.
-fn split_rows_mut<'a, T>(mut buf: &'a mut [T], offsets: &[u32]) -> Vec<&'a mut [T]> {
-    let mut rows = Vec::with_capacity(offsets.len().saturating_sub(1));
-    for w in offsets.windows(2) {
-        let (row, rest) = buf.split_at_mut((w[1] - w[0]) as usize);
-        rows.push(row);
+/// Particles per parallel work item of the sweep (a chunk's slots are contiguous).
+const CHUNK: usize = 64;
+
+/// Splits a slot buffer at the slot boundaries of consecutive chunks of `CHUNK` rows.
+fn split_chunks_mut<'a, T>(mut buf: &'a mut [T], offsets: &[u32]) -> Vec<&'a mut [T]> {
+    let n = offsets.len().saturating_sub(1);
+    let mut out = Vec::with_capacity(n.div_ceil(CHUNK));
+    let mut start = 0;
+    while start < n {
+        let end = (start + CHUNK).min(n);
+        let (chunk, rest) = buf.split_at_mut((offsets[end] - offsets[start]) as usize);
+        out.push(chunk);
         buf = rest;
+        start = end;
     }
-    rows
+    out
 }
 
 #[inline]
@@ -339,56 +468,118 @@ pub fn evaluate<V: Vector>(
     }
 }
 
+/// Per-thread scratch of pass 1: one row's pairs (SoA), their slots and their results.
+#[derive(Default)]
+struct RowScratch<V: Vector> {
+    j: Vec<u32>,
+    slot: Vec<u32>,
+    rij: Vec<V>,
+    r: Vec<Real>,
+    grad_raw: Vec<V>,
+    grad: Vec<V>,
+    out: Vec<PairOut<V>>,
+}
+
+/// Pass 1 for one owner i: gathers `H_i` from the candidate row, evaluates every term row by
+/// row, returns i's own sums and writes the reactions into the row's slots (zero for
+/// candidates outside `h_i`).
+#[inline]
+fn owner_row<V: Vector>(
+    ctx: &SweepCtx<'_, V>,
+    terms: &[Arc<dyn PairTerm<V>>],
+    i: usize,
+    s: &mut RowScratch<V>,
+    frow: &mut [V],
+    prow: &mut [Real],
+) -> (V, Real) {
+    let fl = ctx.fields;
+    let (xi, k) = (fl.pos[i], OwnerKernel::new(ctx.kernel, fl.h[i]));
+    let cand = ctx.neighbours.support.row(i);
+    let m = cand.len();
+    s.j.resize(m, 0);
+    s.slot.resize(m, 0);
+    s.rij.resize(m, V::zero());
+    s.r.resize(m, 0.0);
+    s.grad_raw.resize(m, V::zero());
+    let mut n = 0;
+    for (slot, &j) in cand.iter().enumerate() {
+        let rij = xi - fl.pos[j as usize];
+        let r2 = rij.length_squared();
+        if r2 < k.h2 {
+            let r = r2.sqrt();
+            s.j[n] = j;
+            s.slot[n] = slot as u32;
+            s.rij[n] = rij;
+            s.r[n] = r;
+            s.grad_raw[n] = k.grad(rij, r);
+            n += 1;
+        } else {
+            frow[slot] = V::zero();
+            prow[slot] = 0.0;
+        }
+    }
+    let corrected = !fl.correction.is_empty();
+    if corrected {
+        let l = fl.correction[i];
+        s.grad.clear();
+        s.grad.extend(s.grad_raw[..n].iter().map(|&g| l.mul_vec(g)));
+    }
+    s.out.clear();
+    s.out.resize(n, PairOut::default());
+    let row = Row {
+        i,
+        j: &s.j[..n],
+        rij: &s.rij[..n],
+        r: &s.r[..n],
+        grad_raw: &s.grad_raw[..n],
+        grad: if corrected {
+            &s.grad[..n]
+        } else {
+            &s.grad_raw[..n]
+        },
+        kernel: k,
+        fields: fl,
+    };
+    for t in terms {
+        t.interact_row(&row, &mut s.out);
+    }
+    let mut f_own = V::zero();
+    let mut p_own = 0.0;
+    for (o, &slot) in s.out.iter().zip(&s.slot[..n]) {
+        f_own += o.force;
+        p_own += o.power_i;
+        frow[slot as usize] = o.force;
+        prow[slot as usize] = o.power_j;
+    }
+    (f_own, p_own)
+}
+
 fn dual_support<V: Vector>(
     ctx: &SweepCtx<'_, V>,
     terms: &[Arc<dyn PairTerm<V>>],
     buf: &mut SweepBuffers<V>,
 ) {
-    let (fl, nb, kernel) = (ctx.fields, ctx.neighbours, ctx.kernel);
+    let nb = ctx.neighbours;
+    let offsets = &nb.support.offsets;
     let slots = nb.support.indices.len();
-    buf.pair_force.clear();
+    // every slot is written by pass 1: no clearing needed
     buf.pair_force.resize(slots, V::zero());
-    buf.pair_power.clear();
     buf.pair_power.resize(slots, 0.0);
-    let f_rows = split_rows_mut(&mut buf.pair_force, &nb.support.offsets);
-    let p_rows = split_rows_mut(&mut buf.pair_power, &nb.support.offsets);
-    // pass 1: own support, store reactions per slot
-    f_rows
-        .into_par_iter()
-        .zip(p_rows)
-        .zip(buf.force.par_iter_mut().zip(buf.power.par_iter_mut()))
+    let f_chunks = split_chunks_mut(&mut buf.pair_force, offsets);
+    let p_chunks = split_chunks_mut(&mut buf.pair_power, offsets);
+    // pass 1: own support, store reactions per slot; chunks of CHUNK owners
+    buf.force
+        .par_chunks_mut(CHUNK)
+        .zip(buf.power.par_chunks_mut(CHUNK))
+        .zip(f_chunks.into_par_iter().zip(p_chunks))
         .enumerate()
-        .for_each(|(i, ((frow, prow), (fi, pi)))| {
-            let (xi, hi) = (fl.pos[i], fl.h[i]);
-            let mut f_own = V::zero();
-            let mut p_own = 0.0;
-            for (k, &j) in nb.support.row(i).iter().enumerate() {
-                let j = j as usize;
-                let rij = xi - fl.pos[j];
-                let r2 = rij.length_squared();
-                if r2 >= hi * hi {
-                    continue;
-                }
-                let r = r2.sqrt();
-                let g = kernel.grad(rij, r, hi);
-                let pair = Pair {
-                    i,
-                    j,
-                    rij,
-                    r,
-                    w: kernel.w(r, hi),
-                    grad_raw: g,
-                    grad: fl.corrected(i, g),
-                    fields: fl,
-                };
-                let out = eval_terms(terms, &pair);
-                f_own += out.force;
-                p_own += out.power_i;
-                frow[k] = out.force;
-                prow[k] = out.power_j;
+        .for_each_init(RowScratch::default, |s, (c, ((fc, pc), (pfc, ppc)))| {
+            let base = offsets[c * CHUNK] as usize;
+            for (k, (fi, pi)) in fc.iter_mut().zip(pc.iter_mut()).enumerate() {
+                let i = c * CHUNK + k;
+                let r = offsets[i] as usize - base..offsets[i + 1] as usize - base;
+                (*fi, *pi) = owner_row(ctx, terms, i, s, &mut pfc[r.clone()], &mut ppc[r]);
             }
-            *fi = f_own;
-            *pi = p_own;
         });
     // pass 2: reactions through the dual-support (transpose), ascending i
     let (pf, pp) = (&buf.pair_force, &buf.pair_power);
@@ -396,11 +587,12 @@ fn dual_support<V: Vector>(
         .par_iter_mut()
         .zip(buf.power.par_iter_mut())
         .enumerate()
+        .with_min_len(CHUNK)
         .for_each(|(j, (fj, pj))| {
             let mut f_dual = V::zero();
             let mut p_dual = 0.0;
-            for s in nb.dual.slots(j) {
-                let slot = nb.dual_slot[s] as usize;
+            for &slot in &nb.dual_slot[nb.dual.slots(j)] {
+                let slot = slot as usize;
                 f_dual -= pf[slot];
                 p_dual += pp[slot];
             }
@@ -454,6 +646,7 @@ fn classical<V: Vector>(
 }
 
 /// The sweep as a scheduled system: writes `Acceleration` and, if present, `EnergyRate.rate`.
+#[inline(never)] // a frame of its own in profiles
 pub fn pair_sweep_system<V: Vector>(
     fields: Res<Fields<V>>,
     neighbours: Res<Neighbours<V>>,

@@ -76,6 +76,7 @@ impl Eos {
 }
 
 /// Evaluates the EOS for every particle.
+#[inline(never)] // a frame of its own in profiles
 pub fn apply_eos<V: Vector>(
     eos: Res<Eos>,
     mut fields: ResMut<Fields<V>>,

@@ -21,24 +21,56 @@ pub struct PressureForce {}
 #[derive(Debug, Clone, Copy)]
 pub struct PressureTerm;
 
+impl PressureTerm {
+    /// The owner's factor of the pair coefficient: `m_i p_i/ρ_i²`, or `m_i p_i/ρ_i` with the
+    /// kernel correction (then the neighbour's factor is `m_j/ρ_j`, otherwise `m_j`).
+    #[inline(always)]
+    fn owner<V: Vector>(f: &Fields<V>, i: usize) -> Real {
+        if f.correction.is_empty() {
+            f.mass[i] * f.pressure[i] / (f.rho[i] * f.rho[i])
+        } else {
+            f.mass[i] * f.pressure[i] / f.rho[i]
+        }
+    }
+
+    /// The neighbour's factor (see [`PressureTerm::owner`]).
+    #[inline(always)]
+    fn other<V: Vector>(f: &Fields<V>, j: usize) -> Real {
+        if f.correction.is_empty() {
+            f.mass[j]
+        } else {
+            f.mass[j] / f.rho[j]
+        }
+    }
+
+    /// `f_ij = −c ∇̃_iW_ij` on i and `c v_ij·∇̃_iW_ij` to `m_i ε̇_i`, `c = owner · other`.
+    #[inline(always)]
+    fn add<V: Vector>(coef: Real, vij: V, grad: V, out: &mut PairOut<V>) {
+        out.force += grad * (-coef);
+        out.power_i += coef * vij.dot(grad);
+    }
+}
+
 impl<V: Vector> PairTerm<V> for PressureTerm {
     fn name(&self) -> &str {
         "pressure (Eq. 4.19)"
     }
 
-    #[inline]
+    #[inline(always)]
     fn interact(&self, p: &Pair<'_, V>, out: &mut PairOut<V>) {
         let f = p.fields;
-        let (i, j) = (p.i, p.j);
-        let denom = if f.correction.is_empty() {
-            f.rho[i] * f.rho[i]
-        } else {
-            f.rho[i] * f.rho[j]
-        };
-        let coef = f.mass[i] * f.mass[j] * f.pressure[i] / denom;
-        let force = p.grad * (-coef);
-        out.force += force;
-        out.power_i += coef * p.vij().dot(p.grad);
+        let coef = Self::owner(f, p.i) * Self::other(f, p.j);
+        Self::add(coef, p.vij(), p.grad, out);
+    }
+
+    /// The same arithmetic as [`PairTerm::interact`] with the owner's values loaded once.
+    fn interact_row(&self, row: &Row<'_, V>, out: &mut [PairOut<V>]) {
+        let f = row.fields;
+        let (owner, vi) = (Self::owner(f, row.i), f.vel[row.i]);
+        for (k, o) in out.iter_mut().enumerate() {
+            let j = row.j[k] as usize;
+            Self::add(owner * Self::other(f, j), vi - f.vel[j], row.grad[k], o);
+        }
     }
 }
 

@@ -45,22 +45,74 @@ pub struct ArtificialViscosityTerm {
     pub eta_factor: Real,
 }
 
+/// The owner's values used by [`ArtificialViscosityTerm`].
+#[derive(Clone, Copy, Debug)]
+struct AvOwner<V: Vector> {
+    m: Real,
+    h: Real,
+    c: Real,
+    rho: Real,
+    v: V,
+}
+
+impl<V: Vector> AvOwner<V> {
+    #[inline(always)]
+    fn of(f: &Fields<V>, i: usize) -> Self {
+        AvOwner {
+            m: f.mass[i],
+            h: f.h[i],
+            c: f.sound[i],
+            rho: f.rho[i],
+            v: f.vel[i],
+        }
+    }
+}
+
 impl ArtificialViscosityTerm {
     /// `Π_ij` of Eq. 4.17 (0 for receding pairs).
     #[inline]
     pub fn pi<V: Vector>(&self, p: &Pair<'_, V>) -> Real {
-        let f = p.fields;
-        let (i, j) = (p.i, p.j);
-        let vr = p.vij().dot(p.rij);
+        let a = AvOwner::of(p.fields, p.i);
+        self.pi_of(&a, p.fields, p.j, p.vij().dot(p.rij), p.r)
+    }
+
+    /// `Π_ij` from the owner's values, j, `v_ij·r_ij` and `r_ij`.
+    #[inline(always)]
+    fn pi_of<V: Vector>(&self, a: &AvOwner<V>, f: &Fields<V>, j: usize, vr: Real, r: Real) -> Real {
         if vr >= 0.0 {
             return 0.0;
         }
-        let hbar = 0.5 * (f.h[i] + f.h[j]);
+        let hbar = 0.5 * (a.h + f.h[j]);
         let eta = self.eta_factor * hbar;
-        let mu = hbar * vr / (p.r * p.r + eta * eta);
-        let cbar = 0.5 * (f.sound[i] + f.sound[j]);
-        let rhobar = 0.5 * (f.rho[i] + f.rho[j]);
+        let mu = hbar * vr / (r * r + eta * eta);
+        let cbar = 0.5 * (a.c + f.sound[j]);
+        let rhobar = 0.5 * (a.rho + f.rho[j]);
         (-self.alpha * cbar * mu + self.beta * mu * mu) / rhobar
+    }
+
+    /// Adds the pair's force and heat (Eqs. 4.17, 4.20) for an approaching pair.
+    #[inline(always)]
+    fn add<V: Vector>(
+        &self,
+        a: &AvOwner<V>,
+        f: &Fields<V>,
+        j: usize,
+        rij: V,
+        r: Real,
+        grad_raw: V,
+        out: &mut PairOut<V>,
+    ) {
+        let vij = a.v - f.vel[j];
+        let pi = self.pi_of(a, f, j, vij.dot(rij), r);
+        if pi == 0.0 {
+            return;
+        }
+        let coef = a.m * f.mass[j] * 0.5 * pi;
+        let force = grad_raw * (-coef);
+        out.force += force;
+        let heat = 0.5 * coef * vij.dot(grad_raw);
+        out.power_i += heat;
+        out.power_j += heat;
     }
 }
 
@@ -69,19 +121,19 @@ impl<V: Vector> PairTerm<V> for ArtificialViscosityTerm {
         "artificial viscosity (Eq. 4.17)"
     }
 
-    #[inline]
+    #[inline(always)]
     fn interact(&self, p: &Pair<'_, V>, out: &mut PairOut<V>) {
-        let pi = self.pi(p);
-        if pi == 0.0 {
-            return;
+        let a = AvOwner::of(p.fields, p.i);
+        self.add(&a, p.fields, p.j, p.rij, p.r, p.grad_raw, out);
+    }
+
+    /// The same arithmetic as [`PairTerm::interact`] with the owner's values loaded once.
+    fn interact_row(&self, row: &Row<'_, V>, out: &mut [PairOut<V>]) {
+        let a = AvOwner::of(row.fields, row.i);
+        for (k, o) in out.iter_mut().enumerate() {
+            let j = row.j[k] as usize;
+            self.add(&a, row.fields, j, row.rij[k], row.r[k], row.grad_raw[k], o);
         }
-        let f = p.fields;
-        let coef = f.mass[p.i] * f.mass[p.j] * 0.5 * pi;
-        let force = p.grad_raw * (-coef);
-        out.force += force;
-        let heat = 0.5 * coef * p.vij().dot(p.grad_raw);
-        out.power_i += heat;
-        out.power_j += heat;
     }
 }
 
@@ -137,7 +189,7 @@ impl<V: Vector> PairTerm<V> for PhysicalViscosityTerm {
         "physical viscosity (Eq. 4.23)"
     }
 
-    #[inline]
+    #[inline(always)]
     fn interact(&self, p: &Pair<'_, V>, out: &mut PairOut<V>) {
         let f = p.fields;
         let (i, j) = (p.i, p.j);
@@ -196,7 +248,7 @@ impl<V: Vector> PairTerm<V> for ViscousStressTerm {
         "Newtonian viscous stress (Eqs. 4.6, 4.13, 7.4)"
     }
 
-    #[inline]
+    #[inline(always)]
     fn interact(&self, p: &Pair<'_, V>, out: &mut PairOut<V>) {
         let f = p.fields;
         let (i, j) = (p.i, p.j);
