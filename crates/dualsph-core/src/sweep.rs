@@ -480,6 +480,38 @@ struct RowScratch<V: Vector> {
     out: Vec<PairOut<V>>,
 }
 
+/// Compacts the candidates inside `h_i` into the row arrays (returns their number) and zeroes
+/// the reaction slots of the others. Separate slices let the compiler keep them in registers.
+#[inline(always)]
+fn gather_row<V: Vector>(
+    cand: &[u32],
+    pos: &[V],
+    xi: V,
+    k: &OwnerKernel,
+    (js, slots, rijs, rs, grads): (&mut [u32], &mut [u32], &mut [V], &mut [Real], &mut [V]),
+    frow: &mut [V],
+    prow: &mut [Real],
+) -> usize {
+    let mut n = 0;
+    for (slot, &j) in cand.iter().enumerate() {
+        let rij = xi - pos[j as usize];
+        let r2 = rij.length_squared();
+        if r2 < k.h2 {
+            let r = r2.sqrt();
+            js[n] = j;
+            slots[n] = slot as u32;
+            rijs[n] = rij;
+            rs[n] = r;
+            grads[n] = k.grad(rij, r);
+            n += 1;
+        } else {
+            frow[slot] = V::zero();
+            prow[slot] = 0.0;
+        }
+    }
+    n
+}
+
 /// Pass 1 for one owner i: gathers `H_i` from the candidate row, evaluates every term row by
 /// row, returns i's own sums and writes the reactions into the row's slots (zero for
 /// candidates outside `h_i`).
@@ -501,23 +533,15 @@ fn owner_row<V: Vector>(
     s.rij.resize(m, V::zero());
     s.r.resize(m, 0.0);
     s.grad_raw.resize(m, V::zero());
-    let mut n = 0;
-    for (slot, &j) in cand.iter().enumerate() {
-        let rij = xi - fl.pos[j as usize];
-        let r2 = rij.length_squared();
-        if r2 < k.h2 {
-            let r = r2.sqrt();
-            s.j[n] = j;
-            s.slot[n] = slot as u32;
-            s.rij[n] = rij;
-            s.r[n] = r;
-            s.grad_raw[n] = k.grad(rij, r);
-            n += 1;
-        } else {
-            frow[slot] = V::zero();
-            prow[slot] = 0.0;
-        }
-    }
+    let n = gather_row(
+        cand,
+        &fl.pos,
+        xi,
+        &k,
+        (&mut s.j, &mut s.slot, &mut s.rij, &mut s.r, &mut s.grad_raw),
+        frow,
+        prow,
+    );
     let corrected = !fl.correction.is_empty();
     if corrected {
         let l = fl.correction[i];

@@ -67,9 +67,17 @@ impl<V: Vector> PairTerm<V> for PressureTerm {
     fn interact_row(&self, row: &Row<'_, V>, out: &mut [PairOut<V>]) {
         let f = row.fields;
         let (owner, vi) = (Self::owner(f, row.i), f.vel[row.i]);
-        for (k, o) in out.iter_mut().enumerate() {
-            let j = row.j[k] as usize;
-            Self::add(owner * Self::other(f, j), vi - f.vel[j], row.grad[k], o);
+        let (mass, vel) = (&f.mass[..], &f.vel[..]);
+        if f.correction.is_empty() {
+            for ((o, &j), &g) in out.iter_mut().zip(row.j).zip(row.grad) {
+                let j = j as usize;
+                Self::add(owner * mass[j], vi - vel[j], g, o);
+            }
+        } else {
+            for ((o, &j), &g) in out.iter_mut().zip(row.j).zip(row.grad) {
+                let j = j as usize;
+                Self::add(owner * Self::other(f, j), vi - vel[j], g, o);
+            }
         }
     }
 }

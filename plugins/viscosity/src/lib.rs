@@ -130,9 +130,9 @@ impl<V: Vector> PairTerm<V> for ArtificialViscosityTerm {
     /// The same arithmetic as [`PairTerm::interact`] with the owner's values loaded once.
     fn interact_row(&self, row: &Row<'_, V>, out: &mut [PairOut<V>]) {
         let a = AvOwner::of(row.fields, row.i);
-        for (k, o) in out.iter_mut().enumerate() {
-            let j = row.j[k] as usize;
-            self.add(&a, row.fields, j, row.rij[k], row.r[k], row.grad_raw[k], o);
+        let geom = row.j.iter().zip(row.rij).zip(row.r).zip(row.grad_raw);
+        for (o, (((&j, &rij), &r), &g)) in out.iter_mut().zip(geom) {
+            self.add(&a, row.fields, j as usize, rij, r, g, o);
         }
     }
 }
