@@ -3,10 +3,11 @@
 //! reads the dense [`Fields`] and writes both the dense array and the particle component.
 
 use crate::components::*;
+use crate::kernels::Kernel;
 use crate::math::{Matrix, Real, Vector};
 use crate::neighbours::Neighbours;
 use crate::sim::{KernelRes, Sim, StepSet};
-use crate::sweep::{Fields, Formulation, SweepCtx};
+use crate::sweep::{Fields, Formulation, OwnerKernel, SweepCtx};
 use bevy_ecs::prelude::*;
 use rayon::prelude::*;
 
@@ -113,22 +114,55 @@ pub fn continuity_pairwise<V: Vector>(
     nb: Res<Neighbours<V>>,
     kernel: Res<KernelRes>,
     form: Res<Formulation>,
+    mut scratch: Local<Vec<Real>>,
     mut q: Query<(&ParticleId, &mut DensityRate)>,
 ) {
     let ctx = ctx!(fields, nb, kernel, form);
-    let rates: Vec<Real> = (0..fields.len())
-        .into_par_iter()
-        .map(|i| {
-            let mut s = 0.0;
-            ctx.for_each_neighbour(i, |j, _, _, _, g| {
-                s += fields.mass[j] * (fields.vel[i] - fields.vel[j]).dot(g)
-            });
-            s
-        })
-        .collect();
+    let mut rates = std::mem::take(&mut *scratch);
+    rates.resize(fields.len(), 0.0);
+    let f = &*fields;
+    rates
+        .par_iter_mut()
+        .enumerate()
+        .with_min_len(64)
+        .for_each(|(i, out)| {
+            *out = if *form == Formulation::AveragedKernel {
+                let mut s = 0.0;
+                ctx.for_each_neighbour(i, |j, _, _, _, g| {
+                    s += f.mass[j] * (f.vel[i] - f.vel[j]).dot(g)
+                });
+                s
+            } else {
+                own_support_continuity(f, nb.support.row(i), i, &kernel.0)
+            };
+        });
     for (id, mut r) in &mut q {
         r.rate = rates[id.0 as usize];
     }
+    *scratch = rates;
+}
+
+/// `Σ_{j∈H_i} m_j v_ij·∇_iW_ij` over a candidate row (Eq. 4.9), the same sum as through
+/// [`SweepCtx::for_each_neighbour`] without evaluating `W`.
+#[inline]
+fn own_support_continuity<V: Vector>(
+    f: &Fields<V>,
+    row: &[u32],
+    i: usize,
+    kernel: &Kernel,
+) -> Real {
+    let (xi, vi, k) = (f.pos[i], f.vel[i], OwnerKernel::new(kernel, f.h[i]));
+    let (pos, vel, mass) = (&f.pos[..], &f.vel[..], &f.mass[..]);
+    let mut s = 0.0;
+    for &j in row {
+        let j = j as usize;
+        let rij = xi - pos[j];
+        let r2 = rij.length_squared();
+        if r2 < k.h2 {
+            s += mass[j] * (vi - vel[j]).dot(k.grad(rij, r2.sqrt()));
+        }
+    }
+    s
 }
 
 /// Continuity from the velocity divergence (paper §7.3): `dρ_i/dt = −ρ_i tr(∇⊗v)_i`.
