@@ -7,7 +7,9 @@ use crate::kernels::Kernel;
 use crate::math::{Matrix, Real, Vector};
 use crate::neighbours::Neighbours;
 use crate::sim::{KernelRes, Sim, StepSet};
-use crate::sweep::{Fields, Formulation, OwnerKernel, SweepCtx};
+use crate::sweep::{
+    ContinuityInSweep, Fields, Formulation, OwnerKernel, PairTerms, SweepCtx, continuity_in_sweep,
+};
 use bevy_ecs::prelude::*;
 use rayon::prelude::*;
 
@@ -115,8 +117,14 @@ pub fn continuity_pairwise<V: Vector>(
     kernel: Res<KernelRes>,
     form: Res<Formulation>,
     mut scratch: Local<Vec<Real>>,
+    fused: Option<Res<ContinuityInSweep>>,
+    terms: Option<Res<PairTerms<V>>>,
     mut q: Query<(&ParticleId, &mut DensityRate)>,
 ) {
+    let has_terms = terms.is_some_and(|t| !t.terms.is_empty());
+    if continuity_in_sweep(fused.is_some(), has_terms, *form) {
+        return; // the pair sweep forms the same sums (see `SweepBuffers::with_density_rate`)
+    }
     let ctx = ctx!(fields, nb, kernel, form);
     let mut rates = std::mem::take(&mut *scratch);
     rates.resize(fields.len(), 0.0);
@@ -163,6 +171,17 @@ fn own_support_continuity<V: Vector>(
         }
     }
     s
+}
+
+/// Adds the pairwise continuity equation (Eq. 4.9): the [`continuity_pairwise`] system, which
+/// leaves the sums to the dual-support pair sweep when there is one.
+pub fn add_continuity_pairwise<V: Vector>(sim: &mut Sim<V>) {
+    sim.world.insert_resource(ContinuityInSweep);
+    sim.add_system(
+        StepSet::Forces,
+        "continuity (Eq. 4.9; in the pair sweep when there is one)",
+        continuity_pairwise::<V>,
+    );
 }
 
 /// Continuity from the velocity divergence (paper §7.3): `dρ_i/dt = −ρ_i tr(∇⊗v)_i`.

@@ -24,7 +24,7 @@
 //! * `AveragedKernel` — the conventional reference, Eq. 2.13:
 //!   `W̄_ij = ½[W(r, h_i) + W(r, h_j)]` over `H_i ∪ H'_i`, classical symmetric sums.
 
-use crate::components::{Acceleration, EnergyRate, ParticleId};
+use crate::components::{Acceleration, DensityRate, EnergyRate, ParticleId};
 use crate::kernels::{Kernel, KernelKind};
 use crate::math::{Matrix, Real, Vector};
 use crate::neighbours::Neighbours;
@@ -451,6 +451,28 @@ pub struct SweepBuffers<V: Vector> {
     pub force: Vec<V>,
     /// Total `m ε̇` of each particle from the last sweep.
     pub power: Vec<Real>,
+    /// When true, the dual-support sweep also forms the own-support continuity sum
+    /// `dρ_i/dt = Σ_{j∈H_i} m_j v_ij·∇_iW_ij` (Eq. 4.9) from the kernel gradients it evaluates
+    /// anyway, into `density_rate` (same terms, same order as [`crate::passes::continuity_pairwise`]).
+    pub with_density_rate: bool,
+    /// `dρ_i/dt` from the last sweep (when `with_density_rate`).
+    pub density_rate: Vec<Real>,
+}
+
+/// Marker resource: the scene integrates the density with the pairwise continuity equation
+/// (Eq. 4.9), which the dual-support sweep then computes alongside the pair terms.
+#[derive(Resource, Clone, Copy, Debug, Default)]
+pub struct ContinuityInSweep;
+
+/// True when the pair sweep of this step forms `dρ/dt` (Eq. 4.9): continuity is requested,
+/// there are pair terms and the formulation uses the dual-support path.
+pub fn continuity_in_sweep(requested: bool, has_terms: bool, formulation: Formulation) -> bool {
+    requested
+        && has_terms
+        && matches!(
+            formulation,
+            Formulation::DualSupport | Formulation::ConstantH
+        )
 }
 
 /// Evaluates all pair terms: the total force and internal-energy power `m ε̇` per particle.
@@ -523,6 +545,7 @@ fn owner_row<V: Vector>(
     s: &mut RowScratch<V>,
     frow: &mut [V],
     prow: &mut [Real],
+    drho: Option<&mut Real>,
 ) -> (V, Real) {
     let fl = ctx.fields;
     let (xi, k) = (fl.pos[i], OwnerKernel::new(ctx.kernel, fl.h[i]));
@@ -567,6 +590,15 @@ fn owner_row<V: Vector>(
     for t in terms {
         t.interact_row(&row, &mut s.out);
     }
+    if let Some(d) = drho {
+        let (vi, vel, mass) = (fl.vel[i], &fl.vel[..], &fl.mass[..]);
+        let mut sum = 0.0;
+        for (&j, &g) in row.j.iter().zip(row.grad_raw) {
+            let j = j as usize;
+            sum += mass[j] * (vi - vel[j]).dot(g);
+        }
+        *d = sum;
+    }
     let mut f_own = V::zero();
     let mut p_own = 0.0;
     for (o, &slot) in s.out.iter().zip(&s.slot[..n]) {
@@ -591,20 +623,28 @@ fn dual_support<V: Vector>(
     buf.pair_power.resize(slots, 0.0);
     let f_chunks = split_chunks_mut(&mut buf.pair_force, offsets);
     let p_chunks = split_chunks_mut(&mut buf.pair_power, offsets);
+    let with_drho = buf.with_density_rate;
+    buf.density_rate.resize(ctx.fields.len(), 0.0);
     // pass 1: own support, store reactions per slot; chunks of CHUNK owners
     buf.force
         .par_chunks_mut(CHUNK)
         .zip(buf.power.par_chunks_mut(CHUNK))
+        .zip(buf.density_rate.par_chunks_mut(CHUNK))
         .zip(f_chunks.into_par_iter().zip(p_chunks))
         .enumerate()
-        .for_each_init(RowScratch::default, |s, (c, ((fc, pc), (pfc, ppc)))| {
-            let base = offsets[c * CHUNK] as usize;
-            for (k, (fi, pi)) in fc.iter_mut().zip(pc.iter_mut()).enumerate() {
-                let i = c * CHUNK + k;
-                let r = offsets[i] as usize - base..offsets[i + 1] as usize - base;
-                (*fi, *pi) = owner_row(ctx, terms, i, s, &mut pfc[r.clone()], &mut ppc[r]);
-            }
-        });
+        .for_each_init(
+            RowScratch::default,
+            |s, (c, (((fc, pc), dc), (pfc, ppc)))| {
+                let base = offsets[c * CHUNK] as usize;
+                for (k, ((fi, pi), di)) in fc.iter_mut().zip(pc.iter_mut()).zip(dc).enumerate() {
+                    let i = c * CHUNK + k;
+                    let r = offsets[i] as usize - base..offsets[i + 1] as usize - base;
+                    let drho = with_drho.then_some(di);
+                    (*fi, *pi) =
+                        owner_row(ctx, terms, i, s, &mut pfc[r.clone()], &mut ppc[r], drho);
+                }
+            },
+        );
     // pass 2: reactions through the dual-support (transpose), ascending i
     let (pf, pp) = (&buf.pair_force, &buf.pair_power);
     buf.force
@@ -678,7 +718,13 @@ pub fn pair_sweep_system<V: Vector>(
     kernel: Res<KernelRes>,
     formulation: Res<Formulation>,
     mut buf: ResMut<SweepBuffers<V>>,
-    mut q: Query<(&ParticleId, &mut Acceleration<V>, Option<&mut EnergyRate>)>,
+    continuity: Option<Res<ContinuityInSweep>>,
+    mut q: Query<(
+        &ParticleId,
+        &mut Acceleration<V>,
+        Option<&mut EnergyRate>,
+        Option<&mut DensityRate>,
+    )>,
 ) {
     let ctx = SweepCtx {
         fields: &fields,
@@ -686,12 +732,18 @@ pub fn pair_sweep_system<V: Vector>(
         kernel: &kernel.0,
         formulation: *formulation,
     };
+    buf.with_density_rate =
+        continuity_in_sweep(continuity.is_some(), !terms.terms.is_empty(), *formulation);
     evaluate(&ctx, &terms.terms, &mut buf);
-    q.par_iter_mut().for_each(|(id, mut a, e)| {
+    let with_drho = buf.with_density_rate;
+    q.par_iter_mut().for_each(|(id, mut a, e, d)| {
         let i = id.0 as usize;
         a.0 = buf.force[i] / fields.mass[i];
         if let Some(mut e) = e {
             e.rate = buf.power[i] / fields.mass[i];
+        }
+        if with_drho && let Some(mut d) = d {
+            d.rate = buf.density_rate[i];
         }
     });
 }
