@@ -48,17 +48,20 @@ impl Case {
         }
     }
 
-    /// A case with about `n` particles: `n ≈ V/Δx^d` (uniform) or `V(1 + 3·2^{d-2})/(4Δx^d)`
-    /// with the fine quarter counted `2^d` times (two-level); `V` = column volume (2).
+    /// A case with about `n` particles: `n ≈ 2/Δx^d` (uniform; column volume 2) or
+    /// `(1.5 + 0.5·2^d)/Δx^d` (two-level: the fine quarter holds `2^d` times more), with Δx
+    /// rounded to `1/k`.
     pub fn with_particles(dim: usize, layout: Layout, n: usize) -> Self {
         let cells = match layout {
             Layout::Uniform => 2.0,
             Layout::TwoLevel => 1.5 + 0.5 * (1 << dim) as Real,
         };
+        // snap Δx to 1/k so every block holds whole cells (lattice points stay inside)
+        let dx = (cells / n as Real).powf(1.0 / dim as Real);
         Case {
             dim,
             layout,
-            dx: (cells / n as Real).powf(1.0 / dim as Real),
+            dx: 1.0 / (1.0 / dx).round().max(1.0),
         }
     }
 
@@ -219,6 +222,21 @@ mod tests {
     #[test]
     fn dam_column_has_12800_particles() {
         assert_eq!(Case::dam_column_2d().scene().generate().len(), 12_800);
+    }
+
+    #[test]
+    fn bench_cases_are_valid_scenes() {
+        for n in [12_800, 100_000] {
+            for dim in [2, 3] {
+                for layout in [Layout::Uniform, Layout::TwoLevel] {
+                    let got = Case::with_particles(dim, layout, n)
+                        .scene()
+                        .generate()
+                        .len();
+                    assert!(got > n / 2 && got < 2 * n, "{dim}-D {layout:?} {n}: {got}");
+                }
+            }
+        }
     }
 
     #[test]
