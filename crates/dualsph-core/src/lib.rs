@@ -10,6 +10,7 @@ pub mod integrator;
 pub mod kernels;
 pub mod math;
 pub mod neighbours;
+pub mod pair;
 pub mod passes;
 pub mod plugin;
 pub mod sim;

@@ -153,7 +153,7 @@ pub fn continuity_pairwise<V: Vector>(
 /// `Σ_{j∈H_i} m_j v_ij·∇_iW_ij` over a candidate row (Eq. 4.9), the same sum as through
 /// [`SweepCtx::for_each_neighbour`] without evaluating `W`.
 #[inline]
-fn own_support_continuity<V: Vector>(
+pub(crate) fn own_support_continuity<V: Vector>(
     f: &Fields<V>,
     row: &[u32],
     i: usize,

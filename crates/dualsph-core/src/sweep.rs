@@ -25,9 +25,10 @@
 //!   `W̄_ij = ½[W(r, h_i) + W(r, h_j)]` over `H_i ∪ H'_i`, classical symmetric sums.
 
 use crate::components::{Acceleration, DensityRate, EnergyRate, ParticleId};
-use crate::kernels::{Kernel, KernelKind};
+use crate::kernels::Kernel;
 use crate::math::{Matrix, Real, Vector};
 use crate::neighbours::Neighbours;
+pub use crate::pair::{Fields, OwnerKernel, Pair, PairOut, PairTerm, PairTerms, Row};
 use crate::sim::{KernelRes, Sim, StepSet};
 use bevy_ecs::prelude::*;
 use rayon::prelude::*;
@@ -46,234 +47,6 @@ pub enum Formulation {
     AveragedKernel,
 }
 
-/// Dense per-particle arrays, indexed by [`ParticleId`], used by the hot loops. Optional
-/// arrays are empty when the scene has no plugin that fills them.
-#[derive(Resource, Clone, Debug)]
-pub struct Fields<V: Vector> {
-    /// Positions.
-    pub pos: Vec<V>,
-    /// Velocities.
-    pub vel: Vec<V>,
-    /// Masses.
-    pub mass: Vec<Real>,
-    /// Densities.
-    pub rho: Vec<Real>,
-    /// Support radii.
-    pub h: Vec<Real>,
-    /// Pressures (equation of state).
-    pub pressure: Vec<Real>,
-    /// Sound speeds (equation of state).
-    pub sound: Vec<Real>,
-    /// Specific internal energies (energy equation).
-    pub eps: Vec<Real>,
-    /// Thermal conductivities (heat conduction).
-    pub kappa: Vec<Real>,
-    /// Kernel-gradient corrections `L_i` (Eq. 2.10).
-    pub correction: Vec<V::Mat>,
-    /// Velocity gradients (Eq. 7.4).
-    pub vgrad: Vec<V::Mat>,
-}
-
-impl<V: Vector> Default for Fields<V> {
-    fn default() -> Self {
-        Fields {
-            pos: Vec::new(),
-            vel: Vec::new(),
-            mass: Vec::new(),
-            rho: Vec::new(),
-            h: Vec::new(),
-            pressure: Vec::new(),
-            sound: Vec::new(),
-            eps: Vec::new(),
-            kappa: Vec::new(),
-            correction: Vec::new(),
-            vgrad: Vec::new(),
-        }
-    }
-}
-
-impl<V: Vector> Fields<V> {
-    /// Sizes the always-present arrays for n particles.
-    pub fn resize(&mut self, n: usize) {
-        self.pos.resize(n, V::zero());
-        self.vel.resize(n, V::zero());
-        self.mass.resize(n, 0.0);
-        self.rho.resize(n, 0.0);
-        self.h.resize(n, 0.0);
-    }
-
-    /// Number of particles.
-    pub fn len(&self) -> usize {
-        self.pos.len()
-    }
-
-    /// True when there are no particles.
-    pub fn is_empty(&self) -> bool {
-        self.pos.is_empty()
-    }
-
-    /// `m_i / ρ_i`.
-    #[inline]
-    pub fn volume(&self, i: usize) -> Real {
-        self.mass[i] / self.rho[i]
-    }
-
-    /// Applies `L_owner` (Eq. 2.10) to a kernel gradient if the correction is active.
-    #[inline]
-    pub fn corrected(&self, owner: usize, g: V) -> V {
-        if self.correction.is_empty() {
-            g
-        } else {
-            self.correction[owner].mul_vec(g)
-        }
-    }
-}
-
-/// One evaluation of a pair: `owner` is the particle whose kernel and support are used.
-#[derive(Clone, Copy, Debug)]
-pub struct Pair<'a, V: Vector> {
-    /// The owner i (kernel `W(·, h_i)`).
-    pub i: usize,
-    /// The neighbour j ∈ H_i.
-    pub j: usize,
-    /// `r_ij = r_i − r_j`.
-    pub rij: V,
-    /// `|r_ij|`.
-    pub r: Real,
-    /// `W_ij`.
-    pub w: Real,
-    /// `∇_i W_ij` as is.
-    pub grad_raw: V,
-    /// `∇_i W_ij`, with the kernel-gradient correction `L_i` applied when it is active.
-    pub grad: V,
-    /// All particle data.
-    pub fields: &'a Fields<V>,
-}
-
-impl<V: Vector> Pair<'_, V> {
-    /// `v_ij = v_i − v_j`.
-    #[inline]
-    pub fn vij(&self) -> V {
-        self.fields.vel[self.i] - self.fields.vel[self.j]
-    }
-}
-
-/// What one term gives for one pair: the force on the owner i (j receives `−force`) and the
-/// rates of internal energy `m ε̇` credited to i and to j. A term conserves energy when
-/// `power_i + power_j = −force · v_ij` (the pair's work goes into heat, nothing is lost).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PairOut<V: Vector> {
-    /// Force on i; the reaction `−force` acts on j.
-    pub force: V,
-    /// `m_i dε_i/dt` contribution.
-    pub power_i: Real,
-    /// `m_j dε_j/dt` contribution.
-    pub power_j: Real,
-}
-
-impl<V: Vector> Default for PairOut<V> {
-    fn default() -> Self {
-        PairOut {
-            force: V::zero(),
-            power_i: 0.0,
-            power_j: 0.0,
-        }
-    }
-}
-
-/// One owner's support `H_i` as the sweep hands it to [`PairTerm::interact_row`]: the
-/// neighbours `j` strictly inside `h_i`, ascending, with the pair geometry as parallel slices
-/// (`rij[k]`, `r[k]`, `grad_raw[k]`, `grad[k]` belong to `j[k]`).
-#[derive(Clone, Copy, Debug)]
-pub struct Row<'a, V: Vector> {
-    /// The owner i.
-    pub i: usize,
-    /// `j ∈ H_i`, ascending.
-    pub j: &'a [u32],
-    /// `r_ij = r_i − r_j`.
-    pub rij: &'a [V],
-    /// `|r_ij|`.
-    pub r: &'a [Real],
-    /// `∇_i W_ij` as is (Eq. 2.2).
-    pub grad_raw: &'a [V],
-    /// `∇_i W_ij` with `L_i` applied when the correction is active (Eq. 2.10); the same slice
-    /// as `grad_raw` otherwise.
-    pub grad: &'a [V],
-    /// The owner's kernel (for `W_ij`, computed on demand by [`Row::w`]).
-    pub kernel: OwnerKernel,
-    /// All particle data.
-    pub fields: &'a Fields<V>,
-}
-
-impl<'a, V: Vector> Row<'a, V> {
-    /// Number of pairs.
-    #[inline]
-    pub fn len(&self) -> usize {
-        self.j.len()
-    }
-
-    /// True when `H_i` is empty.
-    #[inline]
-    pub fn is_empty(&self) -> bool {
-        self.j.is_empty()
-    }
-
-    /// `W_ij = W(r_ij, h_i)` of the k-th pair (Eq. 2.1).
-    #[inline]
-    pub fn w(&self, k: usize) -> Real {
-        self.kernel.w(self.r[k])
-    }
-
-    /// The k-th pair of the row.
-    #[inline]
-    pub fn pair(&self, k: usize) -> Pair<'a, V> {
-        Pair {
-            i: self.i,
-            j: self.j[k] as usize,
-            rij: self.rij[k],
-            r: self.r[k],
-            w: self.w(k),
-            grad_raw: self.grad_raw[k],
-            grad: self.grad[k],
-            fields: self.fields,
-        }
-    }
-}
-
-/// A physics term that joins the pair sweep. Implementations add their contribution to `out`
-/// for the pair (i owner, j ∈ H_i) and inherit the sweep's conservation and determinism.
-///
-/// Only [`PairTerm::interact`] must be written. The sweep calls [`PairTerm::interact_row`]
-/// once per owner and term; its default loops over the row calling `interact`, statically
-/// dispatched and inlined, so a term costs one dynamic call per particle, not per pair.
-/// Override it only to vectorise a term by hand; it must give the same `out` as the default.
-pub trait PairTerm<V: Vector>: Send + Sync + 'static {
-    /// Name shown by `plan`.
-    fn name(&self) -> &str;
-    /// Adds this term's force and energy rates for the pair.
-    fn interact(&self, pair: &Pair<'_, V>, out: &mut PairOut<V>);
-    /// Adds this term to `out[k]` for every pair `k` of the row (`out.len() == row.len()`).
-    #[inline]
-    fn interact_row(&self, row: &Row<'_, V>, out: &mut [PairOut<V>]) {
-        for (k, o) in out.iter_mut().enumerate() {
-            self.interact(&row.pair(k), o);
-        }
-    }
-}
-
-/// The terms fused into the sweep, in order.
-#[derive(Resource)]
-pub struct PairTerms<V: Vector> {
-    /// Terms.
-    pub terms: Vec<Arc<dyn PairTerm<V>>>,
-}
-
-impl<V: Vector> Default for PairTerms<V> {
-    fn default() -> Self {
-        PairTerms { terms: Vec::new() }
-    }
-}
-
 /// Everything a pass over neighbours needs.
 #[derive(Clone, Copy)]
 pub struct SweepCtx<'a, V: Vector> {
@@ -285,61 +58,6 @@ pub struct SweepCtx<'a, V: Vector> {
     pub kernel: &'a Kernel,
     /// Formulation.
     pub formulation: Formulation,
-}
-
-/// The kernel of one owner i with its normalisations computed once:
-/// `W(r, h_i) = C_d h_i^{-d} f(r/h_i)` (Eq. 2.1) and `∇_iW = C_d h_i^{-d-1} f'(r/h_i) r_ij/r`
-/// (Eq. 2.2) — what [`Kernel::w`] and [`Kernel::grad`] give inside the support (to round-off:
-/// `q = r · (1/h_i)`), without their per-call divisions by powers of h.
-#[derive(Clone, Copy, Debug)]
-pub struct OwnerKernel {
-    kind: KernelKind,
-    inv_h: Real,
-    /// `h_i²`: a candidate is in `H_i` when `r² < h_i²`.
-    pub h2: Real,
-    w_norm: Real,
-    g_norm: Real,
-}
-
-impl OwnerKernel {
-    /// The kernel of an owner with support radius `h`.
-    #[inline]
-    pub fn new(kernel: &Kernel, h: Real) -> Self {
-        let hd = match kernel.dim {
-            1 => h,
-            2 => h * h,
-            _ => h * h * h,
-        };
-        OwnerKernel {
-            kind: kernel.kind,
-            inv_h: 1.0 / h,
-            h2: h * h,
-            w_norm: kernel.norm / hd,
-            g_norm: kernel.norm / (hd * h),
-        }
-    }
-
-    /// `W(r, h_i)` (Eq. 2.1) for `r < h_i`.
-    #[inline(always)]
-    pub fn w(&self, r: Real) -> Real {
-        self.w_norm * self.kind.profile(r * self.inv_h)
-    }
-
-    /// `∇_iW_ij` (Eq. 2.2) for `r = |r_ij| < h_i` (0 at `r = 0`).
-    #[inline(always)]
-    pub fn grad<V: Vector>(&self, rij: V, r: Real) -> V {
-        if r > 0.0 {
-            rij * (self.g_norm * self.kind.profile_derivative(r * self.inv_h) / r)
-        } else {
-            V::zero()
-        }
-    }
-
-    /// `(W_ij, ∇_iW_ij)` for `r = |r_ij| < h_i`.
-    #[inline(always)]
-    pub fn eval<V: Vector>(&self, rij: V, r: Real) -> (Real, V) {
-        (self.w(r), self.grad(rij, r))
-    }
 }
 
 /// Visits the union of two ascending lists in ascending order.
@@ -709,6 +427,66 @@ fn classical<V: Vector>(
         });
 }
 
+/// Checks that a term's [`PairTerm::interact_row`] gives bitwise the same results as its
+/// [`PairTerm::interact`] on every row of `ctx` (for terms that override `interact_row`);
+/// the error names the first differing pair.
+pub fn check_row_matches_interact<V: Vector>(
+    term: &dyn PairTerm<V>,
+    ctx: &SweepCtx<'_, V>,
+) -> Result<(), String> {
+    let fl = ctx.fields;
+    for i in 0..fl.len() {
+        let (mut js, mut rijs, mut rs, mut raw, mut grad, mut pairs) =
+            (vec![], vec![], vec![], vec![], vec![], vec![]);
+        ctx.for_each_neighbour(i, |j, rij, r, w, g| {
+            let gc = fl.corrected(i, g);
+            js.push(j as u32);
+            rijs.push(rij);
+            rs.push(r);
+            raw.push(g);
+            grad.push(gc);
+            let mut out = PairOut::default();
+            let pair = Pair {
+                i,
+                j,
+                rij,
+                r,
+                w,
+                grad_raw: g,
+                grad: gc,
+                fields: fl,
+            };
+            term.interact(&pair, &mut out);
+            pairs.push(out);
+        });
+        let row = Row {
+            i,
+            j: &js,
+            rij: &rijs,
+            r: &rs,
+            grad_raw: &raw,
+            grad: &grad,
+            kernel: OwnerKernel::new(ctx.kernel, fl.h[i]),
+            fields: fl,
+        };
+        let mut outs = vec![PairOut::default(); js.len()];
+        term.interact_row(&row, &mut outs);
+        for (k, (a, b)) in outs.iter().zip(&pairs).enumerate() {
+            let same = a.force.to_xyz().map(f64::to_bits) == b.force.to_xyz().map(f64::to_bits)
+                && a.power_i.to_bits() == b.power_i.to_bits()
+                && a.power_j.to_bits() == b.power_j.to_bits();
+            if !same {
+                return Err(format!(
+                    "{}: pair ({i}, {}): interact_row {a:?}, interact {b:?}",
+                    term.name(),
+                    js[k]
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
 /// The sweep as a scheduled system: writes `Acceleration` and, if present, `EnergyRate.rate`.
 #[inline(never)] // a frame of its own in profiles
 pub fn pair_sweep_system<V: Vector>(
@@ -769,4 +547,111 @@ pub(crate) fn add_zero_acceleration_system<V: Vector>(sim: &mut Sim<V>) {
         "zero_accelerations",
         zero_accelerations::<V>,
     );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::kernels::KernelKind;
+    use glam::DVec2;
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    /// A term with only `interact` (the default `interact_row` is used): an arbitrary but
+    /// pair-specific force and powers.
+    struct Probe;
+
+    impl PairTerm<DVec2> for Probe {
+        fn name(&self) -> &str {
+            "probe"
+        }
+        fn interact(&self, p: &Pair<'_, DVec2>, out: &mut PairOut<DVec2>) {
+            let f = p.fields;
+            out.force += p.grad * (f.mass[p.j] * f.pressure[p.i]) + p.rij * p.w;
+            out.power_i += p.vij().dot(p.grad_raw) * f.mass[p.j];
+            out.power_j += p.r * f.rho[p.i];
+        }
+    }
+
+    fn cloud(n: usize) -> (Fields<DVec2>, Neighbours<DVec2>) {
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        let mut f = Fields::<DVec2>::default();
+        f.resize(n);
+        for i in 0..n {
+            f.pos[i] = DVec2::new(rng.random_range(0.0..10.0), rng.random_range(0.0..10.0));
+            f.vel[i] = DVec2::new(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0));
+            f.mass[i] = rng.random_range(0.5..1.5);
+            f.rho[i] = rng.random_range(900.0..1100.0);
+            f.h[i] = rng.random_range(0.6..1.8);
+        }
+        f.pressure = (0..n).map(|_| rng.random_range(-1.0..3.0)).collect();
+        let mut nb = Neighbours::new(0.2);
+        nb.rebuild(&f.pos, &f.h);
+        (f, nb)
+    }
+
+    /// Pass 1 and pass 2 of the dual-support sweep (and the fused continuity sum) against a
+    /// direct evaluation pair by pair in the same order: bitwise equal.
+    #[test]
+    fn row_sweep_equals_pairwise_reference_bitwise() {
+        let (f, nb) = cloud(400);
+        let kernel = Kernel::new(KernelKind::CubicSpline, 2);
+        let ctx = SweepCtx {
+            fields: &f,
+            neighbours: &nb,
+            kernel: &kernel,
+            formulation: Formulation::DualSupport,
+        };
+        let terms: Vec<Arc<dyn PairTerm<DVec2>>> = vec![Arc::new(Probe), Arc::new(Probe)];
+        let mut buf = SweepBuffers::<DVec2> {
+            with_density_rate: true,
+            ..Default::default()
+        };
+        evaluate(&ctx, &terms, &mut buf);
+        let n = f.len();
+        let (mut force, mut power) = (vec![DVec2::ZERO; n], vec![0.0; n]);
+        let mut reaction = vec![Vec::new(); n];
+        for i in 0..n {
+            let (mut fo, mut po) = (DVec2::ZERO, 0.0);
+            ctx.for_each_neighbour(i, |j, rij, r, w, g| {
+                let pair = Pair {
+                    i,
+                    j,
+                    rij,
+                    r,
+                    w,
+                    grad_raw: g,
+                    grad: g,
+                    fields: &f,
+                };
+                let mut out = PairOut::default();
+                for t in &terms {
+                    t.interact(&pair, &mut out);
+                }
+                fo += out.force;
+                po += out.power_i;
+                reaction[j].push((i, out.force, out.power_j));
+            });
+            force[i] = fo;
+            power[i] = po;
+            let cont = crate::passes::own_support_continuity(&f, nb.support.row(i), i, &kernel);
+            assert_eq!(
+                buf.density_rate[i].to_bits(),
+                cont.to_bits(),
+                "dρ/dt of {i}"
+            );
+        }
+        for j in 0..n {
+            reaction[j].sort_by_key(|r| r.0);
+            let (mut fd, mut pd) = (DVec2::ZERO, 0.0);
+            for &(_, fr, pr) in &reaction[j] {
+                fd -= fr;
+                pd += pr;
+            }
+            force[j] += fd;
+            power[j] += pd;
+            assert_eq!(buf.force[j], force[j], "force on {j}");
+            assert_eq!(buf.power[j].to_bits(), power[j].to_bits(), "power of {j}");
+        }
+    }
 }
