@@ -26,6 +26,7 @@ fn run<V: Vector>(case: Case, steps: usize) {
     let (c0, w0) = (cpu_seconds(), Instant::now());
     let mut sim = case.sim::<V>();
     let (setup_cpu, setup_wall) = (cpu_seconds() - c0, w0.elapsed().as_secs_f64());
+    let setup_rss = peak_rss_bytes().unwrap_or(0);
     let n = sim.particle_count();
     let pairs = support_pairs(&sim);
     let (c1, w1) = (cpu_seconds(), Instant::now());
@@ -47,9 +48,10 @@ fn run<V: Vector>(case: Case, steps: usize) {
     println!("state fingerprint {:016x}", fingerprint(&mut sim));
     if let Some(rss) = peak_rss_bytes() {
         println!(
-            "peak RSS {:.1} MiB = {:.0} bytes per particle",
+            "peak RSS {:.1} MiB = {:.0} bytes per particle (peak after set-up: {:.0} bytes per particle)",
             rss as f64 / 1048576.0,
-            rss as f64 / n as f64
+            rss as f64 / n as f64,
+            setup_rss as f64 / n as f64
         );
     }
 }
