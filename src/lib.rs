@@ -9,6 +9,7 @@
 //! from a scene ([`build_sim`]) and runs it headless ([`runner`]).
 
 pub mod gridded;
+pub mod perf;
 pub mod report;
 pub mod runner;
 
@@ -132,6 +133,7 @@ pub fn build_sim<V: Vector>(scene: &Scene) -> Result<Sim<V>, SimError> {
         )));
     }
     sim.spawn_particles(&particles);
+    sim.set_diagnostics_every(scene.output.diagnostics_every);
     {
         let mut clock = sim.world.resource_mut::<SimClock>();
         clock.t_end = scene.end_time;

@@ -15,6 +15,7 @@ use bevy_ecs::prelude::*;
 
 /// Chooses dt for this step (fixed, or the CFL / force / viscous criteria with each
 /// particle's own h).
+#[inline(never)] // a frame of its own in profiles
 pub fn choose_dt<V: Vector>(
     mut clock: ResMut<SimClock>,
     rule: Res<TimeStepping>,
@@ -60,6 +61,7 @@ pub fn choose_dt<V: Vector>(
 }
 
 /// Predictor for positions and velocities.
+#[inline(never)] // a frame of its own in profiles
 pub fn predict_kinematics<V: Vector>(
     clock: Res<SimClock>,
     mut q: Query<(
@@ -79,6 +81,7 @@ pub fn predict_kinematics<V: Vector>(
 }
 
 /// Corrector for velocities.
+#[inline(never)] // a frame of its own in profiles
 pub fn correct_kinematics<V: Vector>(
     clock: Res<SimClock>,
     mut q: Query<(&mut Velocity<V>, &Acceleration<V>, &Kinematics<V>)>,
@@ -90,6 +93,7 @@ pub fn correct_kinematics<V: Vector>(
 }
 
 /// Predictor for internal energy.
+#[inline(never)] // a frame of its own in profiles
 pub fn predict_energy(clock: Res<SimClock>, mut q: Query<(&mut InternalEnergy, &mut EnergyRate)>) {
     let dt = clock.dt;
     q.par_iter_mut().for_each(|(mut e, mut r)| {
@@ -100,6 +104,7 @@ pub fn predict_energy(clock: Res<SimClock>, mut q: Query<(&mut InternalEnergy, &
 }
 
 /// Corrector for internal energy.
+#[inline(never)] // a frame of its own in profiles
 pub fn correct_energy(clock: Res<SimClock>, mut q: Query<(&mut InternalEnergy, &EnergyRate)>) {
     let half = 0.5 * clock.dt;
     q.par_iter_mut().for_each(|(mut e, r)| {
@@ -108,6 +113,7 @@ pub fn correct_energy(clock: Res<SimClock>, mut q: Query<(&mut InternalEnergy, &
 }
 
 /// Predictor for density (continuity equation).
+#[inline(never)] // a frame of its own in profiles
 pub fn predict_density(clock: Res<SimClock>, mut q: Query<(&mut Density, &mut DensityRate)>) {
     let dt = clock.dt;
     q.par_iter_mut().for_each(|(mut rho, mut r)| {
@@ -118,6 +124,7 @@ pub fn predict_density(clock: Res<SimClock>, mut q: Query<(&mut Density, &mut De
 }
 
 /// Corrector for density (continuity equation).
+#[inline(never)] // a frame of its own in profiles
 pub fn correct_density(clock: Res<SimClock>, mut q: Query<(&mut Density, &DensityRate)>) {
     let half = 0.5 * clock.dt;
     q.par_iter_mut().for_each(|(mut rho, r)| {
@@ -126,6 +133,7 @@ pub fn correct_density(clock: Res<SimClock>, mut q: Query<(&mut Density, &Densit
 }
 
 /// Copies the state into the dense arrays (indexed by particle id).
+#[inline(never)] // a frame of its own in profiles
 pub fn gather_fields<V: Vector>(
     mut fields: ResMut<Fields<V>>,
     q: Query<(
@@ -156,6 +164,7 @@ pub fn gather_fields<V: Vector>(
 }
 
 /// Rebuilds the neighbour lists when the skin rule requires it.
+#[inline(never)] // a frame of its own in profiles
 pub fn update_neighbours<V: Vector>(fields: Res<Fields<V>>, mut nb: ResMut<Neighbours<V>>) {
     nb.update(&fields.pos, &fields.h);
 }

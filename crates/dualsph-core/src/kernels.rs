@@ -67,6 +67,7 @@ impl KernelKind {
     }
 
     /// Radial profile `f(q)` for `0 <= q <= 1` (0 beyond).
+    #[inline]
     pub fn profile(self, q: Real) -> Real {
         if !(0.0..1.0).contains(&q) {
             return 0.0;
@@ -104,6 +105,7 @@ impl KernelKind {
     }
 
     /// Derivative `f'(q)` of the profile.
+    #[inline]
     pub fn profile_derivative(self, q: Real) -> Real {
         if !(0.0..1.0).contains(&q) {
             return 0.0;

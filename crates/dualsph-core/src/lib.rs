@@ -11,6 +11,7 @@ pub mod kernels;
 pub mod math;
 pub mod neighbours;
 pub mod output;
+pub mod pair;
 pub mod passes;
 pub mod plugin;
 pub mod sampling;
@@ -31,5 +32,7 @@ pub mod prelude {
     pub use crate::sim::{
         Domain, KernelRes, ParticleInit, Sim, SimClock, SimConfig, SimError, StepSet, TimeStepping,
     };
-    pub use crate::sweep::{Fields, Formulation, Pair, PairOut, PairTerm, SweepCtx};
+    pub use crate::sweep::{
+        Fields, Formulation, OwnerKernel, Pair, PairOut, PairTerm, Row, SweepCtx,
+    };
 }

@@ -45,14 +45,17 @@ pub trait Vector:
     /// Euclidean inner product.
     fn dot(self, other: Self) -> Real;
     /// |v|².
+    #[inline]
     fn length_squared(self) -> Real {
         self.dot(self)
     }
     /// |v|.
+    #[inline]
     fn length(self) -> Real {
         self.length_squared().sqrt()
     }
     /// Embeds the vector in 3-D space (unused components are 0).
+    #[inline]
     fn to_xyz(self) -> [Real; 3] {
         let mut out = [0.0; 3];
         for (k, o) in out.iter_mut().enumerate().take(Self::DIM) {
@@ -61,6 +64,7 @@ pub trait Vector:
         out
     }
     /// Builds a vector from exactly `DIM` components (`None` on a length mismatch).
+    #[inline]
     fn from_slice(s: &[Real]) -> Option<Self> {
         if s.len() != Self::DIM {
             return None;
@@ -74,10 +78,12 @@ pub trait Vector:
     /// Outer product `a ⊗ b`, the matrix with entries `a_k b_l`.
     fn outer(a: Self, b: Self) -> Self::Mat;
     /// `a × b` with both embedded in 3-D (angular momentum, torque).
+    #[inline]
     fn cross3(a: Self, b: Self) -> DVec3 {
         DVec3::from_array(a.to_xyz()).cross(DVec3::from_array(b.to_xyz()))
     }
     /// True when every component is finite.
+    #[inline]
     fn is_finite(self) -> bool {
         (0..Self::DIM).all(|k| self.get(k).is_finite())
     }
@@ -127,40 +133,47 @@ macro_rules! scalar_newtype_ops {
     ($t:ident) => {
         impl Add for $t {
             type Output = Self;
+            #[inline]
             fn add(self, o: Self) -> Self {
                 $t(self.0 + o.0)
             }
         }
         impl Sub for $t {
             type Output = Self;
+            #[inline]
             fn sub(self, o: Self) -> Self {
                 $t(self.0 - o.0)
             }
         }
         impl Neg for $t {
             type Output = Self;
+            #[inline]
             fn neg(self) -> Self {
                 $t(-self.0)
             }
         }
         impl Mul<Real> for $t {
             type Output = Self;
+            #[inline]
             fn mul(self, s: Real) -> Self {
                 $t(self.0 * s)
             }
         }
         impl Div<Real> for $t {
             type Output = Self;
+            #[inline]
             fn div(self, s: Real) -> Self {
                 $t(self.0 / s)
             }
         }
         impl AddAssign for $t {
+            #[inline]
             fn add_assign(&mut self, o: Self) {
                 self.0 += o.0;
             }
         }
         impl SubAssign for $t {
+            #[inline]
             fn sub_assign(&mut self, o: Self) {
                 self.0 -= o.0;
             }
@@ -173,45 +186,58 @@ scalar_newtype_ops!(Mat1);
 impl Vector for Vec1 {
     const DIM: usize = 1;
     type Mat = Mat1;
+    #[inline]
     fn zero() -> Self {
         Vec1(0.0)
     }
+    #[inline]
     fn get(self, _k: usize) -> Real {
         self.0
     }
+    #[inline]
     fn set(&mut self, _k: usize, value: Real) {
         self.0 = value;
     }
+    #[inline]
     fn dot(self, o: Self) -> Real {
         self.0 * o.0
     }
+    #[inline]
     fn outer(a: Self, b: Self) -> Mat1 {
         Mat1(a.0 * b.0)
     }
 }
 
 impl Matrix<Vec1> for Mat1 {
+    #[inline]
     fn zero() -> Self {
         Mat1(0.0)
     }
+    #[inline]
     fn identity() -> Self {
         Mat1(1.0)
     }
+    #[inline]
     fn mul_vec(self, v: Vec1) -> Vec1 {
         Vec1(self.0 * v.0)
     }
+    #[inline]
     fn transpose(self) -> Self {
         self
     }
+    #[inline]
     fn trace(self) -> Real {
         self.0
     }
+    #[inline]
     fn determinant(self) -> Real {
         self.0
     }
+    #[inline]
     fn try_inverse(self, tol: Real) -> Option<Self> {
         (self.0.abs() > tol && self.0.is_finite()).then(|| Mat1(1.0 / self.0))
     }
+    #[inline]
     fn entry(self, _k: usize, _l: usize) -> Real {
         self.0
     }
@@ -222,18 +248,23 @@ macro_rules! glam_vector {
         impl Vector for $v {
             const DIM: usize = $d;
             type Mat = $m;
+            #[inline]
             fn zero() -> Self {
                 <$v>::ZERO
             }
+            #[inline]
             fn get(self, k: usize) -> Real {
                 self[k]
             }
+            #[inline]
             fn set(&mut self, k: usize, value: Real) {
                 self[k] = value;
             }
+            #[inline]
             fn dot(self, o: Self) -> Real {
                 <$v>::dot(self, o)
             }
+            #[inline]
             fn outer(a: Self, b: Self) -> $m {
                 // column l of a ⊗ b is a * b_l
                 let mut m = <$m>::ZERO;
@@ -245,24 +276,31 @@ macro_rules! glam_vector {
         }
 
         impl Matrix<$v> for $m {
+            #[inline]
             fn zero() -> Self {
                 <$m>::ZERO
             }
+            #[inline]
             fn identity() -> Self {
                 <$m>::IDENTITY
             }
+            #[inline]
             fn mul_vec(self, v: $v) -> $v {
                 self * v
             }
+            #[inline]
             fn transpose(self) -> Self {
                 <$m>::transpose(&self)
             }
+            #[inline]
             fn trace(self) -> Real {
                 (0..$d).map(|k| self.col(k)[k]).sum()
             }
+            #[inline]
             fn determinant(self) -> Real {
                 <$m>::determinant(&self)
             }
+            #[inline]
             fn try_inverse(self, tol: Real) -> Option<Self> {
                 let det = <$m>::determinant(&self);
                 let scale = (0..$d)
@@ -272,6 +310,7 @@ macro_rules! glam_vector {
                 (det.is_finite() && det.abs() > tol * scale && scale > 0.0)
                     .then(|| <$m>::inverse(&self))
             }
+            #[inline]
             fn entry(self, k: usize, l: usize) -> Real {
                 self.col(l)[k]
             }

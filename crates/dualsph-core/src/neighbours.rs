@@ -93,37 +93,57 @@ impl Csr {
 
 /// Fixed-radius search with a per-point radius, implemented for each vector type.
 pub trait KdSearch: Sized {
-    /// For every point i, the sorted indices `j != i` with `|x_i − x_j| <= radii[i]`.
-    fn radius_lists(points: &[Self], radii: &[Real]) -> Vec<Vec<u32>>;
+    /// For every point i, the sorted indices `j != i` with `|x_i − x_j| <= radii[i]`, as a CSR
+    /// (rows in point order).
+    fn radius_csr(points: &[Self], radii: &[Real]) -> Csr;
 }
+
+/// Points per parallel work item of the search: each item fills one flat buffer (no `Vec`
+/// per particle), and the buffers are concatenated in order.
+const SEARCH_CHUNK: usize = 512;
 
 macro_rules! kd_search {
     ($v:ty, $k:expr, $arr:expr) => {
         impl KdSearch for $v {
-            fn radius_lists(points: &[Self], radii: &[Real]) -> Vec<Vec<u32>> {
+            fn radius_csr(points: &[Self], radii: &[Real]) -> Csr {
                 let to_arr = $arr;
                 let pts: Vec<[Real; $k]> = points.iter().map(|p| to_arr(*p)).collect();
                 let tree: ImmutableKdTree<Real, u32, $k, 32> =
                     ImmutableKdTree::new_from_slice(&pts);
-                pts.par_iter()
-                    .zip(radii.par_iter())
+                let chunks: Vec<(Vec<u32>, Vec<u32>)> = pts
+                    .par_chunks(SEARCH_CHUNK)
                     .enumerate()
-                    .map(|(i, (q, &r))| {
-                        // ask kiddo with a hair of slack, then decide with our own arithmetic
-                        let hits =
-                            tree.within_unsorted::<SquaredEuclidean>(q, r * r * (1.0 + 1e-12));
-                        let mut row: Vec<u32> = hits
-                            .into_iter()
-                            .map(|nn| nn.item)
-                            .filter(|&j| {
+                    .map(|(c, qs)| {
+                        let (mut flat, mut lens) = (Vec::new(), Vec::with_capacity(qs.len()));
+                        for (k, q) in qs.iter().enumerate() {
+                            let i = c * SEARCH_CHUNK + k;
+                            let r = radii[i];
+                            // ask kiddo with a hair of slack, then decide with our own arithmetic
+                            let hits =
+                                tree.within_unsorted::<SquaredEuclidean>(q, r * r * (1.0 + 1e-12));
+                            let start = flat.len();
+                            flat.extend(hits.into_iter().map(|nn| nn.item).filter(|&j| {
                                 j as usize != i
                                     && (points[i] - points[j as usize]).length_squared() <= r * r
-                            })
-                            .collect();
-                        row.sort_unstable();
-                        row
+                            }));
+                            flat[start..].sort_unstable();
+                            lens.push((flat.len() - start) as u32);
+                        }
+                        (flat, lens)
                     })
-                    .collect()
+                    .collect();
+                let total: usize = chunks.iter().map(|c| c.0.len()).sum();
+                let mut offsets = Vec::with_capacity(points.len() + 1);
+                let mut indices = Vec::with_capacity(total);
+                offsets.push(0u32);
+                for (flat, lens) in chunks {
+                    indices.extend_from_slice(&flat);
+                    for l in lens {
+                        let last = *offsets.last().unwrap_or(&0);
+                        offsets.push(last + l);
+                    }
+                }
+                Csr { offsets, indices }
             }
         }
     };
@@ -184,7 +204,11 @@ impl<V: Vector> Neighbours<V> {
     /// Rebuilds the lists from scratch.
     pub fn rebuild(&mut self, positions: &[V], h: &[Real]) {
         let radii: Vec<Real> = h.iter().map(|&hi| hi * (1.0 + self.skin)).collect();
-        self.support = Csr::from_rows(V::radius_lists(positions, &radii));
+        // the old lists go first: never two generations in memory at once
+        self.support = Csr::default();
+        self.dual = Csr::default();
+        self.dual_slot = Vec::new();
+        self.support = V::radius_csr(positions, &radii);
         let (dual, slots) = self.support.transpose_with_slots();
         self.dual = dual;
         self.dual_slot = slots;

@@ -447,11 +447,26 @@ impl<V: Vector> Sim<V> {
         *self.world.resource::<SimClock>()
     }
 
-    /// The latest diagnostics.
-    pub fn diagnostics(&self) -> crate::diagnostics::Diagnostics {
+    /// The diagnostics of the current state (computed now if the last evaluation is older,
+    /// see [`crate::diagnostics::DiagnosticsEvery`]).
+    pub fn diagnostics(&mut self) -> crate::diagnostics::Diagnostics {
+        let clock = self.clock();
+        let d = self.world.resource::<crate::diagnostics::Diagnostics>();
+        if d.step != clock.step || d.t != clock.t || d.n == 0 {
+            use bevy_ecs::system::RunSystemOnce;
+            self.world
+                .run_system_once(crate::diagnostics::compute_diagnostics_now::<V>)
+                .expect("diagnostics system runs");
+        }
         self.world
             .resource::<crate::diagnostics::Diagnostics>()
             .clone()
+    }
+
+    /// Evaluates the expensive diagnostics only every `every` steps (and at t = 0).
+    pub fn set_diagnostics_every(&mut self, every: u64) {
+        self.world
+            .insert_resource(crate::diagnostics::DiagnosticsEvery(every.max(1)));
     }
 }
 

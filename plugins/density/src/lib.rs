@@ -57,11 +57,7 @@ impl SimPlugin for ContinuityDensity {
         }
         dualsph_core::integrator::ensure_density_integration(sim);
         match self.form {
-            ContinuityForm::Pairwise => sim.add_system(
-                StepSet::Forces,
-                "continuity (Eq. 4.9)",
-                passes::continuity_pairwise::<V>,
-            ),
+            ContinuityForm::Pairwise => passes::add_continuity_pairwise(sim),
             ContinuityForm::VelocityDivergence => {
                 passes::ensure_velocity_gradient(sim);
                 sim.add_system(

@@ -23,6 +23,7 @@ fn potential(x: &[Real; 3], g: &[Real; 3]) -> Real {
 }
 
 /// Adds `g` to every particle's acceleration (after the pair sweep).
+#[inline(never)] // a frame of its own in profiles
 pub fn apply_gravity<V: Vector>(g: Res<GravityAccel<V>>, mut q: Query<&mut Acceleration<V>>) {
     for mut a in &mut q {
         a.0 += g.0;

@@ -35,7 +35,7 @@ impl<V: Vector> PairTerm<V> for HeatTerm {
         "heat conduction (Eq. 3.13)"
     }
 
-    #[inline]
+    #[inline(always)]
     fn interact(&self, p: &Pair<'_, V>, out: &mut PairOut<V>) {
         let f = p.fields;
         let (i, j) = (p.i, p.j);

@@ -26,6 +26,7 @@ pub struct HUpdate {
 }
 
 /// Applies Eq. 6.1 when `step % every == 0`.
+#[inline(never)] // a frame of its own in profiles
 pub fn update_h<V: Vector>(
     clock: Res<SimClock>,
     set: Res<HUpdate>,

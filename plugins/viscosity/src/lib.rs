@@ -45,22 +45,74 @@ pub struct ArtificialViscosityTerm {
     pub eta_factor: Real,
 }
 
+/// The owner's values used by [`ArtificialViscosityTerm`].
+#[derive(Clone, Copy, Debug)]
+struct AvOwner<V: Vector> {
+    m: Real,
+    h: Real,
+    c: Real,
+    rho: Real,
+    v: V,
+}
+
+impl<V: Vector> AvOwner<V> {
+    #[inline(always)]
+    fn of(f: &Fields<V>, i: usize) -> Self {
+        AvOwner {
+            m: f.mass[i],
+            h: f.h[i],
+            c: f.sound[i],
+            rho: f.rho[i],
+            v: f.vel[i],
+        }
+    }
+}
+
 impl ArtificialViscosityTerm {
     /// `Π_ij` of Eq. 4.17 (0 for receding pairs).
     #[inline]
     pub fn pi<V: Vector>(&self, p: &Pair<'_, V>) -> Real {
-        let f = p.fields;
-        let (i, j) = (p.i, p.j);
-        let vr = p.vij().dot(p.rij);
+        let a = AvOwner::of(p.fields, p.i);
+        self.pi_of(&a, p.fields, p.j, p.vij().dot(p.rij), p.r)
+    }
+
+    /// `Π_ij` from the owner's values, j, `v_ij·r_ij` and `r_ij`.
+    #[inline(always)]
+    fn pi_of<V: Vector>(&self, a: &AvOwner<V>, f: &Fields<V>, j: usize, vr: Real, r: Real) -> Real {
         if vr >= 0.0 {
             return 0.0;
         }
-        let hbar = 0.5 * (f.h[i] + f.h[j]);
+        let hbar = 0.5 * (a.h + f.h[j]);
         let eta = self.eta_factor * hbar;
-        let mu = hbar * vr / (p.r * p.r + eta * eta);
-        let cbar = 0.5 * (f.sound[i] + f.sound[j]);
-        let rhobar = 0.5 * (f.rho[i] + f.rho[j]);
+        let mu = hbar * vr / (r * r + eta * eta);
+        let cbar = 0.5 * (a.c + f.sound[j]);
+        let rhobar = 0.5 * (a.rho + f.rho[j]);
         (-self.alpha * cbar * mu + self.beta * mu * mu) / rhobar
+    }
+
+    /// Adds the pair's force and heat (Eqs. 4.17, 4.20) for an approaching pair.
+    #[inline(always)]
+    fn add<V: Vector>(
+        &self,
+        a: &AvOwner<V>,
+        f: &Fields<V>,
+        j: usize,
+        rij: V,
+        r: Real,
+        grad_raw: V,
+        out: &mut PairOut<V>,
+    ) {
+        let vij = a.v - f.vel[j];
+        let pi = self.pi_of(a, f, j, vij.dot(rij), r);
+        if pi == 0.0 {
+            return;
+        }
+        let coef = a.m * f.mass[j] * 0.5 * pi;
+        let force = grad_raw * (-coef);
+        out.force += force;
+        let heat = 0.5 * coef * vij.dot(grad_raw);
+        out.power_i += heat;
+        out.power_j += heat;
     }
 }
 
@@ -69,19 +121,19 @@ impl<V: Vector> PairTerm<V> for ArtificialViscosityTerm {
         "artificial viscosity (Eq. 4.17)"
     }
 
-    #[inline]
+    #[inline(always)]
     fn interact(&self, p: &Pair<'_, V>, out: &mut PairOut<V>) {
-        let pi = self.pi(p);
-        if pi == 0.0 {
-            return;
+        let a = AvOwner::of(p.fields, p.i);
+        self.add(&a, p.fields, p.j, p.rij, p.r, p.grad_raw, out);
+    }
+
+    /// The same arithmetic as [`PairTerm::interact`] with the owner's values loaded once.
+    fn interact_row(&self, row: &Row<'_, V>, out: &mut [PairOut<V>]) {
+        let a = AvOwner::of(row.fields, row.i);
+        let geom = row.j.iter().zip(row.rij).zip(row.r).zip(row.grad_raw);
+        for (o, (((&j, &rij), &r), &g)) in out.iter_mut().zip(geom) {
+            self.add(&a, row.fields, j as usize, rij, r, g, o);
         }
-        let f = p.fields;
-        let coef = f.mass[p.i] * f.mass[p.j] * 0.5 * pi;
-        let force = p.grad_raw * (-coef);
-        out.force += force;
-        let heat = 0.5 * coef * p.vij().dot(p.grad_raw);
-        out.power_i += heat;
-        out.power_j += heat;
     }
 }
 
@@ -137,7 +189,7 @@ impl<V: Vector> PairTerm<V> for PhysicalViscosityTerm {
         "physical viscosity (Eq. 4.23)"
     }
 
-    #[inline]
+    #[inline(always)]
     fn interact(&self, p: &Pair<'_, V>, out: &mut PairOut<V>) {
         let f = p.fields;
         let (i, j) = (p.i, p.j);
@@ -196,7 +248,7 @@ impl<V: Vector> PairTerm<V> for ViscousStressTerm {
         "Newtonian viscous stress (Eqs. 4.6, 4.13, 7.4)"
     }
 
-    #[inline]
+    #[inline(always)]
     fn interact(&self, p: &Pair<'_, V>, out: &mut PairOut<V>) {
         let f = p.fields;
         let (i, j) = (p.i, p.j);
@@ -239,4 +291,73 @@ impl SimPlugin for NewtonianViscosity {
 fn raise_viscosity<V: Vector>(sim: &mut Sim<V>, mu: Real) {
     let mut m = sim.world.resource_mut::<MaxViscosity>();
     m.0 = m.0.max(mu);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use dualsph_core::glam::DVec2;
+    use dualsph_core::neighbours::Neighbours;
+    use dualsph_core::sweep::check_row_matches_interact;
+
+    /// A jittered lattice with varying h, velocities, densities and pressures (a small LCG).
+    fn state() -> (Fields<DVec2>, Neighbours<DVec2>) {
+        let mut seed = 12345u64;
+        let mut rnd = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as Real / (1u64 << 53) as Real
+        };
+        let mut f = Fields::<DVec2>::default();
+        let n = 20 * 20;
+        f.resize(n);
+        f.pressure = vec![0.0; n];
+        f.sound = vec![0.0; n];
+        for i in 0..n {
+            f.pos[i] =
+                DVec2::new((i % 20) as Real, (i / 20) as Real) + DVec2::new(rnd(), rnd()) * 0.4;
+            f.vel[i] = DVec2::new(rnd() - 0.5, rnd() - 0.5);
+            f.mass[i] = 0.8 + 0.4 * rnd();
+            f.rho[i] = 950.0 + 100.0 * rnd();
+            f.h[i] = 1.2 + 1.5 * rnd();
+            f.pressure[i] = rnd() * 1e3 - 200.0;
+            f.sound[i] = 10.0 + rnd();
+        }
+        let mut nb = Neighbours::new(0.1);
+        nb.rebuild(&f.pos, &f.h);
+        (f, nb)
+    }
+
+    #[test]
+    fn interact_row_matches_interact_bitwise() {
+        let (mut f, nb) = state();
+        let kernel = Kernel::new(KernelKind::CubicSpline, 2);
+        for corrected in [false, true] {
+            if corrected {
+                let n = f.len();
+                f.correction = (0..n)
+                    .map(|i| {
+                        let a = 1.0 + 0.01 * (i % 7) as Real;
+                        dualsph_core::glam::DMat2::from_cols_array(&[a, 0.02, -0.01, 1.0 / a])
+                    })
+                    .collect();
+            }
+            let ctx = SweepCtx {
+                fields: &f,
+                neighbours: &nb,
+                kernel: &kernel,
+                formulation: Formulation::DualSupport,
+            };
+            for term in TERMS {
+                check_row_matches_interact::<DVec2>(term, &ctx).unwrap();
+            }
+        }
+    }
+
+    const TERMS: [&dyn PairTerm<DVec2>; 1] = [&ArtificialViscosityTerm {
+        alpha: 1.0,
+        beta: 2.0,
+        eta_factor: 0.1,
+    }];
 }

@@ -15,6 +15,7 @@ use serde::Deserialize;
 pub struct SpecularWalls {}
 
 /// Reflects positions and velocities at the domain faces.
+#[inline(never)] // a frame of its own in profiles
 pub fn reflect<V: Vector>(
     domain: Res<Domain<V>>,
     mut q: Query<(&mut Position<V>, &mut Velocity<V>)>,

@@ -1,0 +1,170 @@
+//! Criterion benches of the three costs of a step — neighbour rebuild, the support/dual-support
+//! pair sweep, one whole `Sim::step` — on the dam-break physics (`dualsph::perf`), for 2-D and
+//! 3-D columns of ~10^4 and ~10^5 particles, uniform and two-level h, on 1 and 2 threads (a
+//! local rayon pool). `DUALSPH_BENCH_LARGE=1` adds ~10^6 particles.
+//!
+//! Besides criterion's wall-clock statistics each case prints CPU-time throughput (user +
+//! system time of the process, `/proc/self/stat`, over a loop of at least 1 CPU-second):
+//! * **pair interactions** = `Σ_i |H_i|`, the `(i, j ∈ H_i)` with `|r_ij| < h_i` that the sweep
+//!   evaluates (all terms of the sweep for one pair count once; candidates inside the Verlet
+//!   skin but outside `h_i` are skipped and not counted);
+//! * **particle-steps** = particles × steps of `Sim::step` (everything the scene runs);
+//! * the 2-thread lines also give the wall-clock speed-up over 1 thread.
+//!
+//! ```sh
+//! CARGO_TARGET_DIR=target cargo bench --bench throughput
+//! CARGO_TARGET_DIR=target cargo bench --bench throughput -- 2d-uniform-12800
+//! ```
+
+use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use dualsph::core::neighbours::Neighbours;
+use dualsph::core::sim::KernelRes;
+use dualsph::core::sweep::{PairTerms, SweepBuffers, evaluate};
+use dualsph::perf::{Case, Layout, cpu_seconds, support_pairs};
+use dualsph::prelude::*;
+use std::time::{Duration, Instant};
+
+fn pool(threads: usize) -> rayon::ThreadPool {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("rayon pool")
+}
+
+/// Runs `f` until at least `min_cpu` CPU-seconds have passed; returns (reps, CPU-s, wall-s).
+fn measure(min_cpu: f64, mut f: impl FnMut()) -> (usize, f64, f64) {
+    let (c0, w0) = (cpu_seconds(), Instant::now());
+    let mut reps = 0;
+    while cpu_seconds() - c0 < min_cpu || reps < 3 {
+        f();
+        reps += 1;
+    }
+    (reps, cpu_seconds() - c0, w0.elapsed().as_secs_f64())
+}
+
+fn cases() -> Vec<Case> {
+    let mut sizes = vec![12_800, 100_000];
+    if std::env::var("DUALSPH_BENCH_LARGE").is_ok_and(|v| v == "1") {
+        sizes.push(1_000_000);
+    }
+    let mut out = Vec::new();
+    for n in sizes {
+        for dim in [2, 3] {
+            for layout in [Layout::Uniform, Layout::TwoLevel] {
+                out.push(if n == 12_800 && dim == 2 && layout == Layout::Uniform {
+                    Case::dam_column_2d()
+                } else {
+                    Case::with_particles(dim, layout, n)
+                });
+            }
+        }
+    }
+    out
+}
+
+/// The 2-thread lines report the wall-time speed-up over the 1-thread line of the same kind.
+struct Speedup([f64; 3]);
+
+impl Speedup {
+    fn note(&mut self, kind: usize, threads: usize, wall_per_rep: f64) -> String {
+        if threads == 1 {
+            self.0[kind] = wall_per_rep;
+            String::new()
+        } else {
+            format!(
+                ", {:.2}x the 1-thread wall rate",
+                self.0[kind] / wall_per_rep
+            )
+        }
+    }
+}
+
+fn bench_dim<V: Vector>(c: &mut Criterion, case: Case) {
+    let mut sim = case.sim::<V>();
+    let n = sim.particle_count();
+    let pairs = support_pairs(&sim) as f64;
+    let name = case.name(n);
+    let min_cpu = 1.0;
+    let mut speedup = Speedup([0.0; 3]);
+
+    let mut group = c.benchmark_group(name.clone());
+    group
+        .sample_size(10)
+        .warm_up_time(Duration::from_millis(300))
+        .measurement_time(Duration::from_secs(1));
+    for threads in [1, 2] {
+        let pool = pool(threads);
+
+        // neighbour rebuild (kiddo + CSR + transpose)
+        let (pos, h, skin) = {
+            let f = sim.world.resource::<Fields<V>>();
+            let nb = sim.world.resource::<Neighbours<V>>();
+            (f.pos.clone(), f.h.clone(), nb.skin)
+        };
+        let mut nb = Neighbours::<V>::new(skin);
+        let (reps, cpu, wall) = measure(min_cpu, || pool.install(|| nb.rebuild(&pos, &h)));
+        println!(
+            "{name} rebuild {threads}T: {:.3e} particles/CPU-s ({:.1} candidates/particle){}",
+            (n * reps) as f64 / cpu,
+            nb.support.indices.len() as f64 / n as f64,
+            speedup.note(0, threads, wall / reps as f64)
+        );
+        group.throughput(Throughput::Elements(n as u64));
+        group.bench_function(BenchmarkId::new("rebuild", format!("{threads}T")), |b| {
+            b.iter(|| pool.install(|| nb.rebuild(&pos, &h)))
+        });
+
+        // pair sweep (pressure + artificial viscosity, support + dual-support)
+        {
+            let w = &sim.world;
+            let ctx = SweepCtx {
+                fields: w.resource::<Fields<V>>(),
+                neighbours: w.resource::<Neighbours<V>>(),
+                kernel: &w.resource::<KernelRes>().0,
+                formulation: *w.resource::<Formulation>(),
+            };
+            let terms = &w.resource::<PairTerms<V>>().terms;
+            let mut buf = SweepBuffers::<V>::default();
+            let (reps, cpu, wall) =
+                measure(min_cpu, || pool.install(|| evaluate(&ctx, terms, &mut buf)));
+            println!(
+                "{name} sweep   {threads}T: {:.3e} pair interactions/CPU-s ({:.1} pairs/particle){}",
+                pairs * reps as f64 / cpu,
+                pairs / n as f64,
+                speedup.note(1, threads, wall / reps as f64)
+            );
+            group.throughput(Throughput::Elements(pairs as u64));
+            group.bench_function(BenchmarkId::new("sweep", format!("{threads}T")), |b| {
+                b.iter(|| pool.install(|| evaluate(&ctx, terms, &mut buf)))
+            });
+        }
+
+        // one whole step
+        let (reps, cpu, wall) = measure(min_cpu, || {
+            pool.install(|| sim.step().expect("step"));
+        });
+        println!(
+            "{name} step    {threads}T: {:.3e} particle-steps/CPU-s, {:.3e} pair interactions/CPU-s{}",
+            (n * reps) as f64 / cpu,
+            pairs * reps as f64 / cpu,
+            speedup.note(2, threads, wall / reps as f64)
+        );
+        group.throughput(Throughput::Elements(n as u64));
+        group.bench_function(BenchmarkId::new("step", format!("{threads}T")), |b| {
+            b.iter(|| pool.install(|| sim.step().expect("step")))
+        });
+    }
+    group.finish();
+}
+
+fn benches(c: &mut Criterion) {
+    for case in cases() {
+        match case.dim {
+            2 => bench_dim::<glam::DVec2>(c, case),
+            _ => bench_dim::<glam::DVec3>(c, case),
+        }
+    }
+}
+
+criterion_group!(throughput, benches);
+criterion_main!(throughput);

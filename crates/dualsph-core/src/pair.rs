@@ -1,0 +1,320 @@
+//! The data a pair term sees: the dense per-particle [`Fields`], one pair ([`Pair`]) or one
+//! owner's whole support ([`Row`]), what a term returns ([`PairOut`]), the [`PairTerm`] trait
+//! and the owner's precomputed kernel ([`OwnerKernel`]). The sweep itself is in
+//! [`crate::sweep`], which re-exports everything here.
+
+use crate::kernels::{Kernel, KernelKind};
+use crate::math::{Matrix, Real, Vector};
+use bevy_ecs::prelude::*;
+use std::sync::Arc;
+
+/// Dense per-particle arrays, indexed by [`crate::components::ParticleId`], used by the hot loops. Optional
+/// arrays are empty when the scene has no plugin that fills them.
+#[derive(Resource, Clone, Debug)]
+pub struct Fields<V: Vector> {
+    /// Positions.
+    pub pos: Vec<V>,
+    /// Velocities.
+    pub vel: Vec<V>,
+    /// Masses.
+    pub mass: Vec<Real>,
+    /// Densities.
+    pub rho: Vec<Real>,
+    /// Support radii.
+    pub h: Vec<Real>,
+    /// Pressures (equation of state).
+    pub pressure: Vec<Real>,
+    /// Sound speeds (equation of state).
+    pub sound: Vec<Real>,
+    /// Specific internal energies (energy equation).
+    pub eps: Vec<Real>,
+    /// Thermal conductivities (heat conduction).
+    pub kappa: Vec<Real>,
+    /// Kernel-gradient corrections `L_i` (Eq. 2.10).
+    pub correction: Vec<V::Mat>,
+    /// Velocity gradients (Eq. 7.4).
+    pub vgrad: Vec<V::Mat>,
+}
+
+impl<V: Vector> Default for Fields<V> {
+    fn default() -> Self {
+        Fields {
+            pos: Vec::new(),
+            vel: Vec::new(),
+            mass: Vec::new(),
+            rho: Vec::new(),
+            h: Vec::new(),
+            pressure: Vec::new(),
+            sound: Vec::new(),
+            eps: Vec::new(),
+            kappa: Vec::new(),
+            correction: Vec::new(),
+            vgrad: Vec::new(),
+        }
+    }
+}
+
+impl<V: Vector> Fields<V> {
+    /// Sizes the always-present arrays for n particles.
+    pub fn resize(&mut self, n: usize) {
+        self.pos.resize(n, V::zero());
+        self.vel.resize(n, V::zero());
+        self.mass.resize(n, 0.0);
+        self.rho.resize(n, 0.0);
+        self.h.resize(n, 0.0);
+    }
+
+    /// Number of particles.
+    pub fn len(&self) -> usize {
+        self.pos.len()
+    }
+
+    /// True when there are no particles.
+    pub fn is_empty(&self) -> bool {
+        self.pos.is_empty()
+    }
+
+    /// `m_i / ρ_i`.
+    #[inline]
+    pub fn volume(&self, i: usize) -> Real {
+        self.mass[i] / self.rho[i]
+    }
+
+    /// Applies `L_owner` (Eq. 2.10) to a kernel gradient if the correction is active.
+    #[inline]
+    pub fn corrected(&self, owner: usize, g: V) -> V {
+        if self.correction.is_empty() {
+            g
+        } else {
+            self.correction[owner].mul_vec(g)
+        }
+    }
+}
+
+/// One evaluation of a pair: `owner` is the particle whose kernel and support are used.
+#[derive(Clone, Copy, Debug)]
+pub struct Pair<'a, V: Vector> {
+    /// The owner i (kernel `W(·, h_i)`).
+    pub i: usize,
+    /// The neighbour j ∈ H_i.
+    pub j: usize,
+    /// `r_ij = r_i − r_j`.
+    pub rij: V,
+    /// `|r_ij|`.
+    pub r: Real,
+    /// `W_ij`.
+    pub w: Real,
+    /// `∇_i W_ij` as is.
+    pub grad_raw: V,
+    /// `∇_i W_ij`, with the kernel-gradient correction `L_i` applied when it is active.
+    pub grad: V,
+    /// All particle data.
+    pub fields: &'a Fields<V>,
+}
+
+impl<V: Vector> Pair<'_, V> {
+    /// `v_ij = v_i − v_j`.
+    #[inline]
+    pub fn vij(&self) -> V {
+        self.fields.vel[self.i] - self.fields.vel[self.j]
+    }
+}
+
+/// What one term gives for one pair: the force on the owner i (j receives `−force`) and the
+/// rates of internal energy `m ε̇` credited to i and to j. A term conserves energy when
+/// `power_i + power_j = −force · v_ij` (the pair's work goes into heat, nothing is lost).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PairOut<V: Vector> {
+    /// Force on i; the reaction `−force` acts on j.
+    pub force: V,
+    /// `m_i dε_i/dt` contribution.
+    pub power_i: Real,
+    /// `m_j dε_j/dt` contribution.
+    pub power_j: Real,
+}
+
+impl<V: Vector> Default for PairOut<V> {
+    fn default() -> Self {
+        PairOut {
+            force: V::zero(),
+            power_i: 0.0,
+            power_j: 0.0,
+        }
+    }
+}
+
+/// One owner's support `H_i` as the sweep hands it to [`PairTerm::interact_row`]: the
+/// neighbours `j` strictly inside `h_i`, ascending, with the pair geometry as parallel slices
+/// (`rij[k]`, `r[k]`, `grad_raw[k]`, `grad[k]` belong to `j[k]`).
+#[derive(Clone, Copy, Debug)]
+pub struct Row<'a, V: Vector> {
+    /// The owner i.
+    pub i: usize,
+    /// `j ∈ H_i`, ascending.
+    pub j: &'a [u32],
+    /// `r_ij = r_i − r_j`.
+    pub rij: &'a [V],
+    /// `|r_ij|`.
+    pub r: &'a [Real],
+    /// `∇_i W_ij` as is (Eq. 2.2).
+    pub grad_raw: &'a [V],
+    /// `∇_i W_ij` with `L_i` applied when the correction is active (Eq. 2.10); the same slice
+    /// as `grad_raw` otherwise.
+    pub grad: &'a [V],
+    /// The owner's kernel (for `W_ij`, computed on demand by [`Row::w`]).
+    pub kernel: OwnerKernel,
+    /// All particle data.
+    pub fields: &'a Fields<V>,
+}
+
+impl<'a, V: Vector> Row<'a, V> {
+    /// Number of pairs.
+    #[inline]
+    pub fn len(&self) -> usize {
+        self.j.len()
+    }
+
+    /// True when `H_i` is empty.
+    #[inline]
+    pub fn is_empty(&self) -> bool {
+        self.j.is_empty()
+    }
+
+    /// `W_ij = W(r_ij, h_i)` of the k-th pair (Eq. 2.1).
+    #[inline]
+    pub fn w(&self, k: usize) -> Real {
+        self.kernel.w(self.r[k])
+    }
+
+    /// The k-th pair of the row.
+    #[inline]
+    pub fn pair(&self, k: usize) -> Pair<'a, V> {
+        Pair {
+            i: self.i,
+            j: self.j[k] as usize,
+            rij: self.rij[k],
+            r: self.r[k],
+            w: self.w(k),
+            grad_raw: self.grad_raw[k],
+            grad: self.grad[k],
+            fields: self.fields,
+        }
+    }
+}
+
+/// A physics term that joins the pair sweep. Implementations add their contribution to `out`
+/// for the pair (i owner, j ∈ H_i) and inherit the sweep's conservation and determinism.
+///
+/// Only [`PairTerm::interact`] must be written. The sweep calls [`PairTerm::interact_row`]
+/// once per owner and term; its default loops over the row calling `interact`, statically
+/// dispatched and inlined, so a term costs one dynamic call per particle, not per pair.
+/// Override it only to vectorise a term by hand; it must give the same `out` as the default.
+pub trait PairTerm<V: Vector>: Send + Sync + 'static {
+    /// Name shown by `plan`.
+    fn name(&self) -> &str;
+    /// Adds this term's force and energy rates for the pair.
+    fn interact(&self, pair: &Pair<'_, V>, out: &mut PairOut<V>);
+    /// Adds this term to `out[k]` for every pair `k` of the row (`out.len() == row.len()`).
+    #[inline]
+    fn interact_row(&self, row: &Row<'_, V>, out: &mut [PairOut<V>]) {
+        for (k, o) in out.iter_mut().enumerate() {
+            self.interact(&row.pair(k), o);
+        }
+    }
+}
+
+/// The terms fused into the sweep, in order.
+#[derive(Resource)]
+pub struct PairTerms<V: Vector> {
+    /// Terms.
+    pub terms: Vec<Arc<dyn PairTerm<V>>>,
+}
+
+impl<V: Vector> Default for PairTerms<V> {
+    fn default() -> Self {
+        PairTerms { terms: Vec::new() }
+    }
+}
+
+/// The kernel of one owner i with its normalisations computed once:
+/// `W(r, h_i) = C_d h_i^{-d} f(r/h_i)` (Eq. 2.1) and `∇_iW = C_d h_i^{-d-1} f'(r/h_i) r_ij/r`
+/// (Eq. 2.2) — what [`Kernel::w`] and [`Kernel::grad`] give inside the support (to round-off:
+/// `q = r · (1/h_i)`), without their per-call divisions by powers of h.
+#[derive(Clone, Copy, Debug)]
+pub struct OwnerKernel {
+    kind: KernelKind,
+    inv_h: Real,
+    /// `h_i²`: a candidate is in `H_i` when `r² < h_i²`.
+    pub h2: Real,
+    w_norm: Real,
+    g_norm: Real,
+}
+
+impl OwnerKernel {
+    /// The kernel of an owner with support radius `h`.
+    #[inline]
+    pub fn new(kernel: &Kernel, h: Real) -> Self {
+        let hd = match kernel.dim {
+            1 => h,
+            2 => h * h,
+            _ => h * h * h,
+        };
+        OwnerKernel {
+            kind: kernel.kind,
+            inv_h: 1.0 / h,
+            h2: h * h,
+            w_norm: kernel.norm / hd,
+            g_norm: kernel.norm / (hd * h),
+        }
+    }
+
+    /// `W(r, h_i)` (Eq. 2.1) for `r < h_i`.
+    #[inline(always)]
+    pub fn w(&self, r: Real) -> Real {
+        self.w_norm * self.kind.profile(r * self.inv_h)
+    }
+
+    /// `∇_iW_ij` (Eq. 2.2) for `r = |r_ij| < h_i` (0 at `r = 0`).
+    #[inline(always)]
+    pub fn grad<V: Vector>(&self, rij: V, r: Real) -> V {
+        if r > 0.0 {
+            rij * (self.g_norm * self.kind.profile_derivative(r * self.inv_h) / r)
+        } else {
+            V::zero()
+        }
+    }
+
+    /// `(W_ij, ∇_iW_ij)` for `r = |r_ij| < h_i`.
+    #[inline(always)]
+    pub fn eval<V: Vector>(&self, rij: V, r: Real) -> (Real, V) {
+        (self.w(r), self.grad(rij, r))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::{DVec2, DVec3};
+
+    #[test]
+    fn owner_kernel_matches_kernel_to_round_off() {
+        for kind in KernelKind::ALL {
+            for dim in 1..=3 {
+                let kernel = Kernel::new(kind, dim);
+                for h in [0.013, 0.7, 2.9] {
+                    let k = OwnerKernel::new(&kernel, h);
+                    for i in 0..200 {
+                        let r = h * i as Real / 200.0;
+                        let (w0, w1) = (kernel.w(r, h), k.w(r));
+                        assert!((w0 - w1).abs() <= 1e-13 * w0.abs().max(1e-300), "{kind:?}");
+                        let x = DVec3::new(0.6, -0.48, 0.64) * r;
+                        let (g0, g1) = (kernel.grad(x, r, h), k.grad(x, r));
+                        assert!((g0 - g1).length() <= 1e-13 * g0.length(), "{kind:?} {dim}D");
+                        let y = DVec2::new(0.8, -0.6) * r;
+                        assert_eq!(k.eval(y, r).1, k.grad(y, r));
+                    }
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,108 @@
+//! Whole-step driver for profiling and throughput: runs `Sim::step` on a benchmark case
+//! (see `dualsph::perf`) and prints particles, pair interactions, CPU time, particle-steps per
+//! CPU-second and peak RSS per particle.
+//!
+//! ```sh
+//! cargo run --release --example perf -- [dim] [uniform|two-level] [particles|dam] [steps] [threads]
+//! cargo run --release --example perf -- 2 uniform dam 200 1        # the issue's 12,800 column
+//! cargo run --release --example perf -- 3 uniform 1000000 3 2      # memory per particle at 1e6
+//! valgrind --tool=callgrind target/release/examples/perf 2 uniform dam 20 1
+//! ```
+
+use dualsph::perf::{Case, Layout, cpu_seconds, peak_rss_bytes, support_pairs};
+use dualsph::prelude::*;
+use std::time::Instant;
+
+/// The measured loop (a frame of its own: `valgrind --tool=callgrind --collect-atstart=no
+/// --toggle-collect='*step_loop*'` profiles the steps without the set-up).
+#[inline(never)]
+fn step_loop<V: Vector>(sim: &mut Sim<V>, steps: usize) {
+    for _ in 0..steps {
+        sim.step().expect("step");
+    }
+}
+
+fn run<V: Vector>(case: Case, steps: usize) {
+    let (c0, w0) = (cpu_seconds(), Instant::now());
+    let mut sim = case.sim::<V>();
+    let (setup_cpu, setup_wall) = (cpu_seconds() - c0, w0.elapsed().as_secs_f64());
+    let setup_rss = peak_rss_bytes().unwrap_or(0);
+    let n = sim.particle_count();
+    let pairs = support_pairs(&sim);
+    let (c1, w1) = (cpu_seconds(), Instant::now());
+    step_loop(&mut sim, steps);
+    let (cpu, wall) = (cpu_seconds() - c1, w1.elapsed().as_secs_f64());
+    let ps = (n * steps) as f64;
+    println!(
+        "case {} ({} particles, {pairs} pairs = {:.1}/particle), setup {setup_cpu:.2} CPU-s / {setup_wall:.2} s",
+        case.name(n),
+        n,
+        pairs as f64 / n as f64
+    );
+    println!(
+        "{steps} steps: {cpu:.2} CPU-s, {wall:.2} wall-s; {:.3e} particle-steps per CPU-second, {:.3e} per wall-second; {:.3e} pair interactions per CPU-second (whole step)",
+        ps / cpu.max(1e-9),
+        ps / wall.max(1e-9),
+        (pairs * steps) as f64 / cpu.max(1e-9),
+    );
+    println!("state fingerprint {:016x}", fingerprint(&mut sim));
+    if let Some(rss) = peak_rss_bytes() {
+        println!(
+            "peak RSS {:.1} MiB = {:.0} bytes per particle (peak after set-up: {:.0} bytes per particle)",
+            rss as f64 / 1048576.0,
+            rss as f64 / n as f64,
+            setup_rss as f64 / n as f64
+        );
+    }
+}
+
+/// FNV-1a over the bits of every particle's position, velocity and density, in id order:
+/// equal fingerprints mean bitwise-equal states.
+fn fingerprint<V: Vector>(sim: &mut Sim<V>) -> u64 {
+    let mut q = sim
+        .world
+        .query::<(&ParticleId, &Position<V>, &Velocity<V>, &Density)>();
+    let mut rows: Vec<_> = q.iter(&sim.world).collect();
+    rows.sort_by_key(|r| r.0.0);
+    let mut h: u64 = 0xcbf29ce484222325;
+    let mut mix = |x: f64| {
+        h ^= x.to_bits();
+        h = h.wrapping_mul(0x100000001b3);
+    };
+    for (_, r, v, rho) in rows {
+        for k in 0..V::DIM {
+            mix(r.0.get(k));
+            mix(v.0.get(k));
+        }
+        mix(rho.0);
+    }
+    h
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let arg = |k: usize, d: &str| args.get(k).cloned().unwrap_or_else(|| d.to_string());
+    let dim: usize = arg(0, "2").parse().expect("dim");
+    let layout = match arg(1, "uniform").as_str() {
+        "uniform" => Layout::Uniform,
+        "two-level" => Layout::TwoLevel,
+        other => panic!("layout {other}: uniform | two-level"),
+    };
+    let size = arg(2, "dam");
+    let case = if size == "dam" {
+        Case::dam_column_2d()
+    } else {
+        Case::with_particles(dim, layout, size.parse().expect("particles"))
+    };
+    let steps: usize = arg(3, "100").parse().expect("steps");
+    let threads: usize = arg(4, "1").parse().expect("threads");
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("pool");
+    pool.install(|| match case.dim {
+        2 => run::<glam::DVec2>(case, steps),
+        3 => run::<glam::DVec3>(case, steps),
+        d => panic!("dimension {d}: 2 or 3"),
+    });
+}
