@@ -203,7 +203,12 @@ pub(crate) fn cost_cells(run: &CaseRun) -> Vec<String> {
         run.steps.to_string(),
         format!("{:.1}", run.wall_seconds),
         format!("{:.1}", run.cpu_seconds),
-        format!("{:.2e}", run.particle_steps_per_cpu_second()),
+        // /proc/self/stat counts in 0.01 s ticks: a rate from a few ticks means nothing.
+        if run.cpu_seconds < 0.1 {
+            "— (< 0.1 CPU s)".into()
+        } else {
+            format!("{:.2e}", run.particle_steps_per_cpu_second())
+        },
     ]
 }
 
