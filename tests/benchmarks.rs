@@ -138,7 +138,6 @@ fn elliptical_drop_follows_the_ode_and_conserves_momentum_with_dual_support() {
 }
 
 #[test]
-#[ignore = "being verified at the paper's resolution (docs/validation/report.md) before it gates CI"]
 fn dam_break_two_level_dual_support_tracks_the_uniform_run_and_the_experiment() {
     // The paper's resolution (Case II 5,600 particles, Case III 12,800) up to t = 0.75 s, just
     // past the last experimental point: at half resolution the artificial viscosity (∝ h)
