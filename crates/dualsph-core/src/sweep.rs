@@ -34,6 +34,9 @@ use bevy_ecs::prelude::*;
 use rayon::prelude::*;
 use std::sync::Arc;
 
+mod checks;
+pub use checks::{check_row_matches_interact, check_row_override_2d};
+
 /// How pair interactions are summed (see module docs).
 #[derive(Resource, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Formulation {
@@ -425,66 +428,6 @@ fn classical<V: Vector>(
             *fi = f;
             *pi = p;
         });
-}
-
-/// Checks that a term's [`PairTerm::interact_row`] gives bitwise the same results as its
-/// [`PairTerm::interact`] on every row of `ctx` (for terms that override `interact_row`);
-/// the error names the first differing pair.
-pub fn check_row_matches_interact<V: Vector>(
-    term: &dyn PairTerm<V>,
-    ctx: &SweepCtx<'_, V>,
-) -> Result<(), String> {
-    let fl = ctx.fields;
-    for i in 0..fl.len() {
-        let (mut js, mut rijs, mut rs, mut raw, mut grad, mut pairs) =
-            (vec![], vec![], vec![], vec![], vec![], vec![]);
-        ctx.for_each_neighbour(i, |j, rij, r, w, g| {
-            let gc = fl.corrected(i, g);
-            js.push(j as u32);
-            rijs.push(rij);
-            rs.push(r);
-            raw.push(g);
-            grad.push(gc);
-            let mut out = PairOut::default();
-            let pair = Pair {
-                i,
-                j,
-                rij,
-                r,
-                w,
-                grad_raw: g,
-                grad: gc,
-                fields: fl,
-            };
-            term.interact(&pair, &mut out);
-            pairs.push(out);
-        });
-        let row = Row {
-            i,
-            j: &js,
-            rij: &rijs,
-            r: &rs,
-            grad_raw: &raw,
-            grad: &grad,
-            kernel: OwnerKernel::new(ctx.kernel, fl.h[i]),
-            fields: fl,
-        };
-        let mut outs = vec![PairOut::default(); js.len()];
-        term.interact_row(&row, &mut outs);
-        for (k, (a, b)) in outs.iter().zip(&pairs).enumerate() {
-            let same = a.force.to_xyz().map(f64::to_bits) == b.force.to_xyz().map(f64::to_bits)
-                && a.power_i.to_bits() == b.power_i.to_bits()
-                && a.power_j.to_bits() == b.power_j.to_bits();
-            if !same {
-                return Err(format!(
-                    "{}: pair ({i}, {}): interact_row {a:?}, interact {b:?}",
-                    term.name(),
-                    js[k]
-                ));
-            }
-        }
-    }
-    Ok(())
 }
 
 /// The sweep as a scheduled system: writes `Acceleration` and, if present, `EnergyRate.rate`.

@@ -101,64 +101,9 @@ impl SimPlugin for PressureForce {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use dualsph_core::glam::DVec2;
-    use dualsph_core::neighbours::Neighbours;
-    use dualsph_core::sweep::check_row_matches_interact;
-
-    /// A jittered lattice with varying h, velocities, densities and pressures (a small LCG).
-    fn state() -> (Fields<DVec2>, Neighbours<DVec2>) {
-        let mut seed = 12345u64;
-        let mut rnd = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as Real / (1u64 << 53) as Real
-        };
-        let mut f = Fields::<DVec2>::default();
-        let n = 20 * 20;
-        f.resize(n);
-        f.pressure = vec![0.0; n];
-        f.sound = vec![0.0; n];
-        for i in 0..n {
-            f.pos[i] =
-                DVec2::new((i % 20) as Real, (i / 20) as Real) + DVec2::new(rnd(), rnd()) * 0.4;
-            f.vel[i] = DVec2::new(rnd() - 0.5, rnd() - 0.5);
-            f.mass[i] = 0.8 + 0.4 * rnd();
-            f.rho[i] = 950.0 + 100.0 * rnd();
-            f.h[i] = 1.2 + 1.5 * rnd();
-            f.pressure[i] = rnd() * 1e3 - 200.0;
-            f.sound[i] = 10.0 + rnd();
-        }
-        let mut nb = Neighbours::new(0.1);
-        nb.rebuild(&f.pos, &f.h);
-        (f, nb)
-    }
 
     #[test]
     fn interact_row_matches_interact_bitwise() {
-        let (mut f, nb) = state();
-        let kernel = Kernel::new(KernelKind::CubicSpline, 2);
-        for corrected in [false, true] {
-            if corrected {
-                let n = f.len();
-                f.correction = (0..n)
-                    .map(|i| {
-                        let a = 1.0 + 0.01 * (i % 7) as Real;
-                        dualsph_core::glam::DMat2::from_cols_array(&[a, 0.02, -0.01, 1.0 / a])
-                    })
-                    .collect();
-            }
-            let ctx = SweepCtx {
-                fields: &f,
-                neighbours: &nb,
-                kernel: &kernel,
-                formulation: Formulation::DualSupport,
-            };
-            for term in TERMS {
-                check_row_matches_interact::<DVec2>(term, &ctx).unwrap();
-            }
-        }
+        dualsph_core::sweep::check_row_override_2d(&PressureTerm).unwrap();
     }
-
-    const TERMS: [&dyn PairTerm<DVec2>; 1] = [&PressureTerm];
 }
