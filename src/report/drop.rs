@@ -3,8 +3,7 @@
 //! DualSupport with a half-spacing quadrant.
 
 use super::{
-    COST_HEADERS, CaseRun, CaseSpec, Recording, ReportError, ReportOptions, Section, Table,
-    cost_cells, image,
+    COST_HEADERS, CaseRun, CaseSpec, ReportError, ReportOptions, Section, Table, cost_cells, image,
 };
 use super::{failures, final_particles};
 use dualsph_io::ParticleRecord;
@@ -104,19 +103,7 @@ fn drift_series(
 
 /// Runs, grades, plots and writes the section.
 pub fn run(opts: &ReportOptions) -> Result<(Section, Vec<DropCase>), ReportError> {
-    let graded: Vec<DropCase> = cases(opts)?
-        .iter()
-        .map(|c| {
-            opts.run(
-                c,
-                &Recording {
-                    every: 10,
-                    ..Default::default()
-                },
-            )
-            .map(grade)
-        })
-        .collect::<Result<_, _>>()?;
+    let graded = opts.run_graded(&cases(opts)?, &ReportOptions::every_ten_steps(), grade)?;
     let t = graded[0].run.final_diagnostics().t;
 
     // Shape against the ODE ellipse.

@@ -2,8 +2,7 @@
 //! (Eq. 7.1) by ΔE/E, the relative L2 error (Eq. 7.2) and the largest relative error.
 
 use super::{
-    COST_HEADERS, CaseRun, CaseSpec, Recording, ReportError, ReportOptions, Section, Table,
-    cost_cells, image,
+    COST_HEADERS, CaseRun, CaseSpec, ReportError, ReportOptions, Section, Table, cost_cells, image,
 };
 use super::{failures, final_particles};
 use dualsph_plot::{LinePlot, Series, SeriesStyle};
@@ -81,14 +80,7 @@ pub fn grade(run: CaseRun) -> HeatCase {
 
 /// Runs, grades, plots and writes the section.
 pub fn run(opts: &ReportOptions) -> Result<(Section, Vec<HeatCase>), ReportError> {
-    let rec = Recording {
-        every: 10,
-        ..Default::default()
-    };
-    let graded: Vec<HeatCase> = cases(opts)?
-        .iter()
-        .map(|c| opts.run(c, &rec).map(grade))
-        .collect::<Result<_, _>>()?;
+    let graded = opts.run_graded(&cases(opts)?, &ReportOptions::every_ten_steps(), grade)?;
     let t_end = graded[0].run.final_diagnostics().t;
     let mut plot = LinePlot::new(
         format!("1-D heat conduction: internal energy at t = {t_end} s"),

@@ -69,6 +69,24 @@ impl ReportOptions {
         Ok(run)
     }
 
+    /// Runs every case with the same recording and grades each run.
+    pub fn run_graded<T>(
+        &self,
+        specs: &[CaseSpec],
+        rec: &Recording,
+        grade: impl Fn(CaseRun) -> T,
+    ) -> Result<Vec<T>, ReportError> {
+        specs.iter().map(|c| self.run(c, rec).map(&grade)).collect()
+    }
+
+    /// Diagnostics every 10 steps, nothing else: what the heat, Sod and drop grading needs.
+    pub fn every_ten_steps() -> Recording {
+        Recording {
+            every: 10,
+            ..Default::default()
+        }
+    }
+
     /// A scene run twice: as written (DualSupport) and with SingleSupport, in that order.
     pub fn dual_and_single(
         &self,

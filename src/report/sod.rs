@@ -2,8 +2,7 @@
 //! error of density, velocity, pressure and internal energy over x ∈ [−0.5, 0.5].
 
 use super::{
-    COST_HEADERS, CaseRun, CaseSpec, Recording, ReportError, ReportOptions, Section, Table,
-    cost_cells, image,
+    COST_HEADERS, CaseRun, CaseSpec, ReportError, ReportOptions, Section, Table, cost_cells, image,
 };
 use super::{failures, final_particles};
 use dualsph_plot::{LinePlot, Series, SeriesStyle};
@@ -70,19 +69,7 @@ pub fn grade(run: CaseRun) -> SodCase {
 
 /// Runs, grades, plots and writes the section.
 pub fn run(opts: &ReportOptions) -> Result<(Section, Vec<SodCase>), ReportError> {
-    let graded: Vec<SodCase> = cases(opts)?
-        .iter()
-        .map(|c| {
-            opts.run(
-                c,
-                &Recording {
-                    every: 10,
-                    ..Default::default()
-                },
-            )
-            .map(grade)
-        })
-        .collect::<Result<_, _>>()?;
+    let graded = opts.run_graded(&cases(opts)?, &ReportOptions::every_ten_steps(), grade)?;
     let t = graded[0].run.final_diagnostics().t;
     let r = exact();
     let quantities: [(
