@@ -112,7 +112,9 @@ fn diag_row(d: &Diagnostics) -> DiagnosticsRow {
     }
 }
 
-fn check<V: Vector>(sim: &Sim<V>) -> Result<(), SimError> {
+/// The first unphysical value of the state (from [`Health`]) as a blow-up error naming the
+/// step, time, particle, quantity and the usual cause.
+pub(crate) fn check<V: Vector>(sim: &Sim<V>) -> Result<(), SimError> {
     if let Some((id, what, value)) = sim.world.resource::<Health>().problem {
         let c = sim.clock();
         return Err(SimError::BlowUp(format!(

@@ -3,7 +3,7 @@
 
 use crate::runner::particle_records;
 use crate::{build_sim, with_dimension};
-use dualsph_core::diagnostics::{Diagnostics, Health};
+use dualsph_core::diagnostics::Diagnostics;
 use dualsph_core::prelude::*;
 use dualsph_io::ParticleRecord;
 use dualsph_scene::{Formulation as SceneFormulation, Generator, Scene};
@@ -141,14 +141,7 @@ fn largest_x<V: Vector>(sim: &mut Sim<V>) -> Real {
 }
 
 fn health<V: Vector>(sim: &Sim<V>, label: &str) -> Result<(), SimError> {
-    if let Some((id, what, value)) = sim.world.resource::<Health>().problem {
-        let c = sim.clock();
-        return Err(SimError::BlowUp(format!(
-            "case {label}: step {}, t = {:.6e}: particle {id} has {what} = {value:e}",
-            c.step, c.t
-        )));
-    }
-    Ok(())
+    crate::runner::check(sim).map_err(|e| SimError::BlowUp(format!("case {label}: {e}")))
 }
 
 fn run_dim<V: Vector>(spec: &CaseSpec, rec: &Recording) -> Result<CaseRun, SimError> {
