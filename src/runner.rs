@@ -2,6 +2,7 @@
 
 use crate::{build_sim, with_dimension};
 use dualsph_core::diagnostics::{Diagnostics, Health};
+use dualsph_core::integrator::{CFL_LIMIT, TimeStepCheck};
 use dualsph_core::prelude::*;
 use dualsph_io::{DiagnosticsRow, OutputDir, ParticleRecord};
 use dualsph_scene::Scene;
@@ -120,6 +121,13 @@ pub(crate) fn check<V: Vector>(sim: &Sim<V>) -> Result<(), SimError> {
         return Err(SimError::BlowUp(format!(
             "step {}, t = {:.6e}: particle {id} has {what} = {value:e} (dt = {:.3e}; a dt above the CFL limit or too few neighbours is the usual cause)",
             c.step, c.t, c.dt
+        )));
+    }
+    if let Some((id, dt, limit)) = sim.world.resource::<TimeStepCheck>().violation {
+        let c = sim.clock();
+        return Err(SimError::BlowUp(format!(
+            "step {}, t = {:.6e}: the fixed dt = {dt:.3e} is above the CFL limit {limit:.3e} = {CFL_LIMIT} h/(c + |v|) of particle {id}; lower dt or use Adaptive",
+            c.step, c.t
         )));
     }
     Ok(())

@@ -14,6 +14,7 @@ fn tait() -> TaitEos {
         gamma: 7.0,
         c0: Some(20.0),
         p0: None,
+        min_pressure: None,
     }
 }
 

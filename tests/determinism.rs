@@ -20,6 +20,7 @@ fn run_steps(threads: usize) -> Vec<(Real, DVec2, DVec2, DVec2, Real)> {
                 gamma: 7.0,
                 c0: Some(20.0),
                 p0: None,
+                min_pressure: None,
             },
             PressureForce {},
             ArtificialViscosity {

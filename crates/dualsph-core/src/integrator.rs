@@ -7,7 +7,7 @@
 //! Corrector:  `v^{t+Δt} = v^t + Δt/2 (a^t + a^{t+Δt})`, and likewise for ρ and ε.
 
 use crate::components::*;
-use crate::math::Vector;
+use crate::math::{Real, Vector};
 use crate::neighbours::Neighbours;
 use crate::sim::{InitialInternalEnergy, MaxViscosity, Sim, SimClock, StepSet, TimeStepping};
 use crate::sweep::Fields;
@@ -57,6 +57,63 @@ pub fn choose_dt<V: Vector>(
     let remaining = clock.t_end - clock.t;
     if remaining > 0.0 && clock.dt > remaining {
         clock.dt = remaining;
+    }
+}
+
+/// Courant number on the support radius above which a fixed dt is refused:
+/// `dt ≤ C_max h_i/(c_i + |v_i|)` with `C_max = 0.25`, i.e. 0.5 on the classical smoothing
+/// length h_i/2 of the two-h kernels — above every acoustic Courant number in common SPH
+/// use (0.2–0.4 on the classical length), where the leapfrog's sound-wave mode grows.
+pub const CFL_LIMIT: Real = 0.25;
+
+/// A fixed dt found above the CFL limit: `(particle id, dt, limit)` of the particle with the
+/// smallest limit.
+#[derive(Resource, Clone, Copy, Debug, Default, PartialEq)]
+pub struct TimeStepCheck {
+    /// The violation, if any, found after the last step (or at initialisation).
+    pub violation: Option<(u32, Real, Real)>,
+}
+
+/// The acoustic limit `CFL_LIMIT · min_i h_i/(c_i + |v_i|)` and the particle that sets it.
+pub fn cfl_limit<'a, V: Vector>(
+    particles: impl Iterator<Item = (u32, V, Real, Real)> + 'a,
+) -> Option<(u32, Real)> {
+    let mut best: Option<(u32, Real)> = None;
+    for (id, v, h, c) in particles {
+        let speed = c + v.length();
+        if speed > 0.0 {
+            let dt = CFL_LIMIT * h / speed;
+            if best.is_none_or(|(bid, b)| dt < b || (dt == b && id < bid)) {
+                best = Some((id, dt));
+            }
+        }
+    }
+    best
+}
+
+/// With a fixed dt, checks after every step (and at initialisation, so a scene is refused
+/// before it starts) that dt is within [`CFL_LIMIT`] with each particle's own h, sound
+/// speed and velocity. An adaptive dt is within it by construction (its Courant number is
+/// validated ≤ `CFL_LIMIT`).
+pub fn check_time_step<V: Vector>(
+    rule: Res<TimeStepping>,
+    mut check: ResMut<TimeStepCheck>,
+    q: Query<(
+        &ParticleId,
+        &Velocity<V>,
+        &SmoothingLength,
+        Option<&SoundSpeed>,
+    )>,
+) {
+    check.violation = None;
+    if let TimeStepping::Fixed(dt) = *rule
+        && let Some((id, limit)) = cfl_limit(
+            q.iter()
+                .map(|(id, v, h, c)| (id.0, v.0, h.0, c.map_or(0.0, |c| c.0))),
+        )
+        && dt > limit
+    {
+        check.violation = Some((id, dt, limit));
     }
 }
 
@@ -195,6 +252,12 @@ pub(crate) fn add_core_systems<V: Vector>(sim: &mut Sim<V>) {
     );
     sim.add_system(StepSet::Advance, "advance_clock", advance_clock);
     crate::diagnostics::add_diagnostics_system(sim);
+    sim.world.insert_resource(TimeStepCheck::default());
+    sim.add_system(
+        StepSet::Diagnostics,
+        "check_time_step (fixed dt vs CFL)",
+        check_time_step::<V>,
+    );
 }
 
 /// Adds the internal-energy equation once: `InternalEnergy` and `EnergyRate` components on

@@ -162,6 +162,16 @@ fn settings(s: &Scene) -> Check {
             viscous,
         } => {
             fraction("integrator.dt.courant", courant)?;
+            let limit = dualsph_core::integrator::CFL_LIMIT;
+            if courant > limit {
+                return Err(Problem::new(
+                    "integrator.dt.courant",
+                    format!(
+                        "{courant} is above the CFL limit {limit} (on the support radius h, = {} on the classical h/2)",
+                        2.0 * limit
+                    ),
+                ));
+            }
             fraction("integrator.dt.force", force)?;
             fraction("integrator.dt.viscous", viscous)?;
         }

@@ -23,6 +23,14 @@ pub struct TaitEos {
     /// Bulk modulus p0 (alternative to c0).
     #[serde(default)]
     pub p0: Option<Real>,
+    /// Pressure floor `p_min`: `p = max(p0((ρ/ρ0)^γ − 1), p_min)`. None (the default) keeps
+    /// the tension Eq. 7.5 gives. `Some(0.0)` is the usual choice for free-surface flows with
+    /// walls that truncate the kernel (specular walls, Eq. 7.7): there the truncated support
+    /// reads as tension, which clumps particles (the tensile instability). The floor acts
+    /// on `p` only, inside every pair term, so the pair forces stay antisymmetric and the
+    /// energy equation uses the same `p`: conservation is unchanged.
+    #[serde(default)]
+    pub min_pressure: Option<Real>,
 }
 
 /// Ideal gas (Eq. 7.3): `p = (γ − 1) ρ ε`, `c = sqrt(γ p / ρ)`.
@@ -46,6 +54,8 @@ pub enum Eos {
         p0: Real,
         /// c0.
         c0: Real,
+        /// Pressure floor (−∞ for none).
+        p_min: Real,
     },
     /// Ideal gas with γ.
     Ideal {
@@ -64,9 +74,11 @@ impl Eos {
                 gamma,
                 p0,
                 c0,
+                p_min,
             } => {
                 let x = rho / rho0;
-                (p0 * (pow(x, gamma) - 1.0), c0 * pow(x, 0.5 * (gamma - 1.0)))
+                let p = p0 * (pow(x, gamma) - 1.0);
+                (p.max(p_min), c0 * pow(x, 0.5 * (gamma - 1.0)))
             }
             Eos::Ideal { gamma } => {
                 let p = (gamma - 1.0) * rho * eps;
@@ -140,6 +152,13 @@ impl SimPlugin for TaitEos {
     fn validate(&self, _info: &SceneInfo) -> Result<(), String> {
         positive("rho0", self.rho0)?;
         positive("gamma", self.gamma)?;
+        if let Some(p) = self.min_pressure
+            && !(p.is_finite() && p <= 0.0)
+        {
+            return Err(format!(
+                "min_pressure: must be finite and ≤ 0 (a floor on tension), got {p}"
+            ));
+        }
         match (self.c0, self.p0) {
             (Some(c), None) => positive("c0", c),
             (None, Some(p)) => positive("p0", p),
@@ -160,6 +179,7 @@ impl SimPlugin for TaitEos {
                 gamma: self.gamma,
                 p0,
                 c0,
+                p_min: self.min_pressure.unwrap_or(Real::NEG_INFINITY),
             },
             "tait_eos (Eq. 7.5)",
         )
@@ -198,13 +218,37 @@ mod tests {
             gamma: 7.0,
             p0: 100.0f64.powi(2) * 1000.0 / 7.0,
             c0: 100.0,
+            p_min: Real::NEG_INFINITY,
         };
         assert_eq!(e.eval(1000.0, 0.0), (0.0, 100.0));
+        assert!(e.eval(990.0, 0.0).0 < 0.0);
         // c² = dp/dρ, checked by a central difference
         let (d, rho) = (1e-4, 1010.0);
         let dp = (e.eval(rho + d, 0.0).0 - e.eval(rho - d, 0.0).0) / (2.0 * d);
         let c = e.eval(rho, 0.0).1;
         assert!((dp - c * c).abs() < 1e-6 * c * c);
+    }
+
+    #[test]
+    fn tait_floor_cuts_tension_only() {
+        let (p0, c0) = (100.0f64.powi(2) * 1000.0 / 7.0, 100.0);
+        let free = Eos::Tait {
+            rho0: 1000.0,
+            gamma: 7.0,
+            p0,
+            c0,
+            p_min: Real::NEG_INFINITY,
+        };
+        let floored = Eos::Tait {
+            rho0: 1000.0,
+            gamma: 7.0,
+            p0,
+            c0,
+            p_min: 0.0,
+        };
+        assert_eq!(floored.eval(990.0, 0.0).0, 0.0);
+        assert_eq!(floored.eval(990.0, 0.0).1, free.eval(990.0, 0.0).1);
+        assert_eq!(floored.eval(1010.0, 0.0), free.eval(1010.0, 0.0));
     }
 
     #[test]
