@@ -35,7 +35,7 @@ pub mod plugins {
     pub use dualsph_gravity::Gravity;
     pub use dualsph_heat::HeatConduction;
     pub use dualsph_kernel_correction::KernelCorrection;
-    pub use dualsph_pressure::PressureForce;
+    pub use dualsph_pressure::{ArtificialStress, PressureForce};
     pub use dualsph_probes::{Probe, Probes, Quantity};
     pub use dualsph_smoothing_length::SmoothingLengthUpdate;
     pub use dualsph_viscosity::{ArtificialViscosity, NewtonianViscosity, PhysicalViscosity};
@@ -51,6 +51,7 @@ pub fn default_registry() -> Registry {
         .register::<TaitEos>()
         .register::<IdealGas>()
         .register::<PressureForce>()
+        .register::<ArtificialStress>()
         .register::<ArtificialViscosity>()
         .register::<PhysicalViscosity>()
         .register::<NewtonianViscosity>()

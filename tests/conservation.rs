@@ -205,3 +205,47 @@ fn equal_h_formulations_agree_to_round_off() {
         );
     }
 }
+
+#[test]
+fn artificial_stress_keeps_dual_support_conservation_exact() {
+    fn case<V: Vector>(side: usize, stress: bool) -> Vec<(Real, V, V, V, Real)> {
+        // ρ within ±2 % of ρ0: about half the particles are under tension (p < 0)
+        let particles = cloud::<V>(side, 1.5, 12.0, 7);
+        let (eos, pf, cont) = (
+            tait(),
+            PressureForce {},
+            ContinuityDensity {
+                form: ContinuityForm::Pairwise,
+            },
+        );
+        let st = ArtificialStress {
+            epsilon: 0.2,
+            exponent: 4,
+        };
+        let mut plugins: Vec<&dyn PluginConfig> = vec![&cont, &eos, &pf];
+        if stress {
+            plugins.push(&st);
+        }
+        let mut sim = sim_with::<V>(&particles, Formulation::DualSupport, &plugins);
+        rates(&mut sim)
+    }
+    let (with, without) = (case::<DVec2>(24, true), case::<DVec2>(24, false));
+    let changed = with
+        .iter()
+        .zip(&without)
+        .filter(|(a, b)| a.3 != b.3)
+        .count();
+    assert!(
+        changed > with.len() / 4,
+        "the term acted on only {changed} particles"
+    );
+    for (dim, (p, l, e)) in [
+        (2, imbalances(&with)),
+        (3, imbalances(&case::<DVec3>(9, true))),
+    ] {
+        println!("{dim}-D artificial stress: momentum {p:.2e}, angular {l:.2e}, energy {e:.2e}");
+        assert!(p <= 1e-12, "{dim}-D momentum imbalance {p:e}");
+        assert!(l <= 1e-12, "{dim}-D angular momentum imbalance {l:e}");
+        assert!(e <= 1e-12, "{dim}-D energy imbalance {e:e}");
+    }
+}

@@ -41,8 +41,13 @@ pub fn cases(opts: &ReportOptions) -> Result<Vec<CaseSpec>, ReportError> {
 
 /// Grades a run at its end time against the exact solution.
 pub fn grade(run: CaseRun) -> SodCase {
+    grade_against(run, &exact())
+}
+
+/// Grades a run at its end time against the exact solution `r` of its Riemann problem
+/// (membrane at x = 0), by volume-weighted L1 errors over [−WINDOW, WINDOW].
+pub fn grade_against(run: CaseRun, r: &Riemann) -> SodCase {
     let t = run.final_diagnostics().t;
-    let r = exact();
     let inside: Vec<_> = run
         .last
         .iter()

@@ -8,6 +8,9 @@
 //! consistent with `dε = p/ρ² dρ`.) With the kernel correction active, `1/ρ_i²` becomes
 //! `1/(ρ_iρ_j)` and `∇_iW_ij` becomes `L_i ∇_iW_ij` (§5.2), which keeps angular momentum exact.
 
+mod artificial_stress;
+pub use artificial_stress::{ArtificialStress, ArtificialStressTerm};
+
 use dualsph_core::integrator::ensure_energy_equation;
 use dualsph_core::prelude::*;
 use serde::Deserialize;
