@@ -7,6 +7,7 @@
 //! This crate is the facade: it re-exports the engine ([`core`]), scenes ([`scene`]) and
 //! output ([`io`]), registers the built-in plugins ([`default_registry`]), builds a [`Sim`]
 //! from a scene ([`build_sim`]) and runs it headless ([`runner`]).
+#![warn(missing_docs)]
 
 pub mod gridded;
 pub mod perf;
