@@ -39,6 +39,7 @@ pub mod plugins {
     pub use dualsph_pressure::PressureForce;
     pub use dualsph_probes::{Probe, Probes, Quantity};
     pub use dualsph_smoothing_length::SmoothingLengthUpdate;
+    pub use dualsph_surface_tension::SurfaceTension;
     pub use dualsph_viscosity::{ArtificialViscosity, NewtonianViscosity, PhysicalViscosity};
     pub use dualsph_walls::SpecularWalls;
 }
@@ -60,7 +61,8 @@ pub fn default_registry() -> Registry {
         .register::<SmoothingLengthUpdate>()
         .register::<Gravity>()
         .register::<SpecularWalls>()
-        .register::<Probes>();
+        .register::<Probes>()
+        .register::<SurfaceTension>();
     r
 }
 
