@@ -163,7 +163,7 @@ fn min_ratio(sim: &mut Sim<DVec2>, t_end: Real) -> (Real, Real) {
     let mut best = (axis_ratio(sim), 0.0);
     while sim.clock().t < t_end {
         sim.step().expect("step");
-        if sim.clock().step % 20 == 0 {
+        if sim.clock().step.is_multiple_of(20) {
             let r = axis_ratio(sim);
             if r < best.0 {
                 best = (r, sim.clock().t);

@@ -152,7 +152,7 @@ pub fn run_scene(scene: &Scene, every: u64) -> Result<ThreeDRun, SimError> {
         sim.step()?;
         crate::runner::check(&sim)?;
         let step = sim.clock().step;
-        if step % every.max(1) == 0 {
+        if step.is_multiple_of(every.max(1)) {
             run.diagnostics.push(sim.diagnostics());
             run.front.push((sim.clock().t, largest_x(&mut sim)));
             let (f, t) = pair_imbalance(&mut sim);
