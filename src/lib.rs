@@ -7,6 +7,7 @@
 //! This crate is the facade: it re-exports the engine ([`core`]), scenes ([`scene`]) and
 //! output ([`io`]), registers the built-in plugins ([`default_registry`]), builds a [`Sim`]
 //! from a scene ([`build_sim`]) and runs it headless ([`runner`]).
+#![warn(missing_docs)]
 
 pub mod gridded;
 pub mod perf;
@@ -38,6 +39,7 @@ pub mod plugins {
     pub use dualsph_pressure::{ArtificialStress, PressureForce};
     pub use dualsph_probes::{Probe, Probes, Quantity};
     pub use dualsph_smoothing_length::SmoothingLengthUpdate;
+    pub use dualsph_surface_tension::SurfaceTension;
     pub use dualsph_viscosity::{ArtificialViscosity, NewtonianViscosity, PhysicalViscosity};
     pub use dualsph_walls::SpecularWalls;
 }
@@ -60,7 +62,8 @@ pub fn default_registry() -> Registry {
         .register::<SmoothingLengthUpdate>()
         .register::<Gravity>()
         .register::<SpecularWalls>()
-        .register::<Probes>();
+        .register::<Probes>()
+        .register::<SurfaceTension>();
     r
 }
 

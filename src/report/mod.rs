@@ -12,6 +12,7 @@ pub mod heat;
 mod markdown;
 pub mod sod;
 pub mod speed_error;
+pub mod three_d;
 
 pub use case::{CaseRun, CaseSpec, Recording, coarsen, run_case};
 pub use markdown::Table;
@@ -152,6 +153,8 @@ pub enum Benchmark {
     DamBreak,
     /// Sod, drop and dam break at three resolutions: error against CPU seconds.
     SpeedError,
+    /// The 3-D drop and dam break (dimension genericity).
+    ThreeD,
 }
 
 impl Benchmark {
@@ -171,6 +174,7 @@ impl Benchmark {
             Benchmark::Drop => drop::run(opts)?.0,
             Benchmark::DamBreak => dam_break::run(opts)?.0,
             Benchmark::SpeedError => speed_error::run(opts)?.0,
+            Benchmark::ThreeD => three_d::run(opts)?.0,
         })
     }
 }

@@ -4,6 +4,7 @@
 //! Notation follows Ren, Dai, Zhuang & Rabczuk, *Dual-support SPH* (paper 001 in
 //! `shared/papers`): `h_i` is the support radius of particle i, `H_i` its support and `H'_i`
 //! its dual-support.
+#![warn(missing_docs)]
 pub mod components;
 pub mod diagnostics;
 pub mod integrator;

@@ -25,6 +25,7 @@
 //!
 //! Reals are written with the shortest decimal text that parses back to the
 //! identical `f64`, so CSV round trips are bit-exact.
+#![warn(missing_docs)]
 
 mod atomic;
 mod csv_out;

@@ -5,6 +5,7 @@
 //! ([`ContourPlot`]). Text is drawn with the DejaVu Sans font embedded through the
 //! `dejavu` crate, so no system font is needed. Every PNG is rendered into memory and written
 //! with [`dualsph_io::write_atomic`], so a plot file is never left half written.
+#![warn(missing_docs)]
 
 mod chart;
 mod font;

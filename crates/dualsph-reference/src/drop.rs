@@ -30,6 +30,49 @@ pub fn semi_axes(a0_rate: f64, t: f64) -> (f64, f64) {
     (s[0], 1.0 / s[0])
 }
 
+/// Stretch factors `F_k(t)` (semi-axes `a_k = R F_k`) of a free, incompressible, inviscid
+/// ellipse (2 entries) or ellipsoid (3) whose initial velocity is `v_k = rates[k]·x_k`
+/// (`Σ rates = 0`), e.g. `[−A₀, A₀, 0]` for the 3-D analogue of the drop.
+///
+/// With `x_k = F_k X_k` the pressure `p = P(t)(1 − Σ x_k²/a_k²)` accelerates every axis alike,
+/// `F_k F_k'' = λ(t) = 2P/(ρR²)`; incompressibility `Π F_k = 1` (so `Σ F_k'/F_k = 0`, and its
+/// derivative) fixes `λ = Σ (F_k'/F_k)² / Σ F_k⁻²`. In 2-D this is Eq. 7.6 ([`semi_axes`]).
+/// Integrated with classical fourth-order Runge–Kutta.
+pub fn linear_drop_axes(rates: &[f64], t: f64) -> Vec<f64> {
+    let d = rates.len();
+    let scale = rates.iter().fold(0.0f64, |m, r| m.max(r.abs()));
+    let n = ((t.abs() * scale * 2.0e4).ceil() as usize).max(1000);
+    let dt = t / n as f64;
+    // state: F_0..F_{d-1}, F'_0..F'_{d-1}
+    let rhs = |s: &[f64]| -> Vec<f64> {
+        let (f, fd) = s.split_at(d);
+        let num: f64 = (0..d).map(|k| (fd[k] / f[k]).powi(2)).sum();
+        let den: f64 = f.iter().map(|x| x.powi(-2)).sum();
+        let lambda = num / den;
+        fd.iter()
+            .copied()
+            .chain(f.iter().map(|x| lambda / x))
+            .collect()
+    };
+    let mut s: Vec<f64> = std::iter::repeat_n(1.0, d)
+        .chain(rates.iter().copied())
+        .collect();
+    let axpy = |s: &[f64], k: &[f64], h: f64| -> Vec<f64> {
+        s.iter().zip(k).map(|(a, b)| a + h * b).collect()
+    };
+    for _ in 0..n {
+        let k1 = rhs(&s);
+        let k2 = rhs(&axpy(&s, &k1, 0.5 * dt));
+        let k3 = rhs(&axpy(&s, &k2, 0.5 * dt));
+        let k4 = rhs(&axpy(&s, &k3, dt));
+        for k in 0..2 * d {
+            s[k] += dt / 6.0 * (k1[k] + 2.0 * k2[k] + 2.0 * k3[k] + k4[k]);
+        }
+    }
+    s.truncate(d);
+    s
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -49,5 +92,21 @@ mod tests {
         let (a, b) = semi_axes(100.0, 1e-4);
         assert!((b - (0.01f64).exp()).abs() < 1e-6);
         assert!((a * b - 1.0).abs() < 1e-15);
+    }
+
+    #[test]
+    fn general_form_reduces_to_eq_7_6_in_2d_and_keeps_volume_in_3d() {
+        for t in [0.002, 0.005, 0.008] {
+            let (a, b) = semi_axes(100.0, t);
+            let f = linear_drop_axes(&[-100.0, 100.0], t);
+            assert!(
+                (f[0] - a).abs() < 1e-9 && (f[1] - b).abs() < 1e-9,
+                "{t}: {f:?}"
+            );
+            let g = linear_drop_axes(&[-100.0, 100.0, 0.0], t);
+            assert!((g[0] * g[1] * g[2] - 1.0).abs() < 1e-9, "{g:?}");
+            // The pressure that slows the strain (F_k'' = λ/F_k > 0) also pushes z outward.
+            assert!(g[2] > 1.0 && g[1] > 1.0 && g[0] < 1.0, "{g:?}");
+        }
     }
 }

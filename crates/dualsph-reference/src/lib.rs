@@ -4,9 +4,10 @@
 //!
 //! * [`riemann`]: the exact solution of the Riemann problem for an ideal gas (Sod tube, §7.2);
 //! * [`heat`]: the erf profile of 1-D heat conduction between two half-bars (Eq. 7.1);
-//! * [`drop`]: the ODE of the free elliptical drop's semi-axes (Eq. 7.6);
+//! * [`mod@drop`]: the ODE of the free elliptical drop's semi-axes (Eq. 7.6);
 //! * [`dam_break`]: the experimental water-front positions of Koshizuka & Oka (1996);
 //! * [`norms`]: the error norms and interpolation used by the reports.
+#![warn(missing_docs)]
 
 pub mod dam_break;
 pub mod drop;

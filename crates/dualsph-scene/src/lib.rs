@@ -38,6 +38,7 @@
 //! own `validate`; more than [`MAX_PARTICLES`] particles (estimated before generating); a
 //! generator that yields no particles; a particle outside the domain; two generators whose
 //! particles come closer than half the smaller spacing.
+#![warn(missing_docs)]
 
 mod error;
 mod generate;

@@ -1,6 +1,7 @@
 //! Density plugins: `SummationDensity()` (Eq. 4.8) and
 //! `ContinuityDensity(form: Pairwise | VelocityDivergence)` (Eq. 4.9, or `−ρ ∇·v` with the
 //! velocity gradient of Eq. 7.4 as in the paper's water drop, §7.3).
+#![warn(missing_docs)]
 
 use dualsph_core::passes;
 use dualsph_core::prelude::*;

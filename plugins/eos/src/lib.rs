@@ -1,6 +1,7 @@
 //! Equations of state: `TaitEos(rho0, gamma, c0 | p0)` (Eq. 7.5) and `IdealGas(gamma)`
 //! (Eq. 7.3). Each adds `Pressure` and `SoundSpeed` to the particles and fills the dense
 //! arrays used by the pair sweep.
+#![warn(missing_docs)]
 
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::integrator::ensure_energy_equation;

@@ -1,5 +1,6 @@
 //! `Gravity(g: [gx, gy])`: a uniform body force `b = g` (Eq. 4.2) and its potential energy
 //! `φ(x) = −g·x`, so that the diagnostics' total energy includes `Σ m φ`.
+#![warn(missing_docs)]
 
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::diagnostics::ExternalPotentials;

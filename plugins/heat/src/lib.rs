@@ -3,6 +3,7 @@
 //! `Q_ij = m_i m_j κ_i/(ρ_iρ_j) · (r_ij·∇_iW_ij)/(r_ij² + η²) · (T_i − T_j)`, `η = 0.1 h_i`,
 //! is computed once; i gains `Q_ij` and j loses it, so `Σ m ε` is conserved to round-off for
 //! any h field. With equal h the two supports add up to the classical `(κ_i + κ_j)` form.
+#![warn(missing_docs)]
 
 use dualsph_core::integrator::ensure_energy_equation;
 use dualsph_core::prelude::*;

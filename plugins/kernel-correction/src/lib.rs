@@ -2,6 +2,7 @@
 //! by the pair sweep to every term's `grad` and by the velocity gradient. With the correction
 //! the pressure and stress terms use `1/(ρ_iρ_j)` so that angular momentum is conserved
 //! exactly (§5.2).
+#![warn(missing_docs)]
 
 use dualsph_core::passes;
 use dualsph_core::prelude::*;

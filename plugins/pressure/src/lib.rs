@@ -7,6 +7,7 @@
 //! equation (4.9). (Eq. 4.20 splits this work ½/½ instead; that also balances but is not
 //! consistent with `dε = p/ρ² dρ`.) With the kernel correction active, `1/ρ_i²` becomes
 //! `1/(ρ_iρ_j)` and `∇_iW_ij` becomes `L_i ∇_iW_ij` (§5.2), which keeps angular momentum exact.
+#![warn(missing_docs)]
 
 mod artificial_stress;
 pub use artificial_stress::{ArtificialStress, ArtificialStressTerm};

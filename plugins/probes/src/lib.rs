@@ -35,6 +35,7 @@
 //! Both are rewritten whole and atomically at every sample ([`dualsph_io::write_atomic_with`],
 //! like `diagnostics.csv`), so they are complete, parseable tables at any moment.
 //! [`plot_probes`] turns them into PNG charts.
+#![warn(missing_docs)]
 
 mod plot;
 

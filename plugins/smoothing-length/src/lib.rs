@@ -1,5 +1,6 @@
 //! `SmoothingLengthUpdate(every: m, n: n)`: every m steps `h_i = n (m_i/ρ_i)^{1/d}` (Eq. 6.1).
 //! The neighbour lists are marked for rebuild after an update.
+#![warn(missing_docs)]
 
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::neighbours::Neighbours;

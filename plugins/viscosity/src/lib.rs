@@ -10,6 +10,7 @@
 //!   general dual form Eq. 4.13 with `1/(ρ_iρ_j)` (§5.2): `f_ij = m_i m_j/(ρ_iρ_j) τ_i·∇̃_iW_ij`
 //!   on i, `−f_ij` on j; its work goes to i (Eq. 4.15). With the kernel correction, the stress
 //!   being symmetric, angular momentum is conserved exactly.
+#![warn(missing_docs)]
 
 use dualsph_core::integrator::ensure_energy_equation;
 use dualsph_core::passes::ensure_velocity_gradient;

@@ -4,6 +4,7 @@
 //! its own with the reflected velocity. (Mirroring the position instead would lift it in a
 //! gravity field and inject potential energy at every bounce.) Reflection leaves |v|
 //! unchanged, so the kinetic energy — and the total energy — are untouched.
+#![warn(missing_docs)]
 
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::prelude::*;
