@@ -90,6 +90,7 @@ fn drop_sim(
             gamma: 7.0,
             c0: Some(100.0),
             p0: None,
+            min_pressure: None,
         },
         &PressureForce {},
         &ArtificialViscosity {
