@@ -1,9 +1,15 @@
-//! `SpecularWalls()`: the faces of the domain box reflect particles specularly (Eq. 7.7):
-//! `v' = v − 2 (v·n) n` if `v·n < 0`, with n the inward normal, for a particle on or beyond a
-//! face. Positions are not moved: a particle that overshot a face by `|v|Δt` comes back on
-//! its own with the reflected velocity. (Mirroring the position instead would lift it in a
-//! gravity field and inject potential energy at every bounce.) Reflection leaves |v|
-//! unchanged, so the kinetic energy — and the total energy — are untouched.
+//! `SpecularWalls(clearance: κ)`: the faces of the domain box reflect particles specularly
+//! (Eq. 7.7): `v' = v − 2 (v·n) n` if `v·n < 0`, with n the inward normal, for a particle
+//! closer to a face than `κ h_i` (its own support radius; κ = 0, the default, means on or
+//! beyond the face). Reflection leaves |v| unchanged, so the kinetic energy — and the total
+//! energy — are untouched. A particle found beyond a face (it overshot by `|v|Δt`) is also
+//! mirrored back inside, which lifts it by at most `2|v|Δt`.
+//!
+//! With κ = 0 particles come to rest on the face itself, inside each other's kernels at
+//! a fraction of the spacing, under the tension the truncated support gives there; in the
+//! dam break that wall layer is where the tensile instability starts (docs/validation).
+//! κ = 0.25 keeps them off the face by half a spacing (h = 2Δx), where the initial lattice
+//! puts the first layer.
 #![warn(missing_docs)]
 
 use dualsph_core::bevy_ecs::prelude::*;
@@ -13,25 +19,40 @@ use serde::Deserialize;
 /// Specular reflection on the domain box.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct SpecularWalls {}
+pub struct SpecularWalls {
+    /// κ: a particle closer to a face than `κ h_i` and approaching it is reflected.
+    #[serde(default)]
+    pub clearance: Real,
+}
+
+/// κ as a resource.
+#[derive(Resource, Clone, Copy, Debug)]
+pub struct WallClearance(pub Real);
 
 /// Reflects positions and velocities at the domain faces.
 #[inline(never)] // a frame of its own in profiles
 pub fn reflect<V: Vector>(
     domain: Res<Domain<V>>,
-    mut q: Query<(&mut Position<V>, &mut Velocity<V>)>,
+    clearance: Res<WallClearance>,
+    mut q: Query<(&mut Position<V>, &mut Velocity<V>, &SmoothingLength)>,
 ) {
     let (lo, hi) = (domain.min, domain.max);
-    q.par_iter_mut().for_each(|(mut r, mut v)| {
+    let kappa = clearance.0;
+    q.par_iter_mut().for_each(|(mut r, mut v, h)| {
+        let gap = kappa * h.0;
         for k in 0..V::DIM {
             let (x, u) = (r.0.get(k), v.0.get(k));
-            if x <= lo.get(k) {
-                r.0.set(k, (2.0 * lo.get(k) - x).min(hi.get(k)));
+            if x <= lo.get(k) + gap {
+                if x < lo.get(k) {
+                    r.0.set(k, (2.0 * lo.get(k) - x).min(hi.get(k)));
+                }
                 if u < 0.0 {
                     v.0.set(k, -u);
                 }
-            } else if x >= hi.get(k) {
-                r.0.set(k, (2.0 * hi.get(k) - x).max(lo.get(k)));
+            } else if x >= hi.get(k) - gap {
+                if x > hi.get(k) {
+                    r.0.set(k, (2.0 * hi.get(k) - x).max(lo.get(k)));
+                }
                 if u > 0.0 {
                     v.0.set(k, -u);
                 }
@@ -44,7 +65,18 @@ impl SimPlugin for SpecularWalls {
     const NAME: &'static str = "SpecularWalls";
     const SUMMARY: &'static str = "specular reflection on the domain box (Eq. 7.7)";
 
+    fn validate(&self, _info: &SceneInfo) -> Result<(), String> {
+        if !(self.clearance.is_finite() && (0.0..=0.5).contains(&self.clearance)) {
+            return Err(format!(
+                "clearance: must lie in [0, 0.5] (a fraction of h), got {}",
+                self.clearance
+            ));
+        }
+        Ok(())
+    }
+
     fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
+        sim.world.insert_resource(WallClearance(self.clearance));
         sim.add_system(StepSet::Boundary, "specular_walls (Eq. 7.7)", reflect::<V>);
         Ok(())
     }
