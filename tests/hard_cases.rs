@@ -125,3 +125,38 @@ fn strong_shock_tube_with_pressure_ratio_1e5_is_stable_conservative_and_accurate
     assert!(dp < 1e-12, "momentum {dp:e}");
     assert!(graded.l1[0] < 0.02, "density L1 {}", graded.l1[0]);
 }
+
+#[test]
+fn dam_break_runs_to_eight_seconds_through_the_sloshing() {
+    use dualsph::report::{CaseSpec, Recording, ReportOptions};
+    let opts = ReportOptions {
+        scenes: Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/hard"),
+        out: std::env::temp_dir(),
+        coarsen: 1.0,
+        end_time: None,
+        log: false,
+    };
+    let scene = opts.scene("dam_break_8s.ron").unwrap();
+    let rec = Recording {
+        every: 50,
+        ..Default::default()
+    };
+    let run = opts.run(&CaseSpec::new("8 s", scene, None), &rec).unwrap();
+    assert!(run.failure.is_none(), "{:?}", run.failure);
+    assert!((run.final_diagnostics().t - 8.0).abs() < 1e-12);
+    let e0 = run.diagnostics[0].e_tot;
+    let drift = |until: f64| {
+        run.diagnostics
+            .iter()
+            .filter(|d| d.t <= until)
+            .map(|d| (d.e_tot / e0 - 1.0).abs())
+            .fold(0.0, f64::max)
+    };
+    let (to_paper, to_end) = (drift(2.5), drift(8.0));
+    println!("dam break to 8 s: |ΔE/E| ≤ {to_paper:.4} to 2.5 s, {to_end:.4} to 8 s");
+    assert!(to_paper <= 0.04, "energy varies by {to_paper} before 2.5 s");
+    // the walls keep every particle in the tank
+    for p in &run.last {
+        assert!(p.pos[0] >= 0.0 && p.pos[0] <= 4.0 && p.pos[1] >= 0.0 && p.pos[1] <= 3.0);
+    }
+}
