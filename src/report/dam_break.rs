@@ -217,7 +217,7 @@ pub fn run(opts: &ReportOptions) -> Result<(Section, Vec<DamBreakCase>), ReportE
     let t_end = graded[1].run.final_diagnostics().t;
     let mut body = format!(
         "Tank 4 m long, water column 1 m × 2 m, g = 9.81, Tait (ρ0 = 1000, c0 = 100, γ = 7), cubic spline, specular \
-         walls (Eq. 7.7), artificial viscosity α = β = 1, continuity density (Eq. 4.9), staggered start at rest, \
+         walls (Eq. 7.7, reflecting particles that approach a wall within h/4: see `docs/validation/hard_cases.md`), artificial viscosity α = β = 1, continuity density (Eq. 4.9), staggered start at rest, \
          h = 2Δx, h-update every 200 steps, t = {t_end:.2} s. Cases I and II: Δx = 0.025 m in the upper 1.5 m and \
          0.0125 m in the lower 0.5 m (scene `dam_break_2d.ron`; Case I with `SingleSupport`); Case III: uniform \
          Δx = 0.0125 m, constant h (`dam_break_2d_uniform.ron`). The front is the largest x of any particle centre, \
