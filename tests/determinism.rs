@@ -35,7 +35,11 @@ fn run_steps(threads: usize) -> Vec<(Real, DVec2, DVec2, DVec2, Real)> {
             ContinuityDensity {
                 form: ContinuityForm::Pairwise,
             },
-            SmoothingLengthUpdate { every: 5, n: 2.0 },
+            SmoothingLengthUpdate {
+                every: 5,
+                n: 2.0,
+                max_ratio: None,
+            },
         );
         let mut sim = sim_with::<DVec2>(
             &particles,

@@ -160,3 +160,66 @@ fn dam_break_runs_to_eight_seconds_through_the_sloshing() {
         assert!(p.pos[0] >= 0.0 && p.pos[0] <= 4.0 && p.pos[1] >= 0.0 && p.pos[1] <= 3.0);
     }
 }
+
+mod drops {
+    use dualsph::report::{CaseSpec, Recording, ReportOptions, drop};
+    use std::path::PathBuf;
+
+    /// Runs a scenes/hard drop in-process and grades it against the ODE (Eq. 7.6).
+    fn graded(file: &str) -> drop::DropCase {
+        let opts = ReportOptions {
+            scenes: PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes/hard"),
+            out: std::env::temp_dir(),
+            coarsen: 1.0,
+            end_time: None,
+            log: false,
+        };
+        let scene = opts.scene(file).unwrap();
+        let end = scene.end_time;
+        let rec = Recording {
+            every: 10,
+            ..Default::default()
+        };
+        let run = opts.run(&CaseSpec::new(file, scene, None), &rec).unwrap();
+        assert!(run.failure.is_none(), "{file}: {:?}", run.failure);
+        assert!((run.final_diagnostics().t - end).abs() < 1e-12);
+        let case = drop::grade(run);
+        println!(
+            "{file}: b = {:.5} (ODE {:.5}, {:+.2} %), a = {:.5} (ODE {:.5}); drifts P {:.1e} L {:.1e} E {:.1e}",
+            case.axes.1,
+            case.ode.1,
+            100.0 * (case.axes.1 / case.ode.1 - 1.0),
+            case.axes.0,
+            case.ode.0,
+            case.momentum_drift,
+            case.angular_momentum_drift,
+            case.energy_drift
+        );
+        case
+    }
+
+    fn assert_pass(case: &drop::DropCase, b_tolerance: f64) {
+        assert!(
+            case.momentum_drift <= 1e-12,
+            "momentum drift {:e}",
+            case.momentum_drift
+        );
+        assert!(
+            case.angular_momentum_drift <= 1e-12,
+            "angular momentum drift {:e}",
+            case.angular_momentum_drift
+        );
+        let err = (case.axes.1 / case.ode.1 - 1.0).abs();
+        assert!(
+            err <= b_tolerance,
+            "b = {} vs ODE {}",
+            case.axes.1,
+            case.ode.1
+        );
+    }
+
+    #[test]
+    fn drop_with_a_one_to_four_support_jump_conserves_and_follows_the_ode() {
+        assert_pass(&graded("drop_support_jump_1to4.ron"), 0.02);
+    }
+}

@@ -15,6 +15,16 @@ pub struct SmoothingLengthUpdate {
     pub every: u64,
     /// h in units of the particle size (paper: 1.5 to 3).
     pub n: Real,
+    /// Largest ratio `h_j/h_i` allowed between a particle i and a neighbour j whose support
+    /// holds it (`|r_ij| < h_j`): after Eq. 6.1, `h_i ← max(h_i, max_j h_j/R)`. None (the
+    /// default) applies Eq. 6.1 alone. Where the particle spacing jumps by more than R (a
+    /// 1:4 or 1:8 refinement interface), the small particles next to the interface would
+    /// otherwise see no large particle inside their own support — the coarse spacing exceeds
+    /// their h — and their own-support sums (density, kernel correction, velocity gradient)
+    /// would be those of a free surface inside the fluid. Any h field keeps the dual-support
+    /// sweep's exact conservation.
+    #[serde(default)]
+    pub max_ratio: Option<Real>,
 }
 
 /// Settings as a resource.
@@ -24,6 +34,8 @@ pub struct HUpdate {
     pub every: u64,
     /// Factor.
     pub n: Real,
+    /// See [`SmoothingLengthUpdate::max_ratio`].
+    pub max_ratio: Option<Real>,
 }
 
 /// Applies Eq. 6.1 when `step % every == 0`.
@@ -32,16 +44,57 @@ pub fn update_h<V: Vector>(
     clock: Res<SimClock>,
     set: Res<HUpdate>,
     mut nb: ResMut<Neighbours<V>>,
-    mut q: Query<(&Mass, &Density, &mut SmoothingLength)>,
+    mut q: Query<(
+        &ParticleId,
+        &Mass,
+        &Density,
+        &Position<V>,
+        &mut SmoothingLength,
+    )>,
 ) {
     if clock.step == 0 || !clock.step.is_multiple_of(set.every) {
         return;
     }
     let inv_d = 1.0 / V::DIM as Real;
-    for (m, rho, mut h) in &mut q {
-        h.0 = set.n * (m.0 / rho.0).powf(inv_d);
+    let Some(ratio) = set.max_ratio else {
+        for (_, m, rho, _, mut h) in &mut q {
+            h.0 = set.n * (m.0 / rho.0).powf(inv_d);
+        }
+        nb.dirty = true;
+        return;
+    };
+    let n = q.iter().len();
+    let (mut h_new, mut pos) = (vec![0.0; n], vec![V::zero(); n]);
+    for (id, m, rho, r, _) in &q {
+        h_new[id.0 as usize] = set.n * (m.0 / rho.0).powf(inv_d);
+        pos[id.0 as usize] = r.0;
+    }
+    let limited = limit_ratio(&h_new, &pos, &nb, ratio);
+    for (id, _, _, _, mut h) in &mut q {
+        h.0 = limited[id.0 as usize];
     }
     nb.dirty = true;
+}
+
+/// `h_i ← max(h_i, max_j h_j/R)` over the j whose candidate support lists hold i (the dual
+/// lists of the last build) and whose support really does (`|r_ij| < h_j`). One pass over
+/// the old h, so the result does not depend on the order of the particles.
+pub fn limit_ratio<V: Vector>(h: &[Real], pos: &[V], nb: &Neighbours<V>, ratio: Real) -> Vec<Real> {
+    if nb.dual.rows() != h.len() {
+        return h.to_vec();
+    }
+    (0..h.len())
+        .map(|i| {
+            nb.dual.row(i).iter().fold(h[i], |hi, &j| {
+                let j = j as usize;
+                if (pos[i] - pos[j]).length_squared() < h[j] * h[j] {
+                    hi.max(h[j] / ratio)
+                } else {
+                    hi
+                }
+            })
+        })
+        .collect()
 }
 
 impl SimPlugin for SmoothingLengthUpdate {
@@ -55,6 +108,11 @@ impl SimPlugin for SmoothingLengthUpdate {
         if !(self.n.is_finite() && self.n > 0.0) {
             return Err(format!("n: must be positive, got {}", self.n));
         }
+        if let Some(r) = self.max_ratio
+            && !(r.is_finite() && r >= 1.0)
+        {
+            return Err(format!("max_ratio: must be at least 1, got {r}"));
+        }
         Ok(())
     }
 
@@ -67,6 +125,7 @@ impl SimPlugin for SmoothingLengthUpdate {
         sim.world.insert_resource(HUpdate {
             every: self.every,
             n: self.n,
+            max_ratio: self.max_ratio,
         });
         sim.add_system(
             StepSet::SmoothingLength,
@@ -77,5 +136,23 @@ impl SimPlugin for SmoothingLengthUpdate {
             update_h::<V>,
         );
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ratio_limiter_lifts_only_particles_inside_a_larger_support() {
+        // j: h = 1 at 0; i: h = 0.1 at 0.5 (inside j's support); k: h = 0.1 at 1.5 (outside)
+        let pos = [Vec1(0.0), Vec1(0.5), Vec1(1.5)];
+        let h = [1.0, 0.1, 0.1];
+        let mut nb = Neighbours::<Vec1>::new(0.1);
+        nb.rebuild(&pos, &h);
+        let limited = limit_ratio(&h, &pos, &nb, 2.0);
+        assert_eq!(limited, vec![1.0, 0.5, 0.1]);
+        // a ratio already within the bound changes nothing
+        assert_eq!(limit_ratio(&h, &pos, &nb, 20.0), h.to_vec());
     }
 }
