@@ -8,6 +8,7 @@
 //! output ([`io`]), registers the built-in plugins ([`default_registry`]), builds a [`Sim`]
 //! from a scene ([`build_sim`]) and runs it headless ([`runner`]).
 
+pub mod checkpoint;
 pub mod gridded;
 pub mod perf;
 pub mod report;
