@@ -81,7 +81,7 @@ enum Command {
         #[arg(long)]
         end_time: Option<f64>,
     },
-    /// Parse and validate a scene without running it.
+    /// Parse and validate a scene and build its simulation (plugin requirements), without running it.
     Check {
         /// The scene file (.ron).
         scene: PathBuf,
@@ -205,8 +205,11 @@ fn main() -> ExitCode {
             }
             Ok(())
         }),
-        Command::Check { scene } => load(&scene).map(|s| {
+        Command::Check { scene } => load(&scene).and_then(|s| {
+            // building the simulation also checks what plugins require of each other
+            runner::plan(&s).map_err(|e| format!("{}: {e}", scene.display()))?;
             println!("{}: ok ({}-D, {} particles, {} plugins)", scene.display(), s.dimension, s.generate().len(), s.plugins.len());
+            Ok(())
         }),
         Command::Plan { scene } => load(&scene).and_then(|s| {
             let plan = runner::plan(&s).map_err(|e| format!("{}: {e}", scene.display()))?;
