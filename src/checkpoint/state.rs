@@ -176,32 +176,25 @@ fn restore_one<V: Vector, C: Stored<V>>(
     Ok(())
 }
 
+/// Calls `$f::<V, C>(args)` for every stored component type `C` (each followed by `$q`, e.g. `?`).
 macro_rules! for_each_component {
-    ($f:ident, $v:ty, $($args:expr),*) => {{
-        $f::<$v, Position<$v>>($($args),*)?;
-        $f::<$v, Velocity<$v>>($($args),*)?;
-        $f::<$v, Acceleration<$v>>($($args),*)?;
-        $f::<$v, Kinematics<$v>>($($args),*)?;
-        $f::<$v, Mass>($($args),*)?;
-        $f::<$v, Density>($($args),*)?;
-        $f::<$v, SmoothingLength>($($args),*)?;
-        $f::<$v, Pressure>($($args),*)?;
-        $f::<$v, SoundSpeed>($($args),*)?;
-        $f::<$v, InternalEnergy>($($args),*)?;
-        $f::<$v, EnergyRate>($($args),*)?;
-        $f::<$v, DensityRate>($($args),*)?;
-        $f::<$v, Conductivity>($($args),*)?;
-        $f::<$v, GradientCorrection<$v>>($($args),*)?;
-        $f::<$v, VelocityGradient<$v>>($($args),*)?;
+    ($f:ident, $v:ty, [$($args:expr),*] $($q:tt)?) => {{
+        $f::<$v, Position<$v>>($($args),*)$($q)?;
+        $f::<$v, Velocity<$v>>($($args),*)$($q)?;
+        $f::<$v, Acceleration<$v>>($($args),*)$($q)?;
+        $f::<$v, Kinematics<$v>>($($args),*)$($q)?;
+        $f::<$v, Mass>($($args),*)$($q)?;
+        $f::<$v, Density>($($args),*)$($q)?;
+        $f::<$v, SmoothingLength>($($args),*)$($q)?;
+        $f::<$v, Pressure>($($args),*)$($q)?;
+        $f::<$v, SoundSpeed>($($args),*)$($q)?;
+        $f::<$v, InternalEnergy>($($args),*)$($q)?;
+        $f::<$v, EnergyRate>($($args),*)$($q)?;
+        $f::<$v, DensityRate>($($args),*)$($q)?;
+        $f::<$v, Conductivity>($($args),*)$($q)?;
+        $f::<$v, GradientCorrection<$v>>($($args),*)$($q)?;
+        $f::<$v, VelocityGradient<$v>>($($args),*)$($q)?;
     }};
-}
-
-fn capture_ok<V: Vector, C: Stored<V>>(
-    world: &mut World,
-    out: &mut Vec<ComponentData>,
-) -> Result<(), std::convert::Infallible> {
-    capture_one::<V, C>(world, out);
-    Ok(())
 }
 
 fn diagnostics_values(d: &Diagnostics) -> Vec<f64> {
@@ -252,9 +245,7 @@ pub fn capture<V: Vector>(
     let n = sim.particle_count();
     let mut components = Vec::new();
     let world = &mut sim.world;
-    let done: Result<(), std::convert::Infallible> =
-        (|| Ok(for_each_component!(capture_ok, V, world, &mut components)))();
-    let _ = done;
+    for_each_component!(capture_one, V, [world, &mut components]);
     let nb = world.resource::<Neighbours<V>>();
     let mut build_positions = Vec::with_capacity(nb.build_positions.len() * V::DIM);
     for p in &nb.build_positions {
@@ -383,7 +374,7 @@ pub fn restore<V: Vector>(sim: &mut Sim<V>, c: &Checkpoint) -> Result<(), String
         (Some(cols), Some(rows)) if rows.iter().all(|r| r.2.len() == cols) => {}
         _ => return Err("its probe samples do not match the scene's probes".into()),
     }
-    for_each_component!(restore_one, V, world, &c.components, n);
+    for_each_component!(restore_one, V, [world, &c.components, n]?);
     restore_neighbours(&mut world.resource_mut::<Neighbours<V>>(), &c.neighbours, n)?;
     world.resource_mut::<InitialDensity>().0 = c.initial_density.clone();
     if let (Some(mut p), Some(rows)) = (world.get_resource_mut::<ProbeState<V>>(), &c.probe_rows) {
