@@ -375,6 +375,23 @@ fn damaged_or_foreign_checkpoints_are_refused_clearly() {
         std::fs::write(&p, bytes).unwrap();
         check(&p, &scene_path("drop_coarse.ron"), want);
     }
+    // well-formed files (valid checksum) whose content does not fit the scene
+    let ck = Checkpoint::read(&tmp.path().join(checkpoint_file_name(20))).unwrap();
+    let mut lists = ck.clone();
+    lists.neighbours.support_indices[0] = 1_000_000;
+    let mut short = ck.clone();
+    short.components[0].values.pop();
+    let mut missing = ck.clone();
+    missing.components.retain(|c| c.name != "VelocityGradient");
+    for (name, c, want) in [
+        ("lists", lists, "support lists are inconsistent"),
+        ("short", short, "Position data has"),
+        ("no_vgrad", missing, "no VelocityGradient data"),
+    ] {
+        let p = tmp.path().join(format!("{name}.ckpt"));
+        c.write(&p).unwrap();
+        check(&p, &scene_path("drop_coarse.ron"), want);
+    }
     // a sound checkpoint of another scene
     let p = tmp.path().join(checkpoint_file_name(20));
     check(

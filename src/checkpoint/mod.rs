@@ -262,3 +262,78 @@ pub fn checkpoint_file_name(step: u64) -> String {
 
 /// File stem of the last good state written when a run blows up.
 pub const LAST_GOOD_STEM: &str = "last_good";
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sample() -> Checkpoint {
+        let awkward = vec![
+            0.1,
+            -0.0,
+            f64::MIN_POSITIVE / 3.0, // subnormal
+            f64::MAX,
+            f64::from_bits(0x7ff8_dead_beef_0001), // a NaN with a payload
+            f64::NEG_INFINITY,
+        ];
+        Checkpoint {
+            scene_name: "s".into(),
+            fingerprint: 42,
+            dimension: 2,
+            particles: 3,
+            t: 0.1 + 0.2,
+            step: 7,
+            dt: 1e-300,
+            components: vec![ComponentData {
+                name: "Position".into(),
+                width: 2,
+                values: awkward.clone(),
+            }],
+            neighbours: NeighbourData {
+                skin: 0.15,
+                support_offsets: vec![0, 1, 2, 2],
+                support_indices: vec![1, 0],
+                dual_offsets: vec![0, 1, 2, 2],
+                dual_indices: vec![1, 0],
+                dual_slot: vec![1, 0],
+                build_positions: awkward.clone(),
+                h_min: 0.3,
+                dirty: true,
+                builds: 9,
+            },
+            initial_density: vec![1000.0; 3],
+            probe_rows: Some(vec![(5, 0.5, awkward)]),
+            last_diagnostics_step: 6,
+            initial_diagnostics: vec![1.0; 15],
+        }
+    }
+
+    #[test]
+    fn reals_round_trip_bit_for_bit() {
+        let c = sample();
+        let back = Checkpoint::from_bytes(&c.to_bytes(), Path::new("x")).unwrap();
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(
+            bits(&back.components[0].values),
+            bits(&c.components[0].values)
+        );
+        assert_eq!(back.to_bytes(), c.to_bytes());
+        assert_eq!(back.t.to_bits(), c.t.to_bits());
+    }
+
+    #[test]
+    fn every_truncation_and_every_flipped_byte_is_an_error_not_a_panic() {
+        let bytes = sample().to_bytes();
+        for n in 0..bytes.len() {
+            assert!(Checkpoint::from_bytes(&bytes[..n], Path::new("x")).is_err());
+        }
+        for k in 0..bytes.len() {
+            let mut b = bytes.clone();
+            b[k] ^= 0x01;
+            assert!(
+                Checkpoint::from_bytes(&b, Path::new("x")).is_err(),
+                "byte {k} flipped"
+            );
+        }
+    }
+}
