@@ -1,6 +1,7 @@
 //! Headless runs: step a scene to its end time, writing diagnostics and snapshots.
 
 mod keeper;
+pub mod memory;
 
 pub use keeper::{DEFAULT_KEEP_EVERY, KEEP_CHECKPOINTS, RestartOptions};
 
@@ -172,6 +173,8 @@ pub fn run_dim_with<V: Vector>(
     opts: &RunOptions,
     restart: &RestartOptions,
 ) -> Result<RunSummary, RunError> {
+    let n = scene.generate().len();
+    memory::check_memory(scene.dimension, n, memory::memory_available())?;
     let mut sim = build_sim::<V>(scene)?;
     sim.world.insert_resource(RunOutputDir(opts.out.clone()));
     if let Some(limit) = scene.max_steps {
@@ -303,6 +306,11 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunSummary, RunError> {
 
 /// The plan of a scene in its own dimension.
 pub fn plan(scene: &Scene) -> Result<dualsph_core::sim::Plan, SimError> {
+    memory::check_memory(
+        scene.dimension,
+        scene.generate().len(),
+        memory::memory_available(),
+    )?;
     with_dimension!(scene.dimension, V => {
         let mut sim = build_sim::<V>(scene)?;
         Ok(sim.plan())
