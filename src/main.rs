@@ -150,8 +150,23 @@ fn grid_command(
     Ok(())
 }
 
+/// Reads, parses and validates a scene; the particle cap is also what fits in the machine's
+/// memory, checked from the estimate before any particle is generated.
 fn load(path: &std::path::Path) -> Result<Scene, String> {
-    Scene::load(path, &dualsph::default_registry()).map_err(|e| e.to_string())
+    let text = std::fs::read_to_string(path).map_err(|source| {
+        dualsph::scene::SceneError::Io {
+            path: path.to_path_buf(),
+            source,
+        }
+        .to_string()
+    })?;
+    let s =
+        Scene::parse_only(&text, path, &dualsph::default_registry()).map_err(|e| e.to_string())?;
+    let (limit, why) =
+        runner::memory::particle_limit(s.dimension, runner::memory::memory_available());
+    s.validate_with_limit(path, limit, &why)
+        .map_err(|e| e.to_string())?;
+    Ok(s)
 }
 
 fn main() -> ExitCode {

@@ -24,6 +24,23 @@ pub fn memory_available() -> Option<u64> {
     Some(kib.saturating_mul(1024))
 }
 
+/// The most particles of a `dim`-dimensional scene that fit in `available` bytes, and the
+/// reason to print with it (`usize::MAX` and "" when the memory is unknown).
+pub fn particle_limit(dim: usize, available: Option<u64>) -> (usize, String) {
+    match available {
+        Some(have) => {
+            let per = BYTES_PER_PARTICLE[dim.clamp(1, 3)];
+            let n = usize::try_from(have / per).unwrap_or(usize::MAX);
+            let why = format!(
+                " (what fits in the {:.1} GB of memory available at ~{per} bytes per particle)",
+                have as f64 / 1e9
+            );
+            (n, why)
+        }
+        None => (usize::MAX, String::new()),
+    }
+}
+
 /// An error when `n` particles in `dim` dimensions need more than `available` bytes.
 pub fn check_memory(dim: usize, n: usize, available: Option<u64>) -> Result<(), SimError> {
     let need = memory_needed(dim, n);
@@ -51,5 +68,7 @@ mod tests {
         assert!(e.to_string().contains("46.0 GB"), "{e}");
         assert!(check_memory(2, usize::MAX, None).is_ok());
         assert_eq!(memory_needed(2, usize::MAX), u64::MAX);
+        assert_eq!(particle_limit(3, Some(4_600_000)).0, 1000);
+        assert_eq!(particle_limit(3, None).0, usize::MAX);
     }
 }

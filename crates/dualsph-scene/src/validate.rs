@@ -187,8 +187,16 @@ fn settings(s: &Scene) -> Check {
     Ok(())
 }
 
+/// A cap on the particle count: the number and why it is what it is (empty for the fixed
+/// [`MAX_PARTICLES`]; e.g. " (the memory available for a run)" for a machine-derived cap).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Limit<'a> {
+    pub max: usize,
+    pub why: &'a str,
+}
+
 /// The particle-count guard, evaluated before anything is generated.
-fn count_guard(s: &Scene) -> Check {
+fn count_guard(s: &Scene, limit: Limit) -> Check {
     let d = s.dimension;
     let counts: Vec<f64> = s
         .particles
@@ -196,7 +204,8 @@ fn count_guard(s: &Scene) -> Check {
         .map(|g| generate::estimate_count(g, d))
         .collect();
     let total: f64 = counts.iter().sum();
-    if total <= MAX_PARTICLES as f64 {
+    let max = limit.max.min(MAX_PARTICLES);
+    if total <= max as f64 {
         return Ok(());
     }
     let (worst, n) = counts.iter().enumerate().fold(
@@ -207,7 +216,8 @@ fn count_guard(s: &Scene) -> Check {
         "particles",
         format!(
             "the generators would create about {total:.3e} particles, more than the limit of \
-             {MAX_PARTICLES}; the largest is particles[{worst}] with about {n:.3e} (increase its spacing)"
+             {max}{}; the largest is particles[{worst}] with about {n:.3e} (increase its spacing)",
+            if max < MAX_PARTICLES { limit.why } else { "" }
         ),
     ))
 }
@@ -365,9 +375,9 @@ fn overlaps(s: &Scene, pos: &[Vec<[f64; 3]>]) -> Check {
 }
 
 /// Runs every check in order and returns the first problem.
-pub(crate) fn validate(s: &Scene) -> Check {
+pub(crate) fn validate(s: &Scene, limit: Limit) -> Check {
     settings(s)?;
-    count_guard(s)?;
+    count_guard(s, limit)?;
     let d = s.dimension;
     let pos: Vec<Vec<[f64; 3]>> = s
         .particles
