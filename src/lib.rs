@@ -9,6 +9,7 @@
 //! from a scene ([`build_sim`]) and runs it headless ([`runner`]).
 #![warn(missing_docs)]
 
+pub mod checkpoint;
 pub mod gridded;
 pub mod perf;
 pub mod report;
@@ -143,8 +144,12 @@ pub fn build_sim<V: Vector>(scene: &Scene) -> Result<Sim<V>, SimError> {
         clock.t_end = scene.end_time;
     }
     for p in &scene.plugins {
-        p.build_into(&mut sim)
-            .map_err(|e| SimError::Build(format!("plugin {}: {e}", p.name())))?;
+        p.build_into(&mut sim).map_err(|e| {
+            let why = match e {
+                SimError::Build(m) | SimError::BlowUp(m) => m,
+            };
+            SimError::Build(format!("plugin {}: {why}", p.name()))
+        })?;
     }
     sim.finish()?;
     Ok(sim)

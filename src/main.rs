@@ -2,7 +2,7 @@
 
 use clap::{Parser, Subcommand};
 use dualsph::report::{Benchmark, ReportOptions};
-use dualsph::runner::{self, Progress, RunOptions};
+use dualsph::runner::{self, Progress, RestartOptions, RunOptions};
 use dualsph::scene::{Formulation, Scene};
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -54,6 +54,14 @@ enum Command {
         /// Replace the scene's formulation (e.g. SingleSupport to rerun a paper's Case I).
         #[arg(long, value_enum)]
         formulation: Option<FormulationArg>,
+        /// Write the complete state to OUT/checkpoint_NNNNNN.ckpt every N steps (atomically;
+        /// the last three are kept).
+        #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
+        checkpoint_every: Option<u64>,
+        /// Continue from a checkpoint of the same scene; the result is bitwise identical to an
+        /// uninterrupted run.
+        #[arg(long, value_name = "CHECKPOINT")]
+        resume: Option<PathBuf>,
     },
     /// Run the paper's benchmarks, grade them against their references, write report.md + PNGs.
     Report {
@@ -73,7 +81,7 @@ enum Command {
         #[arg(long)]
         end_time: Option<f64>,
     },
-    /// Parse and validate a scene without running it.
+    /// Parse and validate a scene and build its simulation (plugin requirements), without running it.
     Check {
         /// The scene file (.ron).
         scene: PathBuf,
@@ -142,8 +150,23 @@ fn grid_command(
     Ok(())
 }
 
+/// Reads, parses and validates a scene; the particle cap is also what fits in the machine's
+/// memory, checked from the estimate before any particle is generated.
 fn load(path: &std::path::Path) -> Result<Scene, String> {
-    Scene::load(path, &dualsph::default_registry()).map_err(|e| e.to_string())
+    let text = std::fs::read_to_string(path).map_err(|source| {
+        dualsph::scene::SceneError::Io {
+            path: path.to_path_buf(),
+            source,
+        }
+        .to_string()
+    })?;
+    let s =
+        Scene::parse_only(&text, path, &dualsph::default_registry()).map_err(|e| e.to_string())?;
+    let (limit, why) =
+        runner::memory::particle_limit(s.dimension, runner::memory::memory_available());
+    s.validate_with_limit(path, limit, &why)
+        .map_err(|e| e.to_string())?;
+    Ok(s)
 }
 
 fn main() -> ExitCode {
@@ -158,7 +181,7 @@ fn main() -> ExitCode {
                 .map(|path| println!("report written: {}", path.display()))
                 .map_err(|e| e.to_string())
         }
-        Command::Run { scene, out, quiet, formulation } => load(&scene).and_then(|mut s| {
+        Command::Run { scene, out, quiet, formulation, checkpoint_every, resume } => load(&scene).and_then(|mut s| {
             if let Some(f) = formulation {
                 s.formulation = f.into();
             }
@@ -171,7 +194,12 @@ fn main() -> ExitCode {
             };
             let out = out.unwrap_or_else(|| runner::default_out_dir(&scene));
             eprintln!("dualsph: running {} ({}-D, {} particles generated) → {}", scene.display(), s.dimension, s.generate().len(), out.display());
-            let summary = runner::run(&s, &RunOptions { out: out.clone(), progress }).map_err(|e| format!("{}: {e}", scene.display()))?;
+            if let Some(ck) = &resume {
+                eprintln!("dualsph: resuming from {}", ck.display());
+            }
+            let restart = RestartOptions { checkpoint_every, resume };
+            let summary = runner::run_with(&s, &RunOptions { out: out.clone(), progress }, &restart)
+                .map_err(|e| format!("{}: {e}", scene.display()))?;
             println!(
                 "done: {} particles, {} steps to t = {:.6} s in {:.2} s wall ({:.3e} particle-steps/s); output in {}",
                 summary.particles,
@@ -192,8 +220,11 @@ fn main() -> ExitCode {
             }
             Ok(())
         }),
-        Command::Check { scene } => load(&scene).map(|s| {
+        Command::Check { scene } => load(&scene).and_then(|s| {
+            // building the simulation also checks what plugins require of each other
+            runner::plan(&s).map_err(|e| format!("{}: {e}", scene.display()))?;
             println!("{}: ok ({}-D, {} particles, {} plugins)", scene.display(), s.dimension, s.generate().len(), s.plugins.len());
+            Ok(())
         }),
         Command::Plan { scene } => load(&scene).and_then(|s| {
             let plan = runner::plan(&s).map_err(|e| format!("{}: {e}", scene.display()))?;

@@ -1,11 +1,18 @@
 //! Headless runs: step a scene to its end time, writing diagnostics and snapshots.
 
+mod keeper;
+pub mod memory;
+
+pub use keeper::{DEFAULT_KEEP_EVERY, KEEP_CHECKPOINTS, RestartOptions};
+
+use crate::checkpoint::{self, Checkpoint, CheckpointError};
 use crate::{build_sim, with_dimension};
 use dualsph_core::diagnostics::{Diagnostics, Health};
 use dualsph_core::integrator::{CFL_LIMIT, TimeStepCheck};
 use dualsph_core::prelude::*;
 use dualsph_io::{DiagnosticsRow, OutputDir, ParticleRecord};
 use dualsph_scene::Scene;
+use keeper::Keeper;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -60,6 +67,18 @@ pub enum RunError {
     /// Output failed.
     #[error(transparent)]
     Output(#[from] dualsph_io::OutputError),
+    /// A checkpoint could not be read, written or used.
+    #[error(transparent)]
+    Checkpoint(#[from] CheckpointError),
+    /// The state became unphysical; `message` names the step, time, particle, quantity and
+    /// likely cause, and where the last good state was written.
+    #[error("blow-up: {message}")]
+    BlowUp {
+        /// What happened and what was written.
+        message: String,
+        /// Checkpoint of the last good state, if one could be written.
+        last_good: Option<PathBuf>,
+    },
 }
 
 /// The particles as output records, in id order.
@@ -113,14 +132,30 @@ fn diag_row(d: &Diagnostics) -> DiagnosticsRow {
     }
 }
 
+/// The usual cause of an unphysical `quantity` (as named by [`Health`]).
+pub fn likely_cause(quantity: &str) -> &'static str {
+    match quantity {
+        dualsph_core::diagnostics::OUTSIDE_DOMAIN => {
+            "a particle thrown out of the domain: a dt above the CFL limit, or a missing wall (SpecularWalls)"
+        }
+        "density" | "smoothing length" => {
+            "a dt above the CFL limit, or particles left with too few neighbours"
+        }
+        _ => "a dt above the CFL limit or too few neighbours",
+    }
+}
+
 /// The first unphysical value of the state (from [`Health`]) as a blow-up error naming the
 /// step, time, particle, quantity and the usual cause.
 pub(crate) fn check<V: Vector>(sim: &Sim<V>) -> Result<(), SimError> {
     if let Some((id, what, value)) = sim.world.resource::<Health>().problem {
         let c = sim.clock();
         return Err(SimError::BlowUp(format!(
-            "step {}, t = {:.6e}: particle {id} has {what} = {value:e} (dt = {:.3e}; a dt above the CFL limit or too few neighbours is the usual cause)",
-            c.step, c.t, c.dt
+            "step {}, t = {:.6e}: particle {id} has {what} = {value:e} (dt = {:.3e}; likely cause: {})",
+            c.step,
+            c.t,
+            c.dt,
+            likely_cause(what)
         )));
     }
     if let Some((id, dt, limit)) = sim.world.resource::<TimeStepCheck>().violation {
@@ -133,26 +168,58 @@ pub(crate) fn check<V: Vector>(sim: &Sim<V>) -> Result<(), SimError> {
     Ok(())
 }
 
-/// Builds and runs a scene of dimension `V::DIM`.
+/// Builds and runs a scene of dimension `V::DIM` (no checkpoints, no resume).
 pub fn run_dim<V: Vector>(scene: &Scene, opts: &RunOptions) -> Result<RunSummary, RunError> {
+    run_dim_with::<V>(scene, opts, &RestartOptions::default())
+}
+
+/// Builds and runs a scene of dimension `V::DIM`, writing checkpoints and resuming as `restart`
+/// says. On a blow-up the last good state is written to the output directory
+/// ([`RunError::BlowUp`]).
+pub fn run_dim_with<V: Vector>(
+    scene: &Scene,
+    opts: &RunOptions,
+    restart: &RestartOptions,
+) -> Result<RunSummary, RunError> {
+    let n = scene.generate().len();
+    memory::check_memory(scene.dimension, n, memory::memory_available())?;
     let mut sim = build_sim::<V>(scene)?;
     sim.world.insert_resource(RunOutputDir(opts.out.clone()));
     if let Some(limit) = scene.max_steps {
         sim.world.insert_resource(StepLimit(limit));
     }
-    sim.initialize()?;
-    check(&sim)?;
-    let mut out = OutputDir::create(
-        &opts.out,
-        EXTRA_COLUMNS.iter().map(|s| s.to_string()).collect(),
-    )?;
-    let initial = sim.diagnostics();
-    out.push_diagnostics(diag_row(&initial))?;
+    let extra: Vec<String> = EXTRA_COLUMNS.iter().map(|s| s.to_string()).collect();
     let snap_every = scene.output.snapshot_every;
+    let (mut out, initial, mut last_written) = match &restart.resume {
+        None => {
+            sim.initialize()?;
+            check(&sim)?;
+            let mut out = OutputDir::create(&opts.out, extra)?;
+            let initial = sim.diagnostics();
+            out.push_diagnostics(diag_row(&initial))?;
+            if snap_every > 0 {
+                out.write_snapshot(0, 0.0, &particle_records(&mut sim))?;
+            }
+            (out, initial, 0)
+        }
+        Some(path) => {
+            let ck = Checkpoint::read(path)?;
+            ck.check_scene(scene, path)?;
+            checkpoint::restore(&mut sim, &ck).map_err(|why| CheckpointError::Mismatch {
+                path: path.clone(),
+                why,
+            })?;
+            let out = OutputDir::reopen(&opts.out, extra, ck.step)?;
+            (
+                out,
+                checkpoint::initial_diagnostics(&ck),
+                ck.last_diagnostics_step,
+            )
+        }
+    };
+    let mut keeper = Keeper::new(scene, restart, &opts.out);
+    keeper.keep(&mut sim, &initial, last_written);
     let diag_every = scene.output.diagnostics_every.max(1);
-    if snap_every > 0 {
-        out.write_snapshot(0, 0.0, &particle_records(&mut sim))?;
-    }
     let n = sim.particle_count() as u64;
     let end = scene.end_time;
     let max_steps = scene.max_steps.unwrap_or(u64::MAX);
@@ -165,11 +232,16 @@ pub fn run_dim<V: Vector>(scene: &Scene, opts: &RunOptions) -> Result<RunSummary
         b
     });
     let started = Instant::now();
+    let steps_before = sim.clock().step;
     let mut last_log = Instant::now();
-    let mut last_written = 0;
     while sim.clock().t < end * (1.0 - 1e-12) && sim.clock().step < max_steps {
         sim.step()?;
-        check(&sim)?;
+        if let Err(e) = check(&sim) {
+            if let Some(b) = &bar {
+                b.finish_and_clear();
+            }
+            return Err(keeper.blow_up(&mut sim, &out, e));
+        }
         let c = sim.clock();
         if c.step % diag_every == 0 {
             out.push_diagnostics(diag_row(&sim.diagnostics()))?;
@@ -178,6 +250,7 @@ pub fn run_dim<V: Vector>(scene: &Scene, opts: &RunOptions) -> Result<RunSummary
         if snap_every > 0 && c.step % snap_every == 0 {
             out.write_snapshot(c.step, c.t, &particle_records(&mut sim))?;
         }
+        keeper.after_step(&mut sim, &initial, last_written)?;
         let frac = (c.t / end).clamp(0.0, 1.0);
         match (&bar, opts.progress) {
             (Some(b), _) => {
@@ -213,15 +286,25 @@ pub fn run_dim<V: Vector>(scene: &Scene, opts: &RunOptions) -> Result<RunSummary
         out.write_snapshot(last.step, last.t, &records)?;
     }
     out.write_final(&records)?;
+    let stepped = last.step - steps_before;
     Ok(RunSummary {
         particles: n,
         steps: last.step,
         t: last.t,
         wall_seconds: wall,
-        particle_steps_per_second: (n * last.step) as f64 / wall.max(1e-9),
+        particle_steps_per_second: (n * stepped) as f64 / wall.max(1e-9),
         initial,
         last,
     })
+}
+
+/// Runs a scene in its own dimension, with checkpoints and resume as `restart` says.
+pub fn run_with(
+    scene: &Scene,
+    opts: &RunOptions,
+    restart: &RestartOptions,
+) -> Result<RunSummary, RunError> {
+    with_dimension!(scene.dimension, V => run_dim_with::<V>(scene, opts, restart))
 }
 
 /// Runs a scene in its own dimension.
@@ -231,6 +314,11 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunSummary, RunError> {
 
 /// The plan of a scene in its own dimension.
 pub fn plan(scene: &Scene) -> Result<dualsph_core::sim::Plan, SimError> {
+    memory::check_memory(
+        scene.dimension,
+        scene.generate().len(),
+        memory::memory_available(),
+    )?;
     with_dimension!(scene.dimension, V => {
         let mut sim = build_sim::<V>(scene)?;
         Ok(sim.plan())

@@ -4,7 +4,7 @@
 
 use crate::components::*;
 use crate::math::{Real, Vector};
-use crate::sim::{Sim, SimClock, StepSet};
+use crate::sim::{Domain, Sim, SimClock, StepSet};
 use bevy_ecs::prelude::*;
 use glam::DVec3;
 
@@ -145,10 +145,40 @@ pub struct Health {
     pub problem: Option<(u32, &'static str, Real)>,
 }
 
-/// Scans for non-finite positions/velocities and non-positive or non-finite density and h.
+/// How far a particle may stray outside the domain box before the run counts as blown up,
+/// as a fraction of the box's largest extent. Walls keep particles inside to round-off and a
+/// free surface (a drop, a gas expanding at a free end) moves far less than this within the
+/// scenes' end times (a scene whose free ends expand into vacuum, like the Sod tube, declares a
+/// domain that holds them), so a particle this far out has been thrown out by an instability.
+pub const DOMAIN_TOLERANCE: Real = 0.1;
+
+/// Quantity named by [`Health`] for a particle outside the domain; the value is the distance
+/// to the box.
+pub const OUTSIDE_DOMAIN: &str = "distance outside the domain";
+
+/// The distance from `x` to the box `[min, max]` (0 inside).
+fn distance_outside<V: Vector>(x: V, min: V, max: V) -> Real {
+    let mut d2 = 0.0;
+    for k in 0..V::DIM {
+        let (a, lo, hi) = (x.get(k), min.get(k), max.get(k));
+        let d = if a < lo {
+            lo - a
+        } else if a > hi {
+            a - hi
+        } else {
+            0.0
+        };
+        d2 += d * d;
+    }
+    d2.sqrt()
+}
+
+/// Scans for non-finite positions/velocities, non-positive or non-finite density and h, and
+/// particles farther than [`DOMAIN_TOLERANCE`] × the largest box extent outside the domain.
 #[inline(never)] // a frame of its own in profiles
 pub fn check_health<V: Vector>(
     mut health: ResMut<Health>,
+    domain: Res<Domain<V>>,
     q: Query<(
         &ParticleId,
         &Position<V>,
@@ -158,16 +188,25 @@ pub fn check_health<V: Vector>(
         Option<&InternalEnergy>,
     )>,
 ) {
+    let extent = (0..V::DIM)
+        .map(|k| domain.max.get(k) - domain.min.get(k))
+        .fold(0.0, Real::max);
+    let tol = DOMAIN_TOLERANCE * extent;
+    let (lo, hi) = (domain.min, domain.max);
     let mut worst: Option<(u32, &'static str, Real)> = None;
     for (id, r, v, rho, h, e) in &q {
         // fast path: one sum is finite iff every term is (or it overflowed: then look closer)
         let mut sum = rho.0 + h.0 + e.map_or(0.0, |e| e.0);
+        let mut inside = true;
         for k in 0..V::DIM {
-            sum += r.0.get(k) + v.0.get(k);
+            let x = r.0.get(k);
+            sum += x + v.0.get(k);
+            inside &= x >= lo.get(k) - tol && x <= hi.get(k) + tol;
         }
-        if sum.is_finite() && rho.0 > 0.0 && h.0 > 0.0 {
+        if sum.is_finite() && rho.0 > 0.0 && h.0 > 0.0 && inside {
             continue;
         }
+        let outside = distance_outside(r.0, lo, hi);
         let bad = if !r.0.is_finite() {
             Some(("position", r.0.length()))
         } else if !v.0.is_finite() {
@@ -178,6 +217,8 @@ pub fn check_health<V: Vector>(
             Some(("smoothing length", h.0))
         } else if e.is_some_and(|e| !e.0.is_finite()) {
             Some(("internal energy", e.map_or(0.0, |e| e.0)))
+        } else if outside > tol {
+            Some((OUTSIDE_DOMAIN, outside))
         } else {
             None
         };

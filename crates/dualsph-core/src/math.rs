@@ -119,6 +119,8 @@ pub trait Matrix<V>:
     fn try_inverse(self, tol: Real) -> Option<Self>;
     /// Entry (row k, column l).
     fn entry(self, k: usize, l: usize) -> Real;
+    /// Sets entry (row k, column l) to exactly `value` (checkpoint restore).
+    fn set_entry(&mut self, k: usize, l: usize, value: Real);
 }
 
 /// A one-dimensional vector.
@@ -241,6 +243,10 @@ impl Matrix<Vec1> for Mat1 {
     fn entry(self, _k: usize, _l: usize) -> Real {
         self.0
     }
+    #[inline]
+    fn set_entry(&mut self, _k: usize, _l: usize, value: Real) {
+        self.0 = value;
+    }
 }
 
 macro_rules! glam_vector {
@@ -313,6 +319,10 @@ macro_rules! glam_vector {
             #[inline]
             fn entry(self, k: usize, l: usize) -> Real {
                 self.col(l)[k]
+            }
+            #[inline]
+            fn set_entry(&mut self, k: usize, l: usize, value: Real) {
+                self.col_mut(l)[k] = value;
             }
         }
     };

@@ -220,6 +220,21 @@ impl OutputDir {
         res
     }
 
+    /// Write `DIR/<stem>.csv` and `DIR/<stem>.vtp` (the snapshot formats) atomically, without
+    /// indexing them (e.g. the last good state of a run that blew up).
+    pub fn write_particles_as(
+        &self,
+        stem: &str,
+        particles: &[ParticleRecord],
+    ) -> Result<(), OutputError> {
+        write_atomic_with(&self.path(&format!("{stem}.csv")), |w| {
+            write_particles(w, particles)
+        })?;
+        write_atomic_with(&self.path(&format!("{stem}.vtp")), |w| {
+            vtk::write_vtp(w, particles)
+        })
+    }
+
     /// Write `DIR/final.csv` with the same columns as the snapshot CSVs.
     pub fn write_final(&self, particles: &[ParticleRecord]) -> Result<(), OutputError> {
         write_atomic_with(&self.path(FINAL_FILE), |w| write_particles(w, particles))

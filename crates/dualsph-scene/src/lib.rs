@@ -133,7 +133,23 @@ impl Scene {
     /// every generator yields some, that all lie in the domain and that no two generators
     /// overlap (particles closer than half the smaller spacing).
     pub fn validate(&self, path: &Path) -> Result<(), SceneError> {
-        validate::validate(self).map_err(|p| p.into_error(path))
+        self.validate_with_limit(path, MAX_PARTICLES, "")
+    }
+
+    /// [`Scene::validate`] with a particle cap below [`MAX_PARTICLES`] (e.g. what fits in the
+    /// machine's memory), applied to the estimate before anything is generated; `why` is
+    /// appended to the limit in the message (e.g. `" (what fits in 20 GB of memory)"`).
+    pub fn validate_with_limit(
+        &self,
+        path: &Path,
+        max_particles: usize,
+        why: &str,
+    ) -> Result<(), SceneError> {
+        let limit = validate::Limit {
+            max: max_particles,
+            why,
+        };
+        validate::validate(self, limit).map_err(|p| p.into_error(path))
     }
 
     /// The scene's particles: generators in order, each one's lattice points in lexicographic

@@ -431,3 +431,27 @@ fn overlap_check_agrees_with_brute_force() {
         "both outcomes exercised: {seen:?}"
     );
 }
+
+/// Fuzzing found 112 side-by-side blocks taking minutes in the overlap check (every pair of
+/// generators was compared); pairs whose bounding boxes are apart are now skipped. This
+/// checks that the shortcut still finds an overlap between two generators in a long row and
+/// that a clean row passes.
+#[test]
+fn many_side_by_side_generators_overlap_check() {
+    let row: String = (0..150)
+        .map(|i| {
+            let x = 0.02 * i as f64;
+            format!(
+                "        Block(min: [{x}, 1.0], max: [{}, 1.04], spacing: 0.01, lattice: Square, density: 1.0, h_factor: 2.0),\n",
+                x + 0.02
+            )
+        })
+        .collect();
+    let clean = edit(&[("particles: [\n", &format!("particles: [\n{row}"))]);
+    load(&clean).unwrap();
+    let last = "        Block(min: [2.975, 1.0], max: [2.995, 1.04], spacing: 0.01, lattice: Square, density: 1.0, h_factor: 2.0),\n";
+    let bad = edit(&[("particles: [\n", &format!("particles: [\n{row}{last}"))]);
+    let (field, m) = invalid(&bad);
+    assert_eq!(field, "particles[150]", "{m}");
+    assert!(m.contains("overlaps particles[148]"), "{m}");
+}
