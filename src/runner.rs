@@ -161,7 +161,7 @@ pub(crate) fn check<V: Vector>(sim: &Sim<V>) -> Result<(), SimError> {
     if let Some((id, dt, limit)) = sim.world.resource::<TimeStepCheck>().violation {
         let c = sim.clock();
         return Err(SimError::BlowUp(format!(
-            "step {}, t = {:.6e}: the fixed dt = {dt:.3e} is above the CFL limit {limit:.3e} = {CFL_LIMIT} h/(c + |v|) of particle {id}; lower dt or use Adaptive",
+            "step {}, t = {:.6e}: the fixed dt = {dt:.3e} is above the CFL limit {limit:.3e} = {CFL_LIMIT} h/(c + |v|) of particle {id} (likely cause: dt above the CFL limit; lower dt or use Adaptive)",
             c.step, c.t
         )));
     }

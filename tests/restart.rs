@@ -240,7 +240,7 @@ fn killed_process_resumes_bitwise_identical() {
 }
 
 #[test]
-fn huge_fixed_dt_blows_up_and_writes_the_last_good_state() {
+fn fixed_dt_overtaken_by_the_cfl_limit_stops_and_writes_the_last_good_state() {
     let tmp = tempfile::tempdir().unwrap();
     let o = bin()
         .arg("run")
@@ -273,11 +273,13 @@ fn huge_fixed_dt_blows_up_and_writes_the_last_good_state() {
     let records = dualsph::io::read_particles_csv(&tmp.path().join("last_good.csv")).unwrap();
     assert_eq!(records.len() as u64, good.particles);
     assert!(tmp.path().join("last_good.vtp").exists());
-    // the last good state is sound: every position finite and inside the domain
+    // the last good state is sound and from mid-run: every position finite and in the tank
+    assert!(good.step > 0, "last good state at step {}", good.step);
     assert!(records.iter().all(|r| {
-        r.pos
-            .iter()
-            .all(|x| x.is_finite() && (0.0..=2.0).contains(x))
+        r.pos[0].is_finite()
+            && r.pos[1].is_finite()
+            && (0.0..=4.0).contains(&r.pos[0])
+            && (0.0..=3.0).contains(&r.pos[1])
     }));
 }
 
