@@ -59,7 +59,7 @@ fn every_optional_field_parses() {
         ),
         (
             "(dt: Fixed(1e-4))",
-            "(dt: Adaptive(courant: 0.3), max_dt: Some(1e-3))",
+            "(dt: Adaptive(courant: 0.2), max_dt: Some(1e-3))",
         ),
         (
             "end_time: 1.0,",
@@ -87,7 +87,7 @@ fn every_optional_field_parses() {
     assert_eq!(
         s.integrator.dt,
         TimeStep::Adaptive {
-            courant: 0.3,
+            courant: 0.2,
             force: 0.25,
             viscous: 0.125
         }

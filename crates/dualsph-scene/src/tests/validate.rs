@@ -242,9 +242,14 @@ fn integrator() {
         "integrator.max_dt",
         "> 0",
     );
+    rejects(
+        &[("Fixed(1e-4)", "Adaptive(courant: 0.3)")],
+        "integrator.dt.courant",
+        "above the CFL limit 0.25",
+    );
     let text = edit(&[(
         "Fixed(1e-4)",
-        "Adaptive(courant: 1.0, force: 1.0, viscous: 1.0)",
+        "Adaptive(courant: 0.25, force: 1.0, viscous: 1.0)",
     )]);
     load(&text).unwrap();
 }
