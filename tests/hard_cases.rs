@@ -38,6 +38,28 @@ fn number_after(text: &str, key: &str) -> f64 {
     rest[..end].parse().unwrap()
 }
 
+/// Runs `scenes/hard/FILE` in-process (diagnostics every `every` steps) and asserts that it
+/// reached t = `end` without a blow-up.
+fn run_in_process(file: &str, every: u64, end: f64) -> dualsph::report::CaseRun {
+    use dualsph::report::{CaseSpec, Recording, ReportOptions};
+    let opts = ReportOptions {
+        scenes: Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/hard"),
+        out: std::env::temp_dir(),
+        coarsen: 1.0,
+        end_time: None,
+        log: false,
+    };
+    let scene = opts.scene(file).unwrap();
+    let rec = Recording {
+        every,
+        ..Default::default()
+    };
+    let run = opts.run(&CaseSpec::new(file, scene, None), &rec).unwrap();
+    assert!(run.failure.is_none(), "{file}: {:?}", run.failure);
+    assert!((run.final_diagnostics().t - end).abs() < 1e-12);
+    run
+}
+
 #[test]
 fn fixed_dt_at_one_and_a_half_times_the_cfl_limit_is_refused_before_the_first_step() {
     // the reference limit from the scene's left state: 0.25 h/c with h = 2Δx, c = sqrt(γp/ρ)
@@ -79,26 +101,10 @@ fn fixed_dt_that_drifts_above_the_cfl_limit_is_stopped_mid_run() {
 
 #[test]
 fn strong_shock_tube_with_pressure_ratio_1e5_is_stable_conservative_and_accurate() {
-    use dualsph::report::{CaseSpec, Recording, ReportOptions, sod};
+    use dualsph::report::sod;
     use dualsph_reference::riemann::{GasState, Riemann};
-    let opts = ReportOptions {
-        scenes: Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/hard"),
-        out: std::env::temp_dir(),
-        coarsen: 1.0,
-        end_time: None,
-        log: false,
-    };
-    let scene = opts.scene("strong_shock_tube.ron").unwrap();
-    let rec = Recording {
-        every: 10,
-        ..Default::default()
-    };
-    let run = opts
-        .run(&CaseSpec::new("strong", scene, None), &rec)
-        .unwrap();
-    assert!(run.failure.is_none(), "{:?}", run.failure);
+    let run = run_in_process("strong_shock_tube.ron", 10, 0.15);
     let (d0, d1) = (run.diagnostics[0].clone(), run.final_diagnostics());
-    assert!((d1.t - 0.15).abs() < 1e-12);
     let de = (d1.e_tot / d0.e_tot - 1.0).abs();
     // no walls: the ends stay at rest, so total momentum stays 0 to round-off
     let dp = d1.momentum[0].abs() / d0.momentum_scale.max(d1.momentum_scale);
@@ -128,22 +134,7 @@ fn strong_shock_tube_with_pressure_ratio_1e5_is_stable_conservative_and_accurate
 
 #[test]
 fn dam_break_runs_to_eight_seconds_through_the_sloshing() {
-    use dualsph::report::{CaseSpec, Recording, ReportOptions};
-    let opts = ReportOptions {
-        scenes: Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/hard"),
-        out: std::env::temp_dir(),
-        coarsen: 1.0,
-        end_time: None,
-        log: false,
-    };
-    let scene = opts.scene("dam_break_8s.ron").unwrap();
-    let rec = Recording {
-        every: 50,
-        ..Default::default()
-    };
-    let run = opts.run(&CaseSpec::new("8 s", scene, None), &rec).unwrap();
-    assert!(run.failure.is_none(), "{:?}", run.failure);
-    assert!((run.final_diagnostics().t - 8.0).abs() < 1e-12);
+    let run = run_in_process("dam_break_8s.ron", 50, 8.0);
     let e0 = run.diagnostics[0].e_tot;
     let drift = |until: f64| {
         run.diagnostics
@@ -162,27 +153,11 @@ fn dam_break_runs_to_eight_seconds_through_the_sloshing() {
 }
 
 mod drops {
-    use dualsph::report::{CaseSpec, Recording, ReportOptions, drop};
-    use std::path::PathBuf;
+    use dualsph::report::drop;
 
     /// Runs a scenes/hard drop in-process and grades it against the ODE (Eq. 7.6).
     fn graded(file: &str) -> drop::DropCase {
-        let opts = ReportOptions {
-            scenes: PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes/hard"),
-            out: std::env::temp_dir(),
-            coarsen: 1.0,
-            end_time: None,
-            log: false,
-        };
-        let scene = opts.scene(file).unwrap();
-        let end = scene.end_time;
-        let rec = Recording {
-            every: 10,
-            ..Default::default()
-        };
-        let run = opts.run(&CaseSpec::new(file, scene, None), &rec).unwrap();
-        assert!(run.failure.is_none(), "{file}: {:?}", run.failure);
-        assert!((run.final_diagnostics().t - end).abs() < 1e-12);
+        let run = super::run_in_process(file, 10, 0.008);
         let case = drop::grade(run);
         println!(
             "{file}: b = {:.5} (ODE {:.5}, {:+.2} %), a = {:.5} (ODE {:.5}); drifts P {:.1e} L {:.1e} E {:.1e}",
