@@ -18,6 +18,7 @@
 //! `L_i ∇_iW`). Monaghan, J. J. (2000), SPH without a tensile instability, J. Comput. Phys.
 //! 159, 290–311 (reference [13] of paper 001).
 
+use crate::{neighbour_factor, owner_factor};
 use dualsph_core::integrator::ensure_energy_equation;
 use dualsph_core::prelude::*;
 use serde::Deserialize;
@@ -54,26 +55,11 @@ pub struct ArtificialStressTerm {
 }
 
 impl ArtificialStressTerm {
-    /// `m_i R_i` (or `m_i ρ_i R_i`-form `m_i ε|p_i|/ρ_i` with the kernel correction): zero
-    /// unless particle i is under tension.
+    /// `m_i R_i` in the pressure term's form ([`owner_factor`] with `s_i = ε max(−p_i, 0)`):
+    /// zero unless particle i is under tension.
     #[inline(always)]
     fn owner<V: Vector>(&self, f: &Fields<V>, i: usize) -> Real {
-        let tension = (-f.pressure[i]).max(0.0) * self.epsilon;
-        if f.correction.is_empty() {
-            f.mass[i] * tension / (f.rho[i] * f.rho[i])
-        } else {
-            f.mass[i] * tension / f.rho[i]
-        }
-    }
-
-    /// The neighbour's factor: `m_j`, or `m_j/ρ_j` with the kernel correction.
-    #[inline(always)]
-    fn other<V: Vector>(f: &Fields<V>, j: usize) -> Real {
-        if f.correction.is_empty() {
-            f.mass[j]
-        } else {
-            f.mass[j] / f.rho[j]
-        }
+        owner_factor(f, i, (-f.pressure[i]).max(0.0) * self.epsilon)
     }
 
     /// `W(Δp_i, h_i)` with `Δp_i = (m_i/ρ_i)^{1/d}`.
@@ -97,7 +83,7 @@ impl<V: Vector> PairTerm<V> for ArtificialStressTerm {
         }
         let kernel = OwnerKernel::new(&self.kernel, f.h[p.i]);
         let ratio = p.w * (1.0 / Self::w_spacing(f, p.i, &kernel));
-        let coef = owner * Self::other(f, p.j) * ratio.powi(self.exponent);
+        let coef = owner * neighbour_factor(f, p.j) * ratio.powi(self.exponent);
         out.force += p.grad * (-coef);
         out.power_i += coef * p.vij().dot(p.grad);
     }
@@ -113,7 +99,7 @@ impl<V: Vector> PairTerm<V> for ArtificialStressTerm {
         for (k, o) in out.iter_mut().enumerate() {
             let j = row.j[k] as usize;
             let ratio = row.w(k) * inv_w0;
-            let coef = owner * Self::other(f, j) * ratio.powi(self.exponent);
+            let coef = owner * neighbour_factor(f, j) * ratio.powi(self.exponent);
             let g = row.grad[k];
             o.force += g * (-coef);
             o.power_i += coef * (vi - f.vel[j]).dot(g);

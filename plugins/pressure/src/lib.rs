@@ -25,26 +25,39 @@ pub struct PressureForce {}
 #[derive(Debug, Clone, Copy)]
 pub struct PressureTerm;
 
+/// The owner's factor of a pressure-like pair coefficient for the stress `s_i` of particle i:
+/// `m_i s_i/ρ_i²`, or `m_i s_i/ρ_i` with the kernel correction (then the neighbour's factor,
+/// [`neighbour_factor`], is `m_j/ρ_j`, otherwise `m_j`; §5.2).
+#[inline(always)]
+pub(crate) fn owner_factor<V: Vector>(f: &Fields<V>, i: usize, s_i: Real) -> Real {
+    if f.correction.is_empty() {
+        f.mass[i] * s_i / (f.rho[i] * f.rho[i])
+    } else {
+        f.mass[i] * s_i / f.rho[i]
+    }
+}
+
+/// The neighbour's factor (see [`owner_factor`]).
+#[inline(always)]
+pub(crate) fn neighbour_factor<V: Vector>(f: &Fields<V>, j: usize) -> Real {
+    if f.correction.is_empty() {
+        f.mass[j]
+    } else {
+        f.mass[j] / f.rho[j]
+    }
+}
+
 impl PressureTerm {
-    /// The owner's factor of the pair coefficient: `m_i p_i/ρ_i²`, or `m_i p_i/ρ_i` with the
-    /// kernel correction (then the neighbour's factor is `m_j/ρ_j`, otherwise `m_j`).
+    /// The owner's factor: [`owner_factor`] with `s_i = p_i`.
     #[inline(always)]
     fn owner<V: Vector>(f: &Fields<V>, i: usize) -> Real {
-        if f.correction.is_empty() {
-            f.mass[i] * f.pressure[i] / (f.rho[i] * f.rho[i])
-        } else {
-            f.mass[i] * f.pressure[i] / f.rho[i]
-        }
+        owner_factor(f, i, f.pressure[i])
     }
 
-    /// The neighbour's factor (see [`PressureTerm::owner`]).
+    /// The neighbour's factor: [`neighbour_factor`].
     #[inline(always)]
     fn other<V: Vector>(f: &Fields<V>, j: usize) -> Real {
-        if f.correction.is_empty() {
-            f.mass[j]
-        } else {
-            f.mass[j] / f.rho[j]
-        }
+        neighbour_factor(f, j)
     }
 
     /// `f_ij = −c ∇̃_iW_ij` on i and `c v_ij·∇̃_iW_ij` to `m_i ε̇_i`, `c = owner · other`.
