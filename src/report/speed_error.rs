@@ -215,5 +215,77 @@ fn compare(points: &[Point], study: &Study) -> String {
         uni.cpu_seconds,
         uni.particles,
         var.cpu_seconds / uni.cpu_seconds.max(1e-9)
-    )
+    ) + &matched(points, study, var)
+}
+
+/// CPU seconds the uniform variant would need to reach the variable-resolution run's error:
+/// log-log interpolation between the two uniform runs whose errors bracket it.
+fn matched(points: &[Point], study: &Study, var: &Point) -> String {
+    let mut uni: Vec<&Point> = points
+        .iter()
+        .filter(|p| p.variant == study.variants[1].0)
+        .collect();
+    uni.sort_by(|a, b| a.cpu_seconds.total_cmp(&b.cpu_seconds));
+    match cpu_at_error(&uni, var.error) {
+        Some(cpu) => format!(
+            "To reach the same error ({:.3e}), {} would need about {:.1} CPU s (log-log \
+             interpolation between its runs): variable resolution is {:.1}× cheaper.\n\n",
+            var.error,
+            study.variants[1].0,
+            cpu,
+            cpu / var.cpu_seconds.max(1e-9)
+        ),
+        None => format!(
+            "The error {:.3e} lies outside the range the uniform runs span, so no CPU time at \
+             equal error is interpolated.\n\n",
+            var.error
+        ),
+    }
+}
+
+/// Interpolates `log cpu` linearly in `log error` between consecutive runs (sorted by CPU)
+/// whose errors bracket `target`.
+fn cpu_at_error(runs: &[&Point], target: f64) -> Option<f64> {
+    runs.windows(2).find_map(|w| {
+        let (a, b) = (w[0], w[1]);
+        let (lo, hi) = (a.error.min(b.error), a.error.max(b.error));
+        if !(target > 0.0 && lo > 0.0 && (lo..=hi).contains(&target)) || a.error == b.error {
+            return None;
+        }
+        let t = (target.ln() - a.error.ln()) / (b.error.ln() - a.error.ln());
+        Some((a.cpu_seconds.ln() + t * (b.cpu_seconds.ln() - a.cpu_seconds.ln())).exp())
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn point(cpu: f64, error: f64) -> Point {
+        Point {
+            variant: "u".into(),
+            factor: 1.0,
+            particles: 1,
+            steps: 1,
+            cpu_seconds: cpu,
+            error,
+        }
+    }
+
+    /// error ∝ cpu^(−1/2): the interpolation is exact on a power law.
+    #[test]
+    fn cpu_at_error_is_exact_on_a_power_law() {
+        let runs: Vec<Point> = [1.0, 4.0, 16.0].map(|c| point(c, 0.1 / c.sqrt())).into();
+        let refs: Vec<&Point> = runs.iter().collect();
+        let cpu = cpu_at_error(&refs, 0.1 / 8.0f64.sqrt()).unwrap();
+        assert!((cpu - 8.0).abs() < 1e-12, "{cpu}");
+        assert!(
+            cpu_at_error(&refs, 0.2).is_none(),
+            "above the coarsest run's error"
+        );
+        assert!(
+            cpu_at_error(&refs, 0.001).is_none(),
+            "below the finest run's error"
+        );
+    }
 }

@@ -105,7 +105,7 @@ impl KernelKind {
     }
 
     /// Derivative `f'(q)` of the profile.
-    #[inline]
+    #[inline(always)]
     pub fn profile_derivative(self, q: Real) -> Real {
         if !(0.0..1.0).contains(&q) {
             return 0.0;

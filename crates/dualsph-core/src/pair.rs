@@ -274,13 +274,44 @@ impl OwnerKernel {
         self.w_norm * self.kind.profile(r * self.inv_h)
     }
 
-    /// `∇_iW_ij` (Eq. 2.2) for `r = |r_ij| < h_i` (0 at `r = 0`).
+    /// `∇_iW_ij` (Eq. 2.2) for `r = |r_ij| < h_i` (0 at `r = 0`): `r_ij ·` [`Self::grad_factor`].
     #[inline(always)]
     pub fn grad<V: Vector>(&self, rij: V, r: Real) -> V {
-        if r > 0.0 {
-            rij * (self.g_norm * self.kind.profile_derivative(r * self.inv_h) / r)
-        } else {
-            V::zero()
+        rij * self.grad_factor(r)
+    }
+
+    /// `(1/r) ∂W/∂r = C_d h_i^{-d-1} f'(r/h_i) / r` for `r < h_i`, 0 at `r = 0`, so that
+    /// `∇_iW_ij = r_ij · grad_factor(r)` (Eq. 2.2).
+    #[inline(always)]
+    pub fn grad_factor(&self, r: Real) -> Real {
+        Self::factor_of(self.kind, self.g_norm, self.inv_h, r)
+    }
+
+    #[inline(always)]
+    fn factor_of(kind: KernelKind, g_norm: Real, inv_h: Real, r: Real) -> Real {
+        let d = g_norm * kind.profile_derivative(r * inv_h) / r;
+        if r > 0.0 { d } else { 0.0 }
+    }
+
+    /// [`Self::grad_factor`] of every `r[k]` into `out[k]` (the same arithmetic, bitwise), with
+    /// the kernel's kind resolved once for the whole row so the loop has no dispatch.
+    #[inline]
+    pub fn grad_factors(&self, r: &[Real], out: &mut [Real]) {
+        let (g, ih) = (self.g_norm, self.inv_h);
+        macro_rules! each {
+            ($kind:expr) => {
+                for (o, &r) in out.iter_mut().zip(r) {
+                    *o = Self::factor_of($kind, g, ih, r);
+                }
+            };
+        }
+        match self.kind {
+            KernelKind::CubicSpline => each!(KernelKind::CubicSpline),
+            KernelKind::WendlandC2 => each!(KernelKind::WendlandC2),
+            KernelKind::QuinticSpline => each!(KernelKind::QuinticSpline),
+            KernelKind::Poly6 => each!(KernelKind::Poly6),
+            KernelKind::Spiky => each!(KernelKind::Spiky),
+            KernelKind::MullerViscosity => each!(KernelKind::MullerViscosity),
         }
     }
 

@@ -219,9 +219,24 @@ pub struct Sim<V: Vector> {
     _v: PhantomData<V>,
 }
 
+/// Gives bevy's `ComputeTaskPool` (which runs the systems' `Query::par_iter_mut` loops) as many
+/// threads as the current rayon pool (which runs the neighbour loops), so a run on N threads
+/// uses N for both. The pool is global: the first simulation of a process sets its size.
+/// Every `par_iter_mut` loop in the engine updates each particle from its own data only, so
+/// the result does not depend on the number of threads (bitwise).
+fn init_task_pool() {
+    bevy_tasks::ComputeTaskPool::get_or_init(|| {
+        bevy_tasks::TaskPoolBuilder::new()
+            .num_threads(rayon::current_num_threads())
+            .thread_name("dualsph-ecs".to_string())
+            .build()
+    });
+}
+
 impl<V: Vector> Sim<V> {
     /// A simulation with the core resources and no particles yet.
     pub fn new(config: SimConfig<V>) -> Self {
+        init_task_pool();
         let mut world = World::new();
         world.insert_resource(SimClock {
             t: 0.0,

@@ -26,7 +26,7 @@
 
 use crate::components::{Acceleration, DensityRate, EnergyRate, ParticleId};
 use crate::kernels::Kernel;
-use crate::math::{Matrix, Real, Vector};
+use crate::math::{Real, Vector};
 use crate::neighbours::Neighbours;
 pub use crate::pair::{Fields, OwnerKernel, Pair, PairOut, PairTerm, PairTerms, Row};
 use crate::sim::{KernelRes, Sim, StepSet};
@@ -35,7 +35,9 @@ use rayon::prelude::*;
 use std::sync::Arc;
 
 mod checks;
+mod row;
 pub use checks::{check_row_matches_interact, check_row_override_2d};
+use row::{Reaction, RowScratch, owner_row};
 
 /// How pair interactions are summed (see module docs).
 #[derive(Resource, Clone, Copy, Debug, PartialEq, Eq)]
@@ -166,8 +168,9 @@ fn eval_terms<V: Vector>(terms: &[Arc<dyn PairTerm<V>>], pair: &Pair<'_, V>) -> 
 /// Reusable buffers of the sweep.
 #[derive(Resource, Default)]
 pub struct SweepBuffers<V: Vector> {
-    pair_force: Vec<V>,
-    pair_power: Vec<Real>,
+    /// Per-slot reactions of pass 1 (force on the owner, power credited to the neighbour),
+    /// side by side so pass 2 reads one place per dual entry.
+    reactions: Vec<Reaction<V>>,
     /// Total force on each particle from the last sweep.
     pub force: Vec<V>,
     /// Total `m ε̇` of each particle from the last sweep.
@@ -211,126 +214,6 @@ pub fn evaluate<V: Vector>(
     }
 }
 
-/// Per-thread scratch of pass 1: one row's pairs (SoA), their slots and their results.
-#[derive(Default)]
-struct RowScratch<V: Vector> {
-    j: Vec<u32>,
-    slot: Vec<u32>,
-    rij: Vec<V>,
-    r: Vec<Real>,
-    grad_raw: Vec<V>,
-    grad: Vec<V>,
-    out: Vec<PairOut<V>>,
-}
-
-/// Compacts the candidates inside `h_i` into the row arrays (returns their number) and zeroes
-/// the reaction slots of the others. Separate slices let the compiler keep them in registers.
-#[inline(always)]
-fn gather_row<V: Vector>(
-    cand: &[u32],
-    pos: &[V],
-    xi: V,
-    k: &OwnerKernel,
-    (js, slots, rijs, rs, grads): (&mut [u32], &mut [u32], &mut [V], &mut [Real], &mut [V]),
-    frow: &mut [V],
-    prow: &mut [Real],
-) -> usize {
-    let mut n = 0;
-    for (slot, &j) in cand.iter().enumerate() {
-        let rij = xi - pos[j as usize];
-        let r2 = rij.length_squared();
-        if r2 < k.h2 {
-            let r = r2.sqrt();
-            js[n] = j;
-            slots[n] = slot as u32;
-            rijs[n] = rij;
-            rs[n] = r;
-            grads[n] = k.grad(rij, r);
-            n += 1;
-        } else {
-            frow[slot] = V::zero();
-            prow[slot] = 0.0;
-        }
-    }
-    n
-}
-
-/// Pass 1 for one owner i: gathers `H_i` from the candidate row, evaluates every term row by
-/// row, returns i's own sums and writes the reactions into the row's slots (zero for
-/// candidates outside `h_i`).
-#[inline]
-fn owner_row<V: Vector>(
-    ctx: &SweepCtx<'_, V>,
-    terms: &[Arc<dyn PairTerm<V>>],
-    i: usize,
-    s: &mut RowScratch<V>,
-    frow: &mut [V],
-    prow: &mut [Real],
-    drho: Option<&mut Real>,
-) -> (V, Real) {
-    let fl = ctx.fields;
-    let (xi, k) = (fl.pos[i], OwnerKernel::new(ctx.kernel, fl.h[i]));
-    let cand = ctx.neighbours.support.row(i);
-    let m = cand.len();
-    s.j.resize(m, 0);
-    s.slot.resize(m, 0);
-    s.rij.resize(m, V::zero());
-    s.r.resize(m, 0.0);
-    s.grad_raw.resize(m, V::zero());
-    let n = gather_row(
-        cand,
-        &fl.pos,
-        xi,
-        &k,
-        (&mut s.j, &mut s.slot, &mut s.rij, &mut s.r, &mut s.grad_raw),
-        frow,
-        prow,
-    );
-    let corrected = !fl.correction.is_empty();
-    if corrected {
-        let l = fl.correction[i];
-        s.grad.clear();
-        s.grad.extend(s.grad_raw[..n].iter().map(|&g| l.mul_vec(g)));
-    }
-    s.out.clear();
-    s.out.resize(n, PairOut::default());
-    let row = Row {
-        i,
-        j: &s.j[..n],
-        rij: &s.rij[..n],
-        r: &s.r[..n],
-        grad_raw: &s.grad_raw[..n],
-        grad: if corrected {
-            &s.grad[..n]
-        } else {
-            &s.grad_raw[..n]
-        },
-        kernel: k,
-        fields: fl,
-    };
-    for t in terms {
-        t.interact_row(&row, &mut s.out);
-    }
-    if let Some(d) = drho {
-        let (vi, vel, mass) = (fl.vel[i], &fl.vel[..], &fl.mass[..]);
-        let mut sum = 0.0;
-        for (&j, &g) in row.j.iter().zip(row.grad_raw) {
-            let j = j as usize;
-            sum += mass[j] * (vi - vel[j]).dot(g);
-        }
-        *d = sum;
-    }
-    let mut f_own = V::zero();
-    let mut p_own = 0.0;
-    for (o, &slot) in s.out.iter().zip(&s.slot[..n]) {
-        f_own += o.force;
-        p_own += o.power_i;
-        frow[slot as usize] = o.force;
-        prow[slot as usize] = o.power_j;
-    }
-    (f_own, p_own)
-}
-
 fn dual_support<V: Vector>(
     ctx: &SweepCtx<'_, V>,
     terms: &[Arc<dyn PairTerm<V>>],
@@ -340,10 +223,8 @@ fn dual_support<V: Vector>(
     let offsets = &nb.support.offsets;
     let slots = nb.support.indices.len();
     // every slot is written by pass 1: no clearing needed
-    buf.pair_force.resize(slots, V::zero());
-    buf.pair_power.resize(slots, 0.0);
-    let f_chunks = split_chunks_mut(&mut buf.pair_force, offsets);
-    let p_chunks = split_chunks_mut(&mut buf.pair_power, offsets);
+    buf.reactions.resize(slots, Reaction::default());
+    let r_chunks = split_chunks_mut(&mut buf.reactions, offsets);
     let with_drho = buf.with_density_rate;
     buf.density_rate.resize(ctx.fields.len(), 0.0);
     // pass 1: own support, store reactions per slot; chunks of CHUNK owners
@@ -351,23 +232,19 @@ fn dual_support<V: Vector>(
         .par_chunks_mut(CHUNK)
         .zip(buf.power.par_chunks_mut(CHUNK))
         .zip(buf.density_rate.par_chunks_mut(CHUNK))
-        .zip(f_chunks.into_par_iter().zip(p_chunks))
+        .zip(r_chunks)
         .enumerate()
-        .for_each_init(
-            RowScratch::default,
-            |s, (c, (((fc, pc), dc), (pfc, ppc)))| {
-                let base = offsets[c * CHUNK] as usize;
-                for (k, ((fi, pi), di)) in fc.iter_mut().zip(pc.iter_mut()).zip(dc).enumerate() {
-                    let i = c * CHUNK + k;
-                    let r = offsets[i] as usize - base..offsets[i + 1] as usize - base;
-                    let drho = with_drho.then_some(di);
-                    (*fi, *pi) =
-                        owner_row(ctx, terms, i, s, &mut pfc[r.clone()], &mut ppc[r], drho);
-                }
-            },
-        );
+        .for_each_init(RowScratch::default, |s, (c, (((fc, pc), dc), rc))| {
+            let base = offsets[c * CHUNK] as usize;
+            for (k, ((fi, pi), di)) in fc.iter_mut().zip(pc.iter_mut()).zip(dc).enumerate() {
+                let i = c * CHUNK + k;
+                let r = offsets[i] as usize - base..offsets[i + 1] as usize - base;
+                let drho = with_drho.then_some(di);
+                (*fi, *pi) = owner_row(ctx, terms, i, s, &mut rc[r], drho);
+            }
+        });
     // pass 2: reactions through the dual-support (transpose), ascending i
-    let (pf, pp) = (&buf.pair_force, &buf.pair_power);
+    let reactions = &buf.reactions;
     buf.force
         .par_iter_mut()
         .zip(buf.power.par_iter_mut())
@@ -377,9 +254,9 @@ fn dual_support<V: Vector>(
             let mut f_dual = V::zero();
             let mut p_dual = 0.0;
             for &slot in &nb.dual_slot[nb.dual.slots(j)] {
-                let slot = slot as usize;
-                f_dual -= pf[slot];
-                p_dual += pp[slot];
+                let r = &reactions[slot as usize];
+                f_dual -= r.force;
+                p_dual += r.power;
             }
             *fj += f_dual;
             *pj += p_dual;

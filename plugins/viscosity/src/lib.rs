@@ -77,21 +77,39 @@ impl ArtificialViscosityTerm {
         self.pi_of(&a, p.fields, p.j, p.vij().dot(p.rij), p.r)
     }
 
-    /// `Π_ij` from the owner's values, j, `v_ij·r_ij` and `r_ij`.
+    /// `Π_ij` from the owner's values, j, `v_ij·r_ij` and `r_ij`: with `D = r² + η²` and
+    /// `x = h̄ min(v_ij·r_ij, 0)` (so `μ_ij = x/D`),
+    /// `Π_ij = μ(−α c̄ + β μ)/ρ̄ = 2 x (β x − α c̄ D) / (D² (ρ_i + ρ_j))` — one division, and
+    /// no branch: a receding pair has `x = 0`, hence `Π_ij = 0`.
     #[inline(always)]
     fn pi_of<V: Vector>(&self, a: &AvOwner<V>, f: &Fields<V>, j: usize, vr: Real, r: Real) -> Real {
-        if vr >= 0.0 {
-            return 0.0;
-        }
-        let hbar = 0.5 * (a.h + f.h[j]);
-        let eta = self.eta_factor * hbar;
-        let mu = hbar * vr / (r * r + eta * eta);
-        let cbar = 0.5 * (a.c + f.sound[j]);
-        let rhobar = 0.5 * (a.rho + f.rho[j]);
-        (-self.alpha * cbar * mu + self.beta * mu * mu) / rhobar
+        let (num, den) = self.pi_parts(a, f, j, vr, r);
+        2.0 * num / den
     }
 
-    /// Adds the pair's force and heat (Eqs. 4.17, 4.20) for an approaching pair.
+    /// `(x (β x − α c̄ D), D² (ρ_i + ρ_j))`: `Π_ij = 2 num/den` (see [`Self::pi_of`]).
+    #[inline(always)]
+    fn pi_parts<V: Vector>(
+        &self,
+        a: &AvOwner<V>,
+        f: &Fields<V>,
+        j: usize,
+        vr: Real,
+        r: Real,
+    ) -> (Real, Real) {
+        let hbar = 0.5 * (a.h + f.h[j]);
+        let eta = self.eta_factor * hbar;
+        let d = r * r + eta * eta;
+        let x = hbar * vr.min(0.0);
+        let cbar = 0.5 * (a.c + f.sound[j]);
+        (
+            x * (self.beta * x - self.alpha * cbar * d),
+            d * d * (a.rho + f.rho[j]),
+        )
+    }
+
+    /// Adds the pair's force `−m_i m_j (Π_ij/2) ∇_iW_ij` and heat (Eqs. 4.17, 4.20); a
+    /// receding pair adds zeros.
     #[inline(always)]
     fn add<V: Vector>(
         &self,
@@ -104,13 +122,10 @@ impl ArtificialViscosityTerm {
         out: &mut PairOut<V>,
     ) {
         let vij = a.v - f.vel[j];
-        let pi = self.pi_of(a, f, j, vij.dot(rij), r);
-        if pi == 0.0 {
-            return;
-        }
-        let coef = a.m * f.mass[j] * 0.5 * pi;
-        let force = grad_raw * (-coef);
-        out.force += force;
+        let (num, den) = self.pi_parts(a, f, j, vij.dot(rij), r);
+        // m_i m_j Π/2 = m_i m_j num/den
+        let coef = a.m * f.mass[j] * num / den;
+        out.force += grad_raw * (-coef);
         let heat = 0.5 * coef * vij.dot(grad_raw);
         out.power_i += heat;
         out.power_j += heat;
@@ -306,5 +321,62 @@ mod tests {
             eta_factor: 0.1,
         })
         .unwrap();
+    }
+
+    /// Π_ij (one division, no branch) against Eq. 4.17 written out as in the paper:
+    /// `μ = h̄ v·r/(r² + η²)`, `Π = (−α c̄ μ + β μ²)/ρ̄` for `v·r < 0`, else 0.
+    #[test]
+    fn pi_matches_eq_4_17_as_written() {
+        use dualsph_core::glam::DVec2;
+        let term = ArtificialViscosityTerm {
+            alpha: 1.0,
+            beta: 2.0,
+            eta_factor: 0.1,
+        };
+        let mut f = Fields::<DVec2>::default();
+        f.resize(2);
+        (f.h[0], f.h[1], f.rho[0], f.rho[1]) = (0.05, 0.08, 1003.0, 991.0);
+        (f.mass[0], f.mass[1]) = (0.1, 0.2);
+        f.sound = vec![100.0, 103.0];
+        f.pos[1] = DVec2::new(0.03, -0.01);
+        let mut checked = 0;
+        for (vx, vy) in [
+            (-2.0, 1.0),
+            (3.0, -0.5),
+            (0.0, 0.0),
+            (-0.01, 0.2),
+            (-40.0, 3.0),
+        ] {
+            f.vel[1] = DVec2::new(vx, vy);
+            let rij = f.pos[0] - f.pos[1];
+            let r = rij.length();
+            let pair = Pair {
+                i: 0,
+                j: 1,
+                rij,
+                r,
+                w: 0.0,
+                grad_raw: rij,
+                grad: rij,
+                fields: &f,
+            };
+            let vr = (f.vel[0] - f.vel[1]).dot(rij);
+            let hbar = 0.5 * (f.h[0] + f.h[1]);
+            let eta = 0.1 * hbar;
+            let expect = if vr < 0.0 {
+                let mu = hbar * vr / (r * r + eta * eta);
+                let (alpha, beta, cbar, rhobar) = (1.0, 2.0, 101.5, 997.0);
+                (-alpha * cbar * mu + beta * mu * mu) / rhobar
+            } else {
+                0.0
+            };
+            let got = term.pi(&pair);
+            assert!(
+                (got - expect).abs() <= 1e-14 * expect.abs(),
+                "v = ({vx}, {vy}): {got} vs {expect}"
+            );
+            checked += (expect > 0.0) as usize;
+        }
+        assert_eq!(checked, 3, "three approaching pairs");
     }
 }
