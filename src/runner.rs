@@ -52,6 +52,10 @@ pub struct RunSummary {
     pub wall_seconds: f64,
     /// Particle-steps per wall second.
     pub particle_steps_per_second: f64,
+    /// CPU seconds of the stepping loop (user + system, all threads).
+    pub cpu_seconds: f64,
+    /// Particle-steps per CPU second (the throughput figure of `docs/performance.md`).
+    pub particle_steps_per_cpu_second: f64,
     /// Diagnostics at t = 0.
     pub initial: Diagnostics,
     /// Diagnostics at the end.
@@ -232,6 +236,7 @@ pub fn run_dim_with<V: Vector>(
         b
     });
     let started = Instant::now();
+    let cpu_started = crate::perf::cpu_seconds();
     let steps_before = sim.clock().step;
     let mut last_log = Instant::now();
     while sim.clock().t < end * (1.0 - 1e-12) && sim.clock().step < max_steps {
@@ -277,6 +282,7 @@ pub fn run_dim_with<V: Vector>(
         b.finish_and_clear();
     }
     let wall = started.elapsed().as_secs_f64();
+    let cpu = crate::perf::cpu_seconds() - cpu_started;
     let last = sim.diagnostics();
     if last.step != last_written {
         out.push_diagnostics(diag_row(&last))?;
@@ -293,6 +299,8 @@ pub fn run_dim_with<V: Vector>(
         t: last.t,
         wall_seconds: wall,
         particle_steps_per_second: (n * stepped) as f64 / wall.max(1e-9),
+        cpu_seconds: cpu,
+        particle_steps_per_cpu_second: (n * stepped) as f64 / cpu.max(1e-9),
         initial,
         last,
     })
