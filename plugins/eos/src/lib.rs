@@ -90,13 +90,36 @@ impl Eos {
 }
 
 /// `x^e`, by repeated multiplication when e is a small whole number (γ = 7 gives x⁷ and x³).
+/// The whole-number test is a round trip through `i32` (no `trunc` call: the baseline x86-64
+/// target has no rounding instruction and `f64::trunc` becomes a library call per particle).
 #[inline]
 fn pow(x: Real, e: Real) -> Real {
-    if e == e.trunc() && e.abs() <= 16.0 {
-        x.powi(e as i32)
+    let k = e as i32;
+    if k as Real == e && k.abs() <= 16 {
+        powi(x, k)
     } else {
         x.powf(e)
     }
+}
+
+/// `x^n` by binary exponentiation, inlined: the same multiplications in the same order as
+/// the runtime's `__powidf2` that `f64::powi` calls for an exponent unknown at compile time,
+/// so the result is bitwise that of `x.powi(n)` (tested), without the call.
+#[inline(always)]
+fn powi(mut x: Real, n: i32) -> Real {
+    let mut b = n.unsigned_abs();
+    let mut r = 1.0;
+    loop {
+        if b & 1 != 0 {
+            r *= x;
+        }
+        b /= 2;
+        if b == 0 {
+            break;
+        }
+        x *= x;
+    }
+    if n < 0 { 1.0 / r } else { r }
 }
 
 /// Evaluates the EOS for every particle.
@@ -211,6 +234,24 @@ impl SimPlugin for IdealGas {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The inlined binary exponentiation is bitwise `f64::powi` with a run-time exponent.
+    #[test]
+    fn inlined_powi_is_bitwise_f64_powi() {
+        let xs = [0.0, 0.5, 0.987654321, 1.0, 1.0123456789, 1.5, 3.0, 1e-3, 7.77e2];
+        for &x in &xs {
+            for n in -16..=16 {
+                let n_opaque = std::hint::black_box(n);
+                assert_eq!(
+                    powi(x, n).to_bits(),
+                    x.powi(n_opaque).to_bits(),
+                    "{x}^{n}"
+                );
+            }
+        }
+        assert_eq!(pow(1.01, 7.0).to_bits(), 1.01f64.powi(std::hint::black_box(7)).to_bits());
+        assert_eq!(pow(1.01, 0.5), 1.01f64.powf(0.5));
+    }
 
     #[test]
     fn tait_reference_state_and_sound_speed() {
