@@ -156,6 +156,8 @@ pub struct Row<'a, V: Vector> {
     pub rij: &'a [V],
     /// `|r_ij|`.
     pub r: &'a [Real],
+    /// `v_ij = v_i − v_j` (formed once per row for every term).
+    pub vij: &'a [V],
     /// `∇_i W_ij` as is (Eq. 2.2).
     pub grad_raw: &'a [V],
     /// `∇_i W_ij` with `L_i` applied when the correction is active (Eq. 2.10); the same slice

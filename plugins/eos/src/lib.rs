@@ -238,18 +238,27 @@ mod tests {
     /// The inlined binary exponentiation is bitwise `f64::powi` with a run-time exponent.
     #[test]
     fn inlined_powi_is_bitwise_f64_powi() {
-        let xs = [0.0, 0.5, 0.987654321, 1.0, 1.0123456789, 1.5, 3.0, 1e-3, 7.77e2];
+        let xs = [
+            0.0,
+            0.5,
+            0.987654321,
+            1.0,
+            1.0123456789,
+            1.5,
+            3.0,
+            1e-3,
+            7.77e2,
+        ];
         for &x in &xs {
             for n in -16..=16 {
                 let n_opaque = std::hint::black_box(n);
-                assert_eq!(
-                    powi(x, n).to_bits(),
-                    x.powi(n_opaque).to_bits(),
-                    "{x}^{n}"
-                );
+                assert_eq!(powi(x, n).to_bits(), x.powi(n_opaque).to_bits(), "{x}^{n}");
             }
         }
-        assert_eq!(pow(1.01, 7.0).to_bits(), 1.01f64.powi(std::hint::black_box(7)).to_bits());
+        assert_eq!(
+            pow(1.01, 7.0).to_bits(),
+            1.01f64.powi(std::hint::black_box(7)).to_bits()
+        );
         assert_eq!(pow(1.01, 0.5), 1.01f64.powf(0.5));
     }
 

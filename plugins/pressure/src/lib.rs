@@ -83,17 +83,16 @@ impl<V: Vector> PairTerm<V> for PressureTerm {
     /// The same arithmetic as [`PairTerm::interact`] with the owner's values loaded once.
     fn interact_row(&self, row: &Row<'_, V>, out: &mut [PairOut<V>]) {
         let f = row.fields;
-        let (owner, vi) = (Self::owner(f, row.i), f.vel[row.i]);
-        let (mass, vel) = (&f.mass[..], &f.vel[..]);
+        let owner = Self::owner(f, row.i);
+        let mass = &f.mass[..];
+        let pairs = out.iter_mut().zip(row.j).zip(row.vij).zip(row.grad);
         if f.correction.is_empty() {
-            for ((o, &j), &g) in out.iter_mut().zip(row.j).zip(row.grad) {
-                let j = j as usize;
-                Self::add(owner * mass[j], vi - vel[j], g, o);
+            for (((o, &j), &v), &g) in pairs {
+                Self::add(owner * mass[j as usize], v, g, o);
             }
         } else {
-            for ((o, &j), &g) in out.iter_mut().zip(row.j).zip(row.grad) {
-                let j = j as usize;
-                Self::add(owner * Self::other(f, j), vi - vel[j], g, o);
+            for (((o, &j), &v), &g) in pairs {
+                Self::add(owner * Self::other(f, j as usize), v, g, o);
             }
         }
     }

@@ -48,23 +48,21 @@ pub struct ArtificialViscosityTerm {
 
 /// The owner's values used by [`ArtificialViscosityTerm`].
 #[derive(Clone, Copy, Debug)]
-struct AvOwner<V: Vector> {
+struct AvOwner {
     m: Real,
     h: Real,
     c: Real,
     rho: Real,
-    v: V,
 }
 
-impl<V: Vector> AvOwner<V> {
+impl AvOwner {
     #[inline(always)]
-    fn of(f: &Fields<V>, i: usize) -> Self {
+    fn of<V: Vector>(f: &Fields<V>, i: usize) -> Self {
         AvOwner {
             m: f.mass[i],
             h: f.h[i],
             c: f.sound[i],
             rho: f.rho[i],
-            v: f.vel[i],
         }
     }
 }
@@ -82,7 +80,7 @@ impl ArtificialViscosityTerm {
     /// `Π_ij = μ(−α c̄ + β μ)/ρ̄ = 2 x (β x − α c̄ D) / (D² (ρ_i + ρ_j))` — one division, and
     /// no branch: a receding pair has `x = 0`, hence `Π_ij = 0`.
     #[inline(always)]
-    fn pi_of<V: Vector>(&self, a: &AvOwner<V>, f: &Fields<V>, j: usize, vr: Real, r: Real) -> Real {
+    fn pi_of<V: Vector>(&self, a: &AvOwner, f: &Fields<V>, j: usize, vr: Real, r: Real) -> Real {
         let (num, den) = self.pi_parts(a, f, j, vr, r);
         2.0 * num / den
     }
@@ -91,7 +89,7 @@ impl ArtificialViscosityTerm {
     #[inline(always)]
     fn pi_parts<V: Vector>(
         &self,
-        a: &AvOwner<V>,
+        a: &AvOwner,
         f: &Fields<V>,
         j: usize,
         vr: Real,
@@ -111,17 +109,18 @@ impl ArtificialViscosityTerm {
     /// Adds the pair's force `−m_i m_j (Π_ij/2) ∇_iW_ij` and heat (Eqs. 4.17, 4.20); a
     /// receding pair adds zeros.
     #[inline(always)]
+    #[allow(clippy::too_many_arguments)] // the pair's data, passed unpacked to stay in registers
     fn add<V: Vector>(
         &self,
-        a: &AvOwner<V>,
+        a: &AvOwner,
         f: &Fields<V>,
         j: usize,
         rij: V,
         r: Real,
+        vij: V,
         grad_raw: V,
         out: &mut PairOut<V>,
     ) {
-        let vij = a.v - f.vel[j];
         let (num, den) = self.pi_parts(a, f, j, vij.dot(rij), r);
         // m_i m_j Π/2 = m_i m_j num/den
         let coef = a.m * f.mass[j] * num / den;
@@ -140,15 +139,21 @@ impl<V: Vector> PairTerm<V> for ArtificialViscosityTerm {
     #[inline(always)]
     fn interact(&self, p: &Pair<'_, V>, out: &mut PairOut<V>) {
         let a = AvOwner::of(p.fields, p.i);
-        self.add(&a, p.fields, p.j, p.rij, p.r, p.grad_raw, out);
+        self.add(&a, p.fields, p.j, p.rij, p.r, p.vij(), p.grad_raw, out);
     }
 
     /// The same arithmetic as [`PairTerm::interact`] with the owner's values loaded once.
     fn interact_row(&self, row: &Row<'_, V>, out: &mut [PairOut<V>]) {
         let a = AvOwner::of(row.fields, row.i);
-        let geom = row.j.iter().zip(row.rij).zip(row.r).zip(row.grad_raw);
-        for (o, (((&j, &rij), &r), &g)) in out.iter_mut().zip(geom) {
-            self.add(&a, row.fields, j as usize, rij, r, g, o);
+        let geom = row
+            .j
+            .iter()
+            .zip(row.rij)
+            .zip(row.r)
+            .zip(row.vij)
+            .zip(row.grad_raw);
+        for (o, ((((&j, &rij), &r), &vij), &g)) in out.iter_mut().zip(geom) {
+            self.add(&a, row.fields, j as usize, rij, r, vij, g, o);
         }
     }
 }

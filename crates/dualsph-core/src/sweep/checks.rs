@@ -86,11 +86,13 @@ pub fn check_row_matches_interact<V: Vector>(
             term.interact(&pair, &mut out);
             pairs.push(out);
         });
+        let vijs: Vec<V> = js.iter().map(|&j| fl.vel[i] - fl.vel[j as usize]).collect();
         let row = Row {
             i,
             j: &js,
             rij: &rijs,
             r: &rs,
+            vij: &vijs,
             grad_raw: &raw,
             grad: &grad,
             kernel: OwnerKernel::new(ctx.kernel, fl.h[i]),

@@ -32,6 +32,7 @@ pub(super) struct RowScratch<V: Vector> {
     slot: Vec<u32>,
     rij: Vec<V>,
     r: Vec<Real>,
+    vij: Vec<V>,
     factor: Vec<Real>,
     grad_raw: Vec<V>,
     grad: Vec<V>,
@@ -47,6 +48,7 @@ impl<V: Vector> RowScratch<V> {
             self.slot.resize(m, 0);
             self.rij.resize(m, V::zero());
             self.r.resize(m, 0.0);
+            self.vij.resize(m, V::zero());
             self.factor.resize(m, 0.0);
             self.grad_raw.resize(m, V::zero());
             self.grad.resize(m, V::zero());
@@ -124,6 +126,10 @@ pub(super) fn owner_row<V: Vector>(
     {
         *g = rij * f;
     }
+    let (vi, vel) = (fl.vel[i], &fl.vel[..]);
+    for (v, &j) in s.vij[..n].iter_mut().zip(&s.j[..n]) {
+        *v = vi - vel[j as usize];
+    }
     let corrected = !fl.correction.is_empty();
     if corrected {
         let l = fl.correction[i];
@@ -138,6 +144,7 @@ pub(super) fn owner_row<V: Vector>(
         j: &s.j[..n],
         rij: &s.rij[..n],
         r: &s.r[..n],
+        vij: &s.vij[..n],
         grad_raw: &s.grad_raw[..n],
         grad: if corrected {
             &s.grad[..n]
@@ -151,11 +158,10 @@ pub(super) fn owner_row<V: Vector>(
         t.interact_row(&row, out);
     }
     if let Some(d) = drho {
-        let (vi, vel, mass) = (fl.vel[i], &fl.vel[..], &fl.mass[..]);
+        let mass = &fl.mass[..];
         let mut sum = 0.0;
-        for (&j, &g) in row.j.iter().zip(row.grad_raw) {
-            let j = j as usize;
-            sum += mass[j] * (vi - vel[j]).dot(g);
+        for ((&j, &v), &g) in row.j.iter().zip(row.vij).zip(row.grad_raw) {
+            sum += mass[j as usize] * v.dot(g);
         }
         *d = sum;
     }
