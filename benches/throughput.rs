@@ -1,4 +1,5 @@
-//! Criterion benches of the three costs of a step — neighbour rebuild, the support/dual-support
+//! Criterion benches of the three costs of a step — neighbour rebuild (with kiddo's k-d tree and
+//! with the cell grid), the support/dual-support
 //! pair sweep, one whole `Sim::step` — on the dam-break physics (`dualsph::perf`), for 2-D and
 //! 3-D columns of ~10^4 and ~10^5 particles, uniform and two-level h, on 1 and 2 threads (a
 //! local rayon pool). `DUALSPH_BENCH_LARGE=1` adds ~10^6 particles.
@@ -9,15 +10,18 @@
 //!   evaluates (all terms of the sweep for one pair count once; candidates inside the Verlet
 //!   skin but outside `h_i` are skipped and not counted);
 //! * **particle-steps** = particles × steps of `Sim::step` (everything the scene runs);
+//! * the rebuild lines time each neighbour index (`NeighbourIndex::KdTree`, `CellGrid`; the
+//!   engine's default `Auto` picks one of them) and the grid line its ratio to kiddo;
 //! * the 2-thread lines also give the wall-clock speed-up over 1 thread.
 //!
 //! ```sh
 //! CARGO_TARGET_DIR=target cargo bench --bench throughput
 //! CARGO_TARGET_DIR=target cargo bench --bench throughput -- 2d-uniform-12800
+//! CARGO_TARGET_DIR=target cargo bench --bench throughput -- rebuild   # rebuild lines only
 //! ```
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use dualsph::core::neighbours::Neighbours;
+use dualsph::core::neighbours::{NeighbourIndex, Neighbours};
 use dualsph::core::sim::KernelRes;
 use dualsph::core::sweep::{PairTerms, SweepBuffers, evaluate};
 use dualsph::perf::{Case, Layout, cpu_seconds, support_pairs};
@@ -62,8 +66,14 @@ fn cases() -> Vec<Case> {
     out
 }
 
+/// `cargo bench --bench throughput -- rebuild`: only the rebuild lines (the sweep and step
+/// timing loops, which run outside criterion's filter, are skipped).
+fn rebuild_only() -> bool {
+    std::env::args().skip(1).any(|a| a == "rebuild")
+}
+
 /// The 2-thread lines report the wall-time speed-up over the 1-thread line of the same kind.
-struct Speedup([f64; 3]);
+struct Speedup([f64; 4]);
 
 impl Speedup {
     fn note(&mut self, kind: usize, threads: usize, wall_per_rep: f64) -> String {
@@ -85,7 +95,7 @@ fn bench_dim<V: Vector>(c: &mut Criterion, case: Case) {
     let pairs = support_pairs(&sim) as f64;
     let name = case.name(n);
     let min_cpu = 1.0;
-    let mut speedup = Speedup([0.0; 3]);
+    let mut speedup = Speedup([0.0; 4]);
 
     let mut group = c.benchmark_group(name.clone());
     group
@@ -95,24 +105,42 @@ fn bench_dim<V: Vector>(c: &mut Criterion, case: Case) {
     for threads in [1, 2] {
         let pool = pool(threads);
 
-        // neighbour rebuild (kiddo + CSR + transpose)
+        // neighbour rebuild (search + CSR + transpose) with each index; the grid line also
+        // gives its CPU-time ratio to the kiddo line just before it (same run, same load)
         let (pos, h, skin) = {
             let f = sim.world.resource::<Fields<V>>();
             let nb = sim.world.resource::<Neighbours<V>>();
             (f.pos.clone(), f.h.clone(), nb.skin)
         };
-        let mut nb = Neighbours::<V>::new(skin);
-        let (reps, cpu, wall) = measure(min_cpu, || pool.install(|| nb.rebuild(&pos, &h)));
-        println!(
-            "{name} rebuild {threads}T: {:.3e} particles/CPU-s ({:.1} candidates/particle){}",
-            (n * reps) as f64 / cpu,
-            nb.support.indices.len() as f64 / n as f64,
-            speedup.note(0, threads, wall / reps as f64)
-        );
-        group.throughput(Throughput::Elements(n as u64));
-        group.bench_function(BenchmarkId::new("rebuild", format!("{threads}T")), |b| {
-            b.iter(|| pool.install(|| nb.rebuild(&pos, &h)))
-        });
+        let mut kd_rate = 0.0;
+        for (kind, index, label) in [
+            (0, NeighbourIndex::KdTree, "kiddo"),
+            (3, NeighbourIndex::CellGrid, "grid "),
+        ] {
+            let mut nb = Neighbours::<V>::new(skin);
+            nb.index = index;
+            let (reps, cpu, wall) = measure(min_cpu, || pool.install(|| nb.rebuild(&pos, &h)));
+            let rate = (n * reps) as f64 / cpu;
+            let vs_kd = if index == NeighbourIndex::KdTree {
+                kd_rate = rate;
+                String::new()
+            } else {
+                format!(", {:.2}x kiddo", rate / kd_rate)
+            };
+            println!(
+                "{name} rebuild {label} {threads}T: {rate:.3e} particles/CPU-s ({:.1} candidates/particle){vs_kd}{}",
+                nb.support.indices.len() as f64 / n as f64,
+                speedup.note(kind, threads, wall / reps as f64)
+            );
+            group.throughput(Throughput::Elements(n as u64));
+            group.bench_function(
+                BenchmarkId::new(format!("rebuild-{}", label.trim()), format!("{threads}T")),
+                |b| b.iter(|| pool.install(|| nb.rebuild(&pos, &h))),
+            );
+        }
+        if rebuild_only() {
+            continue;
+        }
 
         // pair sweep (pressure + artificial viscosity, support + dual-support)
         {
