@@ -14,6 +14,13 @@
 //!   engine's default `Auto` picks one of them) and the grid line its ratio to kiddo;
 //! * the 2-thread lines also give the wall-clock speed-up over 1 thread.
 //!
+//! The systems' per-particle loops run on bevy's task pool, which is sized once per process
+//! (like rayon's global pool) when the first simulation is built. `DUALSPH_BENCH_THREADS=N`
+//! runs only N threads and sizes that pool to N; without it the bench runs 1 then 2 threads in
+//! one process with the task pool at 2, so its 1-thread step lines include 2-thread ECS loops.
+//! For clean figures run each count in its own process (as `docs/performance.md` does):
+//! `DUALSPH_BENCH_THREADS=1 cargo bench --bench throughput`, then `=2`.
+//!
 //! ```sh
 //! CARGO_TARGET_DIR=target cargo bench --bench throughput
 //! CARGO_TARGET_DIR=target cargo bench --bench throughput -- 2d-uniform-12800
@@ -80,6 +87,8 @@ impl Speedup {
         if threads == 1 {
             self.0[kind] = wall_per_rep;
             String::new()
+        } else if self.0[kind] == 0.0 {
+            String::new() // no 1-thread line in this process
         } else {
             format!(
                 ", {:.2}x the 1-thread wall rate",
@@ -102,7 +111,7 @@ fn bench_dim<V: Vector>(c: &mut Criterion, case: Case) {
         .sample_size(10)
         .warm_up_time(Duration::from_millis(300))
         .measurement_time(Duration::from_secs(1));
-    for threads in [1, 2] {
+    for threads in thread_counts() {
         let pool = pool(threads);
 
         // neighbour rebuild (search + CSR + transpose) with each index; the grid line also
@@ -185,7 +194,18 @@ fn bench_dim<V: Vector>(c: &mut Criterion, case: Case) {
     group.finish();
 }
 
+/// `DUALSPH_BENCH_THREADS=N` → `[N]`; otherwise `[1, 2]`.
+fn thread_counts() -> Vec<usize> {
+    match std::env::var("DUALSPH_BENCH_THREADS").map(|v| v.parse::<usize>()) {
+        Ok(Ok(n)) if n >= 1 => vec![n],
+        _ => vec![1, 2],
+    }
+}
+
 fn benches(c: &mut Criterion) {
+    // size the ECS task pool before any simulation exists (see the module docs)
+    let most = thread_counts().into_iter().max().unwrap_or(1);
+    pool(most).install(|| drop(Case::dam_column_2d().sim::<glam::DVec2>()));
     for case in cases() {
         match case.dim {
             2 => bench_dim::<glam::DVec2>(c, case),
