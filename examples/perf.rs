@@ -57,7 +57,6 @@ fn run<V: Vector>(case: Case, steps: usize) {
         n as f64 / best
     );
     println!("state fingerprint {:016x}", fingerprint(&mut sim));
-    sweep_only(&sim, steps);
     if let Some(rss) = peak_rss_bytes() {
         println!(
             "peak RSS {:.1} MiB = {:.0} bytes per particle (peak after set-up: {:.0} bytes per particle)",
@@ -66,6 +65,8 @@ fn run<V: Vector>(case: Case, steps: usize) {
             setup_rss as f64 / n as f64
         );
     }
+    // after the RSS line: the extra sweep buffers of this measurement are not the engine's
+    sweep_only(&sim, steps);
 }
 
 /// The pair sweep alone (`sweep::evaluate`, what the Forces set runs), `steps` times on the
