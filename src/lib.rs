@@ -138,6 +138,16 @@ pub fn build_sim<V: Vector>(scene: &Scene) -> Result<Sim<V>, SimError> {
         )));
     }
     sim.spawn_particles(&particles);
+    sim.world
+        .insert_resource(dualsph_core::diagnostics::HealthBounds {
+            density: (scene.health.density_below, scene.health.density_above),
+            h: (scene.health.h_below, scene.health.h_above),
+            rho_range: None,
+            h_range: particles.iter().fold(None, |r, p| match r {
+                None => Some((p.h, p.h)),
+                Some((lo, hi)) => Some((p.h.min(lo), p.h.max(hi))),
+            }),
+        });
     sim.set_diagnostics_every(scene.output.diagnostics_every);
     {
         let mut clock = sim.world.resource_mut::<SimClock>();
