@@ -32,7 +32,9 @@ use dualsph_scene::Scene;
 
 /// The built-in plugins, by the names used in RON scenes.
 pub mod plugins {
-    pub use dualsph_density::{ContinuityDensity, ContinuityForm, SummationDensity};
+    pub use dualsph_density::{
+        ContinuityDensity, ContinuityForm, DensityDiffusion, SummationDensity,
+    };
     pub use dualsph_eos::{IdealGas, TaitEos};
     pub use dualsph_gravity::Gravity;
     pub use dualsph_heat::HeatConduction;
@@ -51,6 +53,7 @@ pub fn default_registry() -> Registry {
     let mut r = Registry::new();
     r.register::<SummationDensity>()
         .register::<ContinuityDensity>()
+        .register::<DensityDiffusion>()
         .register::<TaitEos>()
         .register::<IdealGas>()
         .register::<PressureForce>()
