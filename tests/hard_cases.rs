@@ -271,12 +271,12 @@ mod dam_break_jumps {
                 sim.clock().t
             );
             let step = sim.clock().step;
-            if step % 20 == 0 {
+            if step.is_multiple_of(20) {
                 let t = sim.clock().t;
                 out.front.push((t, largest_x(&mut sim)));
                 out.energy = out.energy.max((sim.diagnostics().e_tot / e0 - 1.0).abs());
             }
-            if step % 500 == 0 {
+            if step.is_multiple_of(500) {
                 let (f, t) = balance(&mut sim);
                 (out.force, out.torque) = (out.force.max(f), out.torque.max(t));
             }
