@@ -195,12 +195,13 @@ pub struct HealthBounds {
 /// side: a gas expanding into vacuum at a free end thins without limit (the uniform Sod tube's
 /// end particles reach 1/59 of the initial minimum by t = 0.2 s), so 300 (5 × that); on
 /// compression a shock multiplies the density by at most (γ+1)/(γ−1) = 4 (γ = 5/3) and a
-/// liquid moves by a few per cent (the largest in the scenes: 1.39, the two-resolution drop
-/// near its end), so 10. Measured with `examples/health_extremes.rs`
+/// liquid moves by per cents (the largest in the scenes: 1.21, the two-resolution drop near
+/// its end), so 10. Measured with `examples/health_extremes.rs`
 /// (docs/validation/hard_cases.md).
 pub const DEFAULT_DENSITY_FACTORS: (Real, Real) = (300.0, 10.0);
 /// Default factors `(below, above)` on the initial h range; h ∝ (m/ρ)^{1/d} mirrors the
-/// density (the uniform Sod tube's free ends reach 77 × the initial h), so 10 below, 300 above.
+/// density (the uniform Sod tube's free ends reach 77 × the initial h; the largest fall is
+/// 1/2.15, in the same tube), so 10 below, 300 above.
 pub const DEFAULT_H_FACTORS: (Real, Real) = (10.0, 300.0);
 
 impl Default for HealthBounds {
