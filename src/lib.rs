@@ -32,7 +32,9 @@ use dualsph_scene::Scene;
 
 /// The built-in plugins, by the names used in RON scenes.
 pub mod plugins {
-    pub use dualsph_density::{ContinuityDensity, ContinuityForm, SummationDensity};
+    pub use dualsph_density::{
+        ContinuityDensity, ContinuityForm, DensityDiffusion, SummationDensity,
+    };
     pub use dualsph_eos::{IdealGas, TaitEos};
     pub use dualsph_gravity::Gravity;
     pub use dualsph_heat::HeatConduction;
@@ -51,6 +53,7 @@ pub fn default_registry() -> Registry {
     let mut r = Registry::new();
     r.register::<SummationDensity>()
         .register::<ContinuityDensity>()
+        .register::<DensityDiffusion>()
         .register::<TaitEos>()
         .register::<IdealGas>()
         .register::<PressureForce>()
@@ -138,6 +141,16 @@ pub fn build_sim<V: Vector>(scene: &Scene) -> Result<Sim<V>, SimError> {
         )));
     }
     sim.spawn_particles(&particles);
+    sim.world
+        .insert_resource(dualsph_core::diagnostics::HealthBounds {
+            density: (scene.health.density_below, scene.health.density_above),
+            h: (scene.health.h_below, scene.health.h_above),
+            rho_range: None,
+            h_range: particles.iter().fold(None, |r, p| match r {
+                None => Some((p.h, p.h)),
+                Some((lo, hi)) => Some((p.h.min(lo), p.h.max(hi))),
+            }),
+        });
     sim.set_diagnostics_every(scene.output.diagnostics_every);
     {
         let mut clock = sim.world.resource_mut::<SimClock>();

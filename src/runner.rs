@@ -7,7 +7,7 @@ pub use keeper::{DEFAULT_KEEP_EVERY, KEEP_CHECKPOINTS, RestartOptions};
 
 use crate::checkpoint::{self, Checkpoint, CheckpointError};
 use crate::{build_sim, with_dimension};
-use dualsph_core::diagnostics::{Diagnostics, Health};
+use dualsph_core::diagnostics::{Diagnostics, Health, HealthBounds};
 use dualsph_core::integrator::{CFL_LIMIT, TimeStepCheck};
 use dualsph_core::prelude::*;
 use dualsph_io::{DiagnosticsRow, OutputDir, ParticleRecord};
@@ -138,9 +138,22 @@ fn diag_row(d: &Diagnostics) -> DiagnosticsRow {
 
 /// The usual cause of an unphysical `quantity` (as named by [`Health`]).
 pub fn likely_cause(quantity: &str) -> &'static str {
+    use dualsph_core::diagnostics as d;
     match quantity {
-        dualsph_core::diagnostics::OUTSIDE_DOMAIN => {
+        d::OUTSIDE_DOMAIN => {
             "a particle thrown out of the domain: a dt above the CFL limit, or a missing wall (SpecularWalls)"
+        }
+        d::DENSITY_ABOVE => {
+            "density far above its initial range: likely dt too large or c0 too small for the flow speed (a compression the equation of state does not resist)"
+        }
+        d::DENSITY_BELOW => {
+            "density far below its initial range: likely the tensile instability (particles under tension pairing up) or particles left with too few neighbours"
+        }
+        d::H_ABOVE => {
+            "smoothing length far above its initial range: particles spreading apart (a splash or a free end with too few neighbours), or the density collapsing"
+        }
+        d::H_BELOW => {
+            "smoothing length far below its initial range: particles clumping (the tensile instability) or a runaway compression (dt too large or c0 too small)"
         }
         "density" | "smoothing length" => {
             "a dt above the CFL limit, or particles left with too few neighbours"
@@ -154,8 +167,14 @@ pub fn likely_cause(quantity: &str) -> &'static str {
 pub(crate) fn check<V: Vector>(sim: &Sim<V>) -> Result<(), SimError> {
     if let Some((id, what, value)) = sim.world.resource::<Health>().problem {
         let c = sim.clock();
+        let sane = sim
+            .world
+            .get_resource::<HealthBounds>()
+            .and_then(|b| b.interval(what))
+            .map(|(lo, hi)| format!(", outside [{lo:.4e}, {hi:.4e}]"))
+            .unwrap_or_default();
         return Err(SimError::BlowUp(format!(
-            "step {}, t = {:.6e}: particle {id} has {what} = {value:e} (dt = {:.3e}; likely cause: {})",
+            "step {}, t = {:.6e}: particle {id} has {what} = {value:e}{sane} (dt = {:.3e}; likely cause: {})",
             c.step,
             c.t,
             c.dt,

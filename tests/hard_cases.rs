@@ -198,3 +198,194 @@ mod drops {
         assert_pass(&graded("drop_support_jump_1to4.ron"), 0.02);
     }
 }
+
+/// Dam breaks with a support-radius jump (scenes/hard/dam_break_support_jump_1to{4,8}.ron).
+mod dam_break_jumps {
+    use dualsph::core::diagnostics::Health;
+    use dualsph::core::glam::DVec2;
+    use dualsph::core::sweep::Fields;
+    use dualsph::prelude::*;
+    use dualsph::scene::{Block, Generator, Lattice, Scene};
+    use dualsph::{build_sim, default_registry};
+    use dualsph_reference::dam_break::KOSHIZUKA_OKA_FRONT;
+
+    const G: DVec2 = DVec2::new(0.0, -9.81);
+
+    /// What one run gives.
+    struct Run {
+        /// (t, largest x) every 20 steps.
+        front: Vec<(f64, f64)>,
+        /// max |E(t)/E(0) − 1| over the run (E kinetic + potential + internal).
+        energy: f64,
+        /// Largest relative imbalance of the pair forces, `|Σ f_i| / Σ |f_i|` and
+        /// `|Σ r_i × f_i| / Σ |r_i × f_i|` (f_i = m_i (a_i − g), at the positions the forces were
+        /// computed at), sampled every 500 steps.
+        force: f64,
+        torque: f64,
+        particles: usize,
+    }
+
+    fn load(file: &str) -> Scene {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("scenes/hard")
+            .join(file);
+        Scene::load(&path, &default_registry()).unwrap()
+    }
+
+    /// `(Σ f, Σ |f|, Σ r × f, Σ |r × f|)` of the pair forces.
+    fn balance(sim: &mut Sim<DVec2>) -> (f64, f64) {
+        let pos = sim.world.resource::<Fields<DVec2>>().pos.clone();
+        let mut q = sim
+            .world
+            .query::<(&ParticleId, &Mass, &Acceleration<DVec2>)>();
+        let (mut f, mut f_abs, mut t, mut t_abs) = (DVec2::ZERO, 0.0, 0.0, 0.0);
+        for (id, m, a) in q.iter(&sim.world) {
+            let fi = (a.0 - G) * m.0;
+            let ti = pos[id.0 as usize].perp_dot(fi);
+            (f, f_abs, t, t_abs) = (f + fi, f_abs + fi.length(), t + ti, t_abs + ti.abs());
+        }
+        (f.length() / f_abs, t.abs() / t_abs)
+    }
+
+    fn run(scene: &Scene) -> Run {
+        let mut sim = build_sim::<DVec2>(scene).unwrap();
+        sim.initialize().unwrap();
+        let e0 = sim.diagnostics().e_tot;
+        let largest_x = |sim: &mut Sim<DVec2>| {
+            let mut q = sim.world.query::<&Position<DVec2>>();
+            q.iter(&sim.world).map(|p| p.0.x).fold(0.0, f64::max)
+        };
+        let mut out = Run {
+            front: vec![(0.0, largest_x(&mut sim))],
+            energy: 0.0,
+            force: 0.0,
+            torque: 0.0,
+            particles: sim.particle_count(),
+        };
+        while sim.clock().t < scene.end_time * (1.0 - 1e-12) {
+            sim.step().unwrap();
+            let problem = sim.world.resource::<Health>().problem;
+            assert!(
+                problem.is_none(),
+                "blow-up at t = {}: {problem:?}",
+                sim.clock().t
+            );
+            let step = sim.clock().step;
+            if step.is_multiple_of(20) {
+                let t = sim.clock().t;
+                out.front.push((t, largest_x(&mut sim)));
+                out.energy = out.energy.max((sim.diagnostics().e_tot / e0 - 1.0).abs());
+            }
+            if step.is_multiple_of(500) {
+                let (f, t) = balance(&mut sim);
+                (out.force, out.torque) = (out.force.max(f), out.torque.max(t));
+            }
+        }
+        out
+    }
+
+    /// Linear interpolation of a (t, x) history at `t`.
+    fn at(front: &[(f64, f64)], t: f64) -> f64 {
+        let k = front.partition_point(|p| p.0 < t).clamp(1, front.len() - 1);
+        let ((t0, x0), (t1, x1)) = (front[k - 1], front[k]);
+        x0 + (x1 - x0) * (t - t0) / (t1 - t0)
+    }
+
+    /// RMS of `a − b` at 0.01, 0.02, … s up to `end`.
+    fn rms_between(a: &[(f64, f64)], b: &[(f64, f64)], end: f64) -> f64 {
+        let n = (end / 0.01).round() as usize;
+        let s: f64 = (1..=n)
+            .map(|k| (at(a, k as f64 * 0.01) - at(b, k as f64 * 0.01)).powi(2))
+            .sum();
+        (s / n as f64).sqrt()
+    }
+
+    /// RMS of the front against Koshizuka & Oka's points up to `end`.
+    fn rms_experiment(front: &[(f64, f64)], end: f64) -> f64 {
+        let d: Vec<f64> = KOSHIZUKA_OKA_FRONT
+            .iter()
+            .filter(|p| p.0 <= end)
+            .map(|&(t, x)| at(front, t) - x)
+            .collect();
+        (d.iter().map(|x| x * x).sum::<f64>() / d.len() as f64).sqrt()
+    }
+
+    /// The same column at the coarse spacing alone (one Block, the scene's other settings).
+    fn coarse_uniform(file: &str, spacing: f64) -> Scene {
+        let mut s = load(file);
+        s.particles = vec![Generator::Block(Block {
+            min: vec![0.0, 0.0],
+            max: vec![1.0, 2.0],
+            spacing,
+            lattice: Lattice::Staggered,
+            density: 1000.0,
+            h_factor: 2.0,
+            clip: None,
+            cut: Vec::new(),
+            velocity: None,
+            internal_energy: 0.0,
+            group: None,
+        })];
+        s
+    }
+
+    /// Runs the scene and the same column at its coarse spacing alone, and asserts the scene's
+    /// pass criterion: pair forces and torques balance to round-off; |ΔE/E| ≤ `energy_tol`;
+    /// the front within `experiment_tol` RMS of Koshizuka & Oka's up to the end time and
+    /// closer to it than the coarse uniform column's (the fine layer under the interface
+    /// carries the front: the jump must not spoil what the refinement gains).
+    fn check(file: &str, coarse: f64, experiment_tol: f64, energy_tol: f64) {
+        let scene = load(file);
+        let end = scene.end_time;
+        let jump = run(&scene);
+        let uniform = run(&coarse_uniform(file, coarse));
+        let vs_uniform = rms_between(&jump.front, &uniform.front, end);
+        let (vs_ko, uniform_vs_ko) = (
+            rms_experiment(&jump.front, end),
+            rms_experiment(&uniform.front, end),
+        );
+        println!(
+            "{file} ({} particles; uniform {}): front at {end} s {:.3} m (uniform {:.3} m); RMS vs uniform {vs_uniform:.3} m, vs K&O {vs_ko:.3} m (uniform {uniform_vs_ko:.3} m); |ΔE/E| ≤ {:.4}; pair force {:.1e}, torque {:.1e}",
+            jump.particles,
+            uniform.particles,
+            at(&jump.front, end),
+            at(&uniform.front, end),
+            jump.energy,
+            jump.force,
+            jump.torque
+        );
+        assert!(
+            jump.force <= 1e-12,
+            "pair forces do not balance: {:e}",
+            jump.force
+        );
+        assert!(
+            jump.torque <= 1e-12,
+            "pair torques do not balance: {:e}",
+            jump.torque
+        );
+        assert!(
+            jump.energy <= energy_tol,
+            "energy varies by {}",
+            jump.energy
+        );
+        assert!(
+            vs_ko <= experiment_tol,
+            "front {vs_ko} m from the experiment"
+        );
+        assert!(
+            vs_ko < uniform_vs_ko,
+            "the jump's front ({vs_ko} m from the experiment) is no better than the coarse uniform one ({uniform_vs_ko} m)"
+        );
+    }
+
+    #[test]
+    fn dam_break_with_a_one_to_four_support_jump() {
+        check("dam_break_support_jump_1to4.ron", 0.1, 0.3, 0.02);
+    }
+
+    #[test]
+    fn dam_break_with_a_one_to_eight_support_jump() {
+        check("dam_break_support_jump_1to8.ron", 0.2, 0.4, 0.02);
+    }
+}

@@ -421,3 +421,63 @@ fn damaged_or_foreign_checkpoints_are_refused_clearly() {
     .unwrap_err();
     assert!(matches!(err, RunError::Checkpoint(_)), "{err}");
 }
+
+#[test]
+fn density_driven_out_of_its_sane_range_stops_with_the_cause_and_the_last_good_state() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = bin()
+        .arg("run")
+        .arg(scene_path("compressed.ron"))
+        .arg("--quiet")
+        .arg("--out")
+        .arg(tmp.path())
+        .output()
+        .unwrap();
+    let err = stderr(&o);
+    assert!(!o.status.success(), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    for what in [
+        "blow-up",
+        "step ",
+        "t = ",
+        "particle ",
+        "density above its sane range",
+        // the sane range: the initial 1000 kg/m³ / 300 (default) and × 2 (the scene's)
+        "outside [3.3333e0, 2.0000e3]",
+        "c0 too small for the flow speed",
+        "last_good.ckpt",
+    ] {
+        assert!(err.contains(what), "{what:?} missing in: {err}");
+    }
+    assert_eq!(
+        err.lines().filter(|l| l.starts_with("error:")).count(),
+        1,
+        "{err}"
+    );
+    // stopped on the density itself, just past 2000 kg/m³, when the continuity equation's
+    // ρ0/(1 − 100t)² says so: t = (1 − 1/√2)/100 = 2.929 ms (to a step of dt = 2e-5)
+    let number = |key: &str, stop: char| {
+        let rest = &err[err.find(key).unwrap() + key.len()..];
+        rest[..rest.find(stop).unwrap()].parse::<f64>().unwrap()
+    };
+    let value = number("sane range = ", ',');
+    assert!(value > 2000.0 && value < 2050.0, "{value}");
+    let t = number("t = ", ':');
+    let exact = (1.0 - 0.5f64.sqrt()) / 100.0;
+    assert!(
+        (t - exact).abs() <= 4e-5,
+        "stopped at t = {t}, expected {exact}"
+    );
+    let good = Checkpoint::read(&tmp.path().join("last_good.ckpt")).unwrap();
+    let records = dualsph::io::read_particles_csv(&tmp.path().join("last_good.csv")).unwrap();
+    assert_eq!(records.len() as u64, good.particles);
+    assert!(tmp.path().join("last_good.vtp").exists());
+    assert!(good.step > 0, "last good state at step {}", good.step);
+    // the last good state is inside the sane range
+    assert!(
+        records
+            .iter()
+            .all(|r| r.rho.is_finite() && r.rho > 1000.0 / 300.0 && r.rho <= 2000.0),
+        "the last good state is already out of range"
+    );
+}

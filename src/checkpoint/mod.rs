@@ -139,8 +139,9 @@ pub fn fnv1a(bytes: &[u8]) -> u64 {
 
 /// A hash of everything in the scene that determines the trajectory: name, dimension, domain,
 /// kernel, formulation, neighbour settings, generators, plugins with their settings and the
-/// integrator. `end_time`, `max_steps` and `output` are left out, so a resumed run may go
-/// further or write at another cadence.
+/// integrator. `end_time`, `max_steps`, `output` and `health` (the blow-up check's sane ranges,
+/// which never change the state) are left out, so a resumed run may go further, write at
+/// another cadence or check with other bounds.
 pub fn fingerprint(scene: &Scene) -> u64 {
     let text = format!(
         "{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}",

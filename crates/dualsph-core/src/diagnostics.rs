@@ -173,21 +173,113 @@ fn distance_outside<V: Vector>(x: V, min: V, max: V) -> Real {
     d2.sqrt()
 }
 
-/// Scans for non-finite positions/velocities, non-positive or non-finite density and h, and
-/// particles farther than [`DOMAIN_TOLERANCE`] × the largest box extent outside the domain.
+/// Sane bounds on density and h, relative to their ranges at initialisation: a run stops when
+/// a density leaves `[ρ_min0 / density_below, ρ_max0 · density_above]` or an h leaves
+/// `[h_min0 / h_below, h_max0 · h_above]`. The ranges are over all particles (a scene with
+/// two resolutions or two densities keeps both), taken from the spawned h (build time, so a
+/// resumed run has them) and from [`InitialDensity`] (the densities after
+/// `Sim::initialize`, restored with a checkpoint).
+#[derive(Resource, Clone, Debug, PartialEq)]
+pub struct HealthBounds {
+    /// Factors (> 1) beyond the initial density range: `(below, above)`.
+    pub density: (Real, Real),
+    /// Factors (> 1) beyond the initial h range: `(below, above)`.
+    pub h: (Real, Real),
+    /// `(ρ_min0, ρ_max0)`, filled on first use.
+    pub rho_range: Option<(Real, Real)>,
+    /// `(h_min0, h_max0)`, filled at build or on first use.
+    pub h_range: Option<(Real, Real)>,
+}
+
+/// Default factors `(below, above)` on the initial density range. Expansion is the loose
+/// side: a gas expanding into vacuum at a free end thins without limit (the uniform Sod tube's
+/// end particles reach 1/59 of the initial minimum by t = 0.2 s), so 300 (5 × that); on
+/// compression a shock multiplies the density by at most (γ+1)/(γ−1) = 4 (γ = 5/3) and a
+/// liquid moves by per cents (the largest in the scenes: 1.21, the two-resolution drop near
+/// its end), so 10. Measured with `examples/health_extremes.rs`
+/// (docs/validation/hard_cases.md).
+pub const DEFAULT_DENSITY_FACTORS: (Real, Real) = (300.0, 10.0);
+/// Default factors `(below, above)` on the initial h range; h ∝ (m/ρ)^{1/d} mirrors the
+/// density (the uniform Sod tube's free ends reach 77 × the initial h; the largest fall is
+/// 1/2.15, in the same tube), so 10 below, 300 above.
+pub const DEFAULT_H_FACTORS: (Real, Real) = (10.0, 300.0);
+
+impl Default for HealthBounds {
+    fn default() -> Self {
+        HealthBounds {
+            density: DEFAULT_DENSITY_FACTORS,
+            h: DEFAULT_H_FACTORS,
+            rho_range: None,
+            h_range: None,
+        }
+    }
+}
+
+/// Quantity named by [`Health`] for a density above its sane range.
+pub const DENSITY_ABOVE: &str = "density above its sane range";
+/// Quantity named by [`Health`] for a density below its sane range.
+pub const DENSITY_BELOW: &str = "density below its sane range";
+/// Quantity named by [`Health`] for an h above its sane range.
+pub const H_ABOVE: &str = "smoothing length above its sane range";
+/// Quantity named by [`Health`] for an h below its sane range.
+pub const H_BELOW: &str = "smoothing length below its sane range";
+
+/// `(min, max)` of `values` (None when empty).
+fn range(values: impl Iterator<Item = Real>) -> Option<(Real, Real)> {
+    values.fold(None, |r, x| match r {
+        None => Some((x, x)),
+        Some((lo, hi)) => Some((lo.min(x), hi.max(x))),
+    })
+}
+
+/// `[lo / below, hi · above]` for a range and its factors.
+fn widened((lo, hi): (Real, Real), (below, above): (Real, Real)) -> (Real, Real) {
+    (lo / below, hi * above)
+}
+
+/// The particle data the health check reads.
+type HealthQuery<'w, 's, V> = Query<
+    'w,
+    's,
+    (
+        &'static ParticleId,
+        &'static Position<V>,
+        &'static Velocity<V>,
+        &'static Density,
+        &'static SmoothingLength,
+        Option<&'static InternalEnergy>,
+    ),
+>;
+
+/// Scans for non-finite positions/velocities, non-positive or non-finite density and h, density
+/// and h outside their sane ranges ([`HealthBounds`]), and particles farther than
+/// [`DOMAIN_TOLERANCE`] × the largest box extent outside the domain.
 #[inline(never)] // a frame of its own in profiles
 pub fn check_health<V: Vector>(
     mut health: ResMut<Health>,
+    mut bounds: ResMut<HealthBounds>,
+    init_rho: Res<InitialDensity>,
     domain: Res<Domain<V>>,
-    q: Query<(
-        &ParticleId,
-        &Position<V>,
-        &Velocity<V>,
-        &Density,
-        &SmoothingLength,
-        Option<&InternalEnergy>,
-    )>,
+    q: HealthQuery<V>,
 ) {
+    if bounds.rho_range.is_none() {
+        // on a resumed run InitialDensity is restored; at initialisation the current state
+        // is the initial one
+        bounds.rho_range = if init_rho.0.is_empty() {
+            range(q.iter().map(|r| r.3.0))
+        } else {
+            range(init_rho.0.iter().copied())
+        };
+    }
+    if bounds.h_range.is_none() {
+        bounds.h_range = range(q.iter().map(|r| r.4.0));
+    }
+    let (rho_lo, rho_hi) = bounds
+        .rho_range
+        .map_or((0.0, Real::INFINITY), |r| widened(r, bounds.density));
+    let (h_lo, h_hi) = bounds
+        .h_range
+        .map_or((0.0, Real::INFINITY), |r| widened(r, bounds.h));
     let extent = (0..V::DIM)
         .map(|k| domain.max.get(k) - domain.min.get(k))
         .fold(0.0, Real::max);
@@ -203,7 +295,8 @@ pub fn check_health<V: Vector>(
             sum += x + v.0.get(k);
             inside &= x >= lo.get(k) - tol && x <= hi.get(k) + tol;
         }
-        if sum.is_finite() && rho.0 > 0.0 && h.0 > 0.0 && inside {
+        let sane = rho.0 >= rho_lo && rho.0 <= rho_hi && h.0 >= h_lo && h.0 <= h_hi;
+        if sum.is_finite() && rho.0 > 0.0 && h.0 > 0.0 && inside && sane {
             continue;
         }
         let outside = distance_outside(r.0, lo, hi);
@@ -219,6 +312,14 @@ pub fn check_health<V: Vector>(
             Some(("internal energy", e.map_or(0.0, |e| e.0)))
         } else if outside > tol {
             Some((OUTSIDE_DOMAIN, outside))
+        } else if rho.0 > rho_hi {
+            Some((DENSITY_ABOVE, rho.0))
+        } else if rho.0 < rho_lo {
+            Some((DENSITY_BELOW, rho.0))
+        } else if h.0 > h_hi {
+            Some((H_ABOVE, h.0))
+        } else if h.0 < h_lo {
+            Some((H_BELOW, h.0))
         } else {
             None
         };
@@ -231,10 +332,23 @@ pub fn check_health<V: Vector>(
     health.problem = worst;
 }
 
+impl HealthBounds {
+    /// The sane interval of `quantity` (one of [`DENSITY_ABOVE`], [`DENSITY_BELOW`],
+    /// [`H_ABOVE`], [`H_BELOW`]), for messages.
+    pub fn interval(&self, quantity: &str) -> Option<(Real, Real)> {
+        match quantity {
+            DENSITY_ABOVE | DENSITY_BELOW => self.rho_range.map(|r| widened(r, self.density)),
+            H_ABOVE | H_BELOW => self.h_range.map(|r| widened(r, self.h)),
+            _ => None,
+        }
+    }
+}
+
 pub(crate) fn add_diagnostics_system<V: Vector>(sim: &mut Sim<V>) {
     sim.world.insert_resource(ExternalPotentials::default());
     sim.world.insert_resource(InitialDensity::default());
     sim.world.insert_resource(Health::default());
+    sim.world.insert_resource(HealthBounds::default());
     sim.add_system(StepSet::Diagnostics, "check_health", check_health::<V>);
     sim.world.insert_resource(DiagnosticsEvery::default());
     sim.add_system(
@@ -242,4 +356,108 @@ pub(crate) fn add_diagnostics_system<V: Vector>(sim: &mut Sim<V>) {
         "compute_diagnostics (every diagnostics_every steps)",
         compute_diagnostics::<V>,
     );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::kernels::KernelKind;
+    use crate::sim::{ParticleInit, SimConfig, TimeStepping};
+    use crate::sweep::Formulation;
+    use glam::DVec2;
+
+    /// Two particles at rest, densities 1000 and 1200, h 0.1 and 0.2; no forces.
+    fn sim() -> Sim<DVec2> {
+        let mut sim = Sim::<DVec2>::new(SimConfig {
+            kernel: KernelKind::CubicSpline,
+            formulation: Formulation::DualSupport,
+            domain: Domain {
+                min: DVec2::ZERO,
+                max: DVec2::ONE,
+            },
+            skin: 0.1,
+            time_stepping: TimeStepping::Fixed(1e-3),
+        });
+        let p = |x: f64, density: f64, h: f64| ParticleInit {
+            pos: DVec2::new(x, 0.5),
+            vel: DVec2::ZERO,
+            mass: 1.0,
+            density,
+            h,
+            internal_energy: 0.0,
+        };
+        sim.spawn_particles(&[p(0.2, 1000.0, 0.1), p(0.8, 1200.0, 0.2)]);
+        sim.initialize().unwrap();
+        sim
+    }
+
+    fn set(sim: &mut Sim<DVec2>, id: u32, rho: Real, h: Real) {
+        let mut q = sim
+            .world
+            .query::<(&ParticleId, &mut Density, &mut SmoothingLength)>();
+        for (pid, mut d, mut s) in q.iter_mut(&mut sim.world) {
+            if pid.0 == id {
+                (d.0, s.0) = (rho, h);
+            }
+        }
+    }
+
+    fn problem(sim: &mut Sim<DVec2>) -> Option<(u32, &'static str, Real)> {
+        use bevy_ecs::system::RunSystemOnce;
+        sim.world.run_system_once(check_health::<DVec2>).unwrap();
+        sim.world.resource::<Health>().problem
+    }
+
+    #[test]
+    fn density_and_h_are_checked_against_the_initial_ranges_widened_by_their_factors() {
+        let mut s = sim();
+        assert_eq!(problem(&mut s), None);
+        let b = s.world.resource::<HealthBounds>().clone();
+        assert_eq!(b.rho_range, Some((1000.0, 1200.0)));
+        assert_eq!(b.h_range, Some((0.1, 0.2)));
+        s.world.resource_mut::<HealthBounds>().density = (3.0, 3.0);
+        s.world.resource_mut::<HealthBounds>().h = (3.0, 3.0);
+        // factors 3: ρ ∈ [333.3, 3600], h ∈ [0.0333, 0.6]; values just inside pass
+        set(&mut s, 0, 3599.0, 0.59);
+        set(&mut s, 1, 334.0, 0.034);
+        assert_eq!(problem(&mut s), None);
+        set(&mut s, 1, 3601.0, 0.1);
+        assert_eq!(problem(&mut s), Some((1, DENSITY_ABOVE, 3601.0)));
+        set(&mut s, 1, 333.0, 0.1);
+        assert_eq!(problem(&mut s), Some((1, DENSITY_BELOW, 333.0)));
+        set(&mut s, 1, 1000.0, 0.61);
+        assert_eq!(problem(&mut s), Some((1, H_ABOVE, 0.61)));
+        set(&mut s, 1, 1000.0, 0.033);
+        assert_eq!(problem(&mut s), Some((1, H_BELOW, 0.033)));
+        // the lowest id is reported; non-positive values keep their own name
+        set(&mut s, 0, -1.0, 0.1);
+        assert_eq!(problem(&mut s), Some((0, "density", -1.0)));
+        let (lo, hi) = s
+            .world
+            .resource::<HealthBounds>()
+            .interval(H_BELOW)
+            .unwrap();
+        assert!((lo - 0.1 / 3.0).abs() < 1e-15 && (hi - 0.6).abs() < 1e-15);
+    }
+
+    #[test]
+    fn the_density_range_comes_from_the_initial_densities_when_they_are_restored() {
+        let mut s = sim();
+        // a resumed run: fresh bounds, InitialDensity restored from the checkpoint
+        s.world.insert_resource(HealthBounds {
+            density: (1.5, 1.5),
+            h: (2.0, 2.0),
+            rho_range: None,
+            h_range: Some((0.1, 0.2)),
+        });
+        s.world.resource_mut::<InitialDensity>().0 = vec![900.0, 1000.0];
+        set(&mut s, 0, 1499.0, 0.1);
+        assert_eq!(problem(&mut s), None);
+        assert_eq!(
+            s.world.resource::<HealthBounds>().rho_range,
+            Some((900.0, 1000.0))
+        );
+        set(&mut s, 0, 1501.0, 0.1);
+        assert_eq!(problem(&mut s), Some((0, DENSITY_ABOVE, 1501.0)));
+    }
 }

@@ -19,7 +19,9 @@
 //! ```
 //!
 //! Optional: `neighbours` (skin 0.15), `plugins` (none), `max_steps` (None), `output`
-//! (`diagnostics_every: 10, snapshot_every: 200, vtk: true`), `integrator.max_dt` (None), and
+//! (`diagnostics_every: 10, snapshot_every: 200, vtk: true`), `health` (`density_below: 300,
+//! density_above: 10, h_below: 10, h_above: 300`: the run stops when a density or h leaves its
+//! initial range widened by those factors; each must be > 1, refused at its position), `integrator.max_dt` (None), and
 //! on every generator `clip`, `cut`, `velocity` (`Uniform([..])` or `Linear(G)`, `v = G·x`;
 //! zero when absent), `internal_energy` (0) and `group` (the generator's index).
 //!
@@ -51,8 +53,8 @@ pub use dualsph_core::plugin::{PluginConfig, Registry};
 pub use error::SceneError;
 pub use generate::{MAX_PARTICLES, ParticleSpec};
 pub use schema::{
-    Block, BoxRegion, Disk, Domain, Formulation, Generator, IntegratorSettings, Lattice,
-    NeighbourSettings, OutputSettings, TimeStep, Velocity,
+    Block, BoxRegion, Disk, Domain, Formulation, Generator, HealthSettings, IntegratorSettings,
+    Lattice, NeighbourSettings, OutputSettings, TimeStep, Velocity,
 };
 
 use ron::extensions::Extensions;
@@ -93,6 +95,9 @@ pub struct Scene {
     /// Output cadence (optional section).
     #[serde(default)]
     pub output: OutputSettings,
+    /// Sane ranges of density and h for the blow-up check (optional section).
+    #[serde(default)]
+    pub health: HealthSettings,
 }
 
 /// ron options: variant newtypes unwrap (`Gravity(g: [..])`, not `Gravity((g: [..]))`) and

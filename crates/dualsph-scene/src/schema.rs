@@ -284,6 +284,51 @@ impl Default for OutputSettings {
     }
 }
 
+/// The optional `health` section: how far density and h may leave their ranges at
+/// initialisation before a run counts as blown up (`[min/below, max·above]`; see
+/// `dualsph_core::diagnostics::HealthBounds`). Each factor must be a finite number > 1; a
+/// bad value is a parse error at its own position.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct HealthSettings {
+    /// Factor below the initial minimum density; default 300.
+    #[serde(deserialize_with = "factor")]
+    pub density_below: f64,
+    /// Factor above the initial maximum density; default 10.
+    #[serde(deserialize_with = "factor")]
+    pub density_above: f64,
+    /// Factor below the initial minimum h; default 10.
+    #[serde(deserialize_with = "factor")]
+    pub h_below: f64,
+    /// Factor above the initial maximum h; default 300.
+    #[serde(deserialize_with = "factor")]
+    pub h_above: f64,
+}
+
+impl Default for HealthSettings {
+    fn default() -> Self {
+        use dualsph_core::diagnostics::{DEFAULT_DENSITY_FACTORS, DEFAULT_H_FACTORS};
+        HealthSettings {
+            density_below: DEFAULT_DENSITY_FACTORS.0,
+            density_above: DEFAULT_DENSITY_FACTORS.1,
+            h_below: DEFAULT_H_FACTORS.0,
+            h_above: DEFAULT_H_FACTORS.1,
+        }
+    }
+}
+
+/// A finite number > 1, refused where it stands (so the error has its line and column).
+fn factor<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    let x = f64::deserialize(d)?;
+    if x.is_finite() && x > 1.0 {
+        Ok(x)
+    } else {
+        Err(de::Error::custom(format!(
+            "a sane-range factor must be a finite number > 1, got {x}"
+        )))
+    }
+}
+
 /// Deserializes an identifier (a struct field or enum variant name) as an owned string.
 pub(crate) struct Ident;
 

@@ -1,7 +1,11 @@
 //! Density plugins: `SummationDensity()` (Eq. 4.8) and
 //! `ContinuityDensity(form: Pairwise | VelocityDivergence)` (Eq. 4.9, or `−ρ ∇·v` with the
-//! velocity gradient of Eq. 7.4 as in the paper's water drop, §7.3).
+//! velocity gradient of Eq. 7.4 as in the paper's water drop, §7.3), and
+//! `DensityDiffusion(delta)` (δ-SPH, Molteni & Colagrossi 2009; see [`diffusion`]).
 #![warn(missing_docs)]
+
+pub mod diffusion;
+pub use diffusion::DensityDiffusion;
 
 use dualsph_core::passes;
 use dualsph_core::prelude::*;
