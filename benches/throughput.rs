@@ -29,9 +29,8 @@
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use dualsph::core::neighbours::{NeighbourIndex, Neighbours};
-use dualsph::core::sim::KernelRes;
-use dualsph::core::sweep::{PairTerms, SweepBuffers, evaluate};
-use dualsph::perf::{Case, Layout, cpu_seconds, support_pairs};
+use dualsph::core::sweep::SweepBuffers;
+use dualsph::perf::{Case, Layout, cpu_seconds, run_sweep, support_pairs};
 use dualsph::prelude::*;
 use std::time::{Duration, Instant};
 
@@ -153,17 +152,8 @@ fn bench_dim<V: Vector>(c: &mut Criterion, case: Case) {
 
         // pair sweep (pressure + artificial viscosity, support + dual-support)
         {
-            let w = &sim.world;
-            let ctx = SweepCtx {
-                fields: w.resource::<Fields<V>>(),
-                neighbours: w.resource::<Neighbours<V>>(),
-                kernel: &w.resource::<KernelRes>().0,
-                formulation: *w.resource::<Formulation>(),
-            };
-            let terms = &w.resource::<PairTerms<V>>().terms;
             let mut buf = SweepBuffers::<V>::default();
-            let (reps, cpu, wall) =
-                measure(min_cpu, || pool.install(|| evaluate(&ctx, terms, &mut buf)));
+            let (reps, cpu, wall) = measure(min_cpu, || pool.install(|| run_sweep(&sim, &mut buf)));
             println!(
                 "{name} sweep   {threads}T: {:.3e} pair interactions/CPU-s ({:.1} pairs/particle){}",
                 pairs * reps as f64 / cpu,
@@ -172,7 +162,7 @@ fn bench_dim<V: Vector>(c: &mut Criterion, case: Case) {
             );
             group.throughput(Throughput::Elements(pairs as u64));
             group.bench_function(BenchmarkId::new("sweep", format!("{threads}T")), |b| {
-                b.iter(|| pool.install(|| evaluate(&ctx, terms, &mut buf)))
+                b.iter(|| pool.install(|| run_sweep(&sim, &mut buf)))
             });
         }
 

@@ -9,7 +9,7 @@
 //! valgrind --tool=callgrind target/release/examples/perf 2 uniform dam 20 1
 //! ```
 
-use dualsph::perf::{Case, Layout, cpu_seconds, peak_rss_bytes, support_pairs};
+use dualsph::perf::{Case, Layout, cpu_seconds, peak_rss_bytes, run_sweep, support_pairs};
 use dualsph::prelude::*;
 use std::time::Instant;
 
@@ -73,24 +73,14 @@ fn run<V: Vector>(case: Case, steps: usize) {
 /// final state: pair interactions per CPU-second.
 #[inline(never)]
 fn sweep_only<V: Vector>(sim: &Sim<V>, steps: usize) {
-    use dualsph::core::neighbours::Neighbours;
-    use dualsph::core::sim::KernelRes;
-    use dualsph::core::sweep::{Formulation, PairTerms, SweepBuffers, SweepCtx, evaluate};
-    let w = &sim.world;
-    let ctx = SweepCtx {
-        fields: w.resource::<Fields<V>>(),
-        neighbours: w.resource::<Neighbours<V>>(),
-        kernel: &w.resource::<KernelRes>().0,
-        formulation: *w.resource::<Formulation>(),
-    };
-    let terms = &w.resource::<PairTerms<V>>().terms;
+    use dualsph::core::sweep::SweepBuffers;
     let mut buf = SweepBuffers::<V>::default();
     buf.with_density_rate = true;
     let pairs = support_pairs(sim);
     let (c0, mut best) = (cpu_seconds(), f64::INFINITY);
     for _ in 0..steps {
         let t = Instant::now();
-        evaluate(&ctx, terms, &mut buf);
+        run_sweep(sim, &mut buf);
         best = best.min(t.elapsed().as_secs_f64());
     }
     let cpu = cpu_seconds() - c0;

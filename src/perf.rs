@@ -215,6 +215,21 @@ pub fn peak_rss_bytes() -> Option<u64> {
     Some(kb * 1024)
 }
 
+/// The pair sweep of the simulation's current state, as the Forces set runs it
+/// (`sweep::evaluate` over the scene's pair terms), into `buf` — what the benches and the
+/// `perf` example time on their own.
+pub fn run_sweep<V: Vector>(sim: &Sim<V>, buf: &mut dualsph_core::sweep::SweepBuffers<V>) {
+    use dualsph_core::sweep::{Formulation, PairTerms, SweepCtx, evaluate};
+    let w = &sim.world;
+    let ctx = SweepCtx {
+        fields: w.resource::<Fields<V>>(),
+        neighbours: w.resource::<dualsph_core::neighbours::Neighbours<V>>(),
+        kernel: &w.resource::<dualsph_core::sim::KernelRes>().0,
+        formulation: *w.resource::<Formulation>(),
+    };
+    evaluate(&ctx, &w.resource::<PairTerms<V>>().terms, buf);
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
