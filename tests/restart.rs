@@ -239,29 +239,23 @@ fn killed_process_resumes_bitwise_identical() {
     }
 }
 
-#[test]
-fn fixed_dt_overtaken_by_the_cfl_limit_stops_and_writes_the_last_good_state() {
-    let tmp = tempfile::tempdir().unwrap();
+/// Runs a scene that must blow up through the CLI and checks the stop: a non-zero exit, no
+/// panic, exactly one `error:` line containing every phrase of `expect`, and the last good
+/// state written as `.ckpt`, `.csv` (one record per particle) and `.vtp` from mid-run.
+/// Returns the error text and the last good particle records.
+fn blow_up(scene: &str, out: &Path, expect: &[&str]) -> (String, Vec<dualsph::io::ParticleRecord>) {
     let o = bin()
         .arg("run")
-        .arg(scene_path("blow_up.ron"))
+        .arg(scene_path(scene))
         .arg("--quiet")
         .arg("--out")
-        .arg(tmp.path())
+        .arg(out)
         .output()
         .unwrap();
     let err = stderr(&o);
-    assert!(!o.status.success());
+    assert!(!o.status.success(), "{err}");
     assert!(!err.contains("panicked"), "{err}");
-    for what in [
-        "blow-up",
-        "step ",
-        "t = ",
-        "particle ",
-        "likely cause",
-        "dt above the CFL limit",
-        "last_good.ckpt",
-    ] {
+    for what in expect {
         assert!(err.contains(what), "{what:?} missing in: {err}");
     }
     assert_eq!(
@@ -269,12 +263,29 @@ fn fixed_dt_overtaken_by_the_cfl_limit_stops_and_writes_the_last_good_state() {
         1,
         "{err}"
     );
-    let good = Checkpoint::read(&tmp.path().join("last_good.ckpt")).unwrap();
-    let records = dualsph::io::read_particles_csv(&tmp.path().join("last_good.csv")).unwrap();
+    let good = Checkpoint::read(&out.join("last_good.ckpt")).unwrap();
+    let records = dualsph::io::read_particles_csv(&out.join("last_good.csv")).unwrap();
     assert_eq!(records.len() as u64, good.particles);
-    assert!(tmp.path().join("last_good.vtp").exists());
-    // the last good state is sound and from mid-run: every position finite and in the tank
+    assert!(out.join("last_good.vtp").exists());
     assert!(good.step > 0, "last good state at step {}", good.step);
+    (err, records)
+}
+
+#[test]
+fn fixed_dt_overtaken_by_the_cfl_limit_stops_and_writes_the_last_good_state() {
+    let tmp = tempfile::tempdir().unwrap();
+    let expect = [
+        "blow-up",
+        "step ",
+        "t = ",
+        "particle ",
+        "likely cause",
+        "dt above the CFL limit",
+        "last_good.ckpt",
+    ];
+    let (_, records) = blow_up("blow_up.ron", tmp.path(), &expect);
+    // the last good state is sound (from mid-run: checked by blow_up): every position finite
+    // and in the tank
     assert!(records.iter().all(|r| {
         r.pos[0].is_finite()
             && r.pos[1].is_finite()
@@ -425,18 +436,7 @@ fn damaged_or_foreign_checkpoints_are_refused_clearly() {
 #[test]
 fn density_driven_out_of_its_sane_range_stops_with_the_cause_and_the_last_good_state() {
     let tmp = tempfile::tempdir().unwrap();
-    let o = bin()
-        .arg("run")
-        .arg(scene_path("compressed.ron"))
-        .arg("--quiet")
-        .arg("--out")
-        .arg(tmp.path())
-        .output()
-        .unwrap();
-    let err = stderr(&o);
-    assert!(!o.status.success(), "{err}");
-    assert!(!err.contains("panicked"), "{err}");
-    for what in [
+    let expect = [
         "blow-up",
         "step ",
         "t = ",
@@ -446,14 +446,8 @@ fn density_driven_out_of_its_sane_range_stops_with_the_cause_and_the_last_good_s
         "outside [3.3333e0, 2.0000e3]",
         "c0 too small for the flow speed",
         "last_good.ckpt",
-    ] {
-        assert!(err.contains(what), "{what:?} missing in: {err}");
-    }
-    assert_eq!(
-        err.lines().filter(|l| l.starts_with("error:")).count(),
-        1,
-        "{err}"
-    );
+    ];
+    let (err, records) = blow_up("compressed.ron", tmp.path(), &expect);
     // stopped on the density itself, just past 2000 kg/m³, when the continuity equation's
     // ρ0/(1 − 100t)² says so: t = (1 − 1/√2)/100 = 2.929 ms (to a step of dt = 2e-5)
     let number = |key: &str, stop: char| {
@@ -468,11 +462,6 @@ fn density_driven_out_of_its_sane_range_stops_with_the_cause_and_the_last_good_s
         (t - exact).abs() <= 4e-5,
         "stopped at t = {t}, expected {exact}"
     );
-    let good = Checkpoint::read(&tmp.path().join("last_good.ckpt")).unwrap();
-    let records = dualsph::io::read_particles_csv(&tmp.path().join("last_good.csv")).unwrap();
-    assert_eq!(records.len() as u64, good.particles);
-    assert!(tmp.path().join("last_good.vtp").exists());
-    assert!(good.step > 0, "last good state at step {}", good.step);
     // the last good state is inside the sane range
     assert!(
         records
