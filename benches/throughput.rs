@@ -195,7 +195,7 @@ fn thread_counts() -> Vec<usize> {
 fn benches(c: &mut Criterion) {
     // size the ECS task pool before any simulation exists (see the module docs)
     let most = thread_counts().into_iter().max().unwrap_or(1);
-    pool(most).install(|| drop(Case::dam_column_2d().sim::<glam::DVec2>()));
+    pool(most).install(dualsph::core::sim::init_task_pool);
     for case in cases() {
         match case.dim {
             2 => bench_dim::<glam::DVec2>(c, case),

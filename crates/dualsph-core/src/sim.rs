@@ -221,10 +221,11 @@ pub struct Sim<V: Vector> {
 
 /// Gives bevy's `ComputeTaskPool` (which runs the systems' `Query::par_iter_mut` loops) as many
 /// threads as the current rayon pool (which runs the neighbour loops), so a run on N threads
-/// uses N for both. The pool is global: the first simulation of a process sets its size.
-/// Every `par_iter_mut` loop in the engine updates each particle from its own data only, so
-/// the result does not depend on the number of threads (bitwise).
-fn init_task_pool() {
+/// uses N for both. The pool is global: the first call of a process (normally the first
+/// [`Sim::new`]) sets its size; later calls do nothing. Every `par_iter_mut` loop in the engine
+/// updates each particle from its own data only, so the result does not depend on the number
+/// of threads (bitwise).
+pub fn init_task_pool() {
     bevy_tasks::ComputeTaskPool::get_or_init(|| {
         bevy_tasks::TaskPoolBuilder::new()
             .num_threads(rayon::current_num_threads())
