@@ -107,19 +107,16 @@ impl KernelKind {
     /// Derivative `f'(q)` of the profile.
     #[inline(always)]
     pub fn profile_derivative(self, q: Real) -> Real {
-        if !(0.0..1.0).contains(&q) {
-            return 0.0;
-        }
-        match self {
+        // Every piece is evaluated and the right one selected (no branch on q), so a loop over
+        // a row of pairs compiles to vector instructions; the values are those of the
+        // piecewise formulas.
+        let d = match self {
             KernelKind::CubicSpline => {
                 let s = 2.0 * q;
-                let dfds = if s < 1.0 {
-                    -3.0 * s + 2.25 * s * s
-                } else {
-                    let t = 2.0 - s;
-                    -0.75 * t * t
-                };
-                2.0 * dfds
+                let inner = -3.0 * s + 2.25 * s * s;
+                let t = 2.0 - s;
+                let outer = -0.75 * t * t;
+                2.0 * if s < 1.0 { inner } else { outer }
             }
             KernelKind::WendlandC2 => {
                 let t = 1.0 - q;
@@ -139,7 +136,8 @@ impl KernelKind {
                 -3.0 * t * t
             }
             KernelKind::MullerViscosity => -1.5 * q * q + 2.0 * q - 0.5 / (q * q),
-        }
+        };
+        if (0.0..1.0).contains(&q) { d } else { 0.0 }
     }
 
     /// The points in `[0, 1]` where the piecewise polynomial profile changes formula.

@@ -290,7 +290,7 @@ impl OwnerKernel {
     }
 
     #[inline(always)]
-    fn factor_of(kind: KernelKind, g_norm: Real, inv_h: Real, r: Real) -> Real {
+    pub(crate) fn factor_of(kind: KernelKind, g_norm: Real, inv_h: Real, r: Real) -> Real {
         let d = g_norm * kind.profile_derivative(r * inv_h) / r;
         if r > 0.0 { d } else { 0.0 }
     }
@@ -315,6 +315,13 @@ impl OwnerKernel {
             KernelKind::Spiky => each!(KernelKind::Spiky),
             KernelKind::MullerViscosity => each!(KernelKind::MullerViscosity),
         }
+    }
+
+    /// The kernel's kind and the two constants of [`Self::grad_factor`] (`C_d h_i^{-d-1}`,
+    /// `1/h_i`), for loops that resolve the kind once.
+    #[inline(always)]
+    pub(crate) fn factor_parts(&self) -> (KernelKind, Real, Real) {
+        (self.kind, self.g_norm, self.inv_h)
     }
 
     /// `(W_ij, ∇_iW_ij)` for `r = |r_ij| < h_i`.
