@@ -138,22 +138,42 @@ impl<V: Vector> SweepCtx<'_, V> {
     }
 }
 
-/// Particles per parallel work item of the sweep (a chunk's slots are contiguous).
-const CHUNK: usize = 64;
+/// Fewest particles per block of the dual-support sweep (see [`dual_support`]).
+const MIN_BLOCK: usize = 1024;
 
-/// Splits a slot buffer at the slot boundaries of consecutive chunks of `CHUNK` rows.
-fn split_chunks_mut<'a, T>(mut buf: &'a mut [T], offsets: &[u32]) -> Vec<&'a mut [T]> {
+/// Particles per block of the dual-support sweep for `n` particles: about four blocks per
+/// thread, at least [`MIN_BLOCK`]. Any block length gives bitwise the same sums.
+fn block_len(n: usize) -> usize {
+    n.div_ceil(4 * rayon::current_num_threads()).max(MIN_BLOCK)
+}
+
+/// Splits a slot buffer at the slot boundaries of consecutive blocks of `rows` rows.
+fn split_rows_mut<'a, T>(mut buf: &'a mut [T], offsets: &[u32], rows: usize) -> Vec<&'a mut [T]> {
     let n = offsets.len().saturating_sub(1);
-    let mut out = Vec::with_capacity(n.div_ceil(CHUNK));
+    let mut out = Vec::with_capacity(n.div_ceil(rows));
     let mut start = 0;
     while start < n {
-        let end = (start + CHUNK).min(n);
+        let end = (start + rows).min(n);
         let (chunk, rest) = buf.split_at_mut((offsets[end] - offsets[start]) as usize);
         out.push(chunk);
         buf = rest;
         start = end;
     }
     out
+}
+
+/// j's share of the reactions: `(−Σ force, Σ power)` over j's dual-support slots (`slots`,
+/// ascending owner i), read from `reactions`, whose first entry is slot `base`.
+#[inline(always)]
+fn dual_sum<V: Vector>(slots: &[u32], reactions: &[Reaction<V>], base: usize) -> (V, Real) {
+    let mut f = V::zero();
+    let mut p = 0.0;
+    for &slot in slots {
+        let r = &reactions[slot as usize - base];
+        f -= r.force;
+        p += r.power;
+    }
+    (f, p)
 }
 
 #[inline]
@@ -214,6 +234,14 @@ pub fn evaluate<V: Vector>(
     }
 }
 
+/// Pass 1 and pass 2 in blocks of consecutive particles (in parallel over blocks). Inside a
+/// block, pass 2 runs as a wavefront behind pass 1: j gathers its reactions as soon as pass 1
+/// has done its own row and the rows of all its dual-support owners, which, with particles
+/// numbered in space order, lie within about one lattice row of j — so the reactions are read
+/// back from cache rather than from memory. A particle with an owner outside its block waits
+/// for the end of pass 1 and gathers then. Every sum keeps its order (own row, then the
+/// reactions in ascending owner order), so the result is bitwise that of two separate passes,
+/// for any block length and thread count.
 fn dual_support<V: Vector>(
     ctx: &SweepCtx<'_, V>,
     terms: &[Arc<dyn PairTerm<V>>],
@@ -222,45 +250,59 @@ fn dual_support<V: Vector>(
     let nb = ctx.neighbours;
     let offsets = &nb.support.offsets;
     let slots = nb.support.indices.len();
+    let n = ctx.fields.len();
     // every slot is written by pass 1: no clearing needed
     buf.reactions.resize(slots, Reaction::default());
-    let r_chunks = split_chunks_mut(&mut buf.reactions, offsets);
+    let block = block_len(n);
+    let r_blocks = split_rows_mut(&mut buf.reactions, offsets, block);
     let with_drho = buf.with_density_rate;
-    buf.density_rate.resize(ctx.fields.len(), 0.0);
-    // pass 1: own support, store reactions per slot; chunks of CHUNK owners
-    buf.force
-        .par_chunks_mut(CHUNK)
-        .zip(buf.power.par_chunks_mut(CHUNK))
-        .zip(buf.density_rate.par_chunks_mut(CHUNK))
-        .zip(r_chunks)
+    buf.density_rate.resize(n, 0.0);
+    let later: Vec<Vec<u32>> = buf
+        .force
+        .par_chunks_mut(block)
+        .zip(buf.power.par_chunks_mut(block))
+        .zip(buf.density_rate.par_chunks_mut(block))
+        .zip(r_blocks)
         .enumerate()
-        .for_each_init(RowScratch::default, |s, (c, (((fc, pc), dc), rc))| {
-            let base = offsets[c * CHUNK] as usize;
-            for (k, ((fi, pi), di)) in fc.iter_mut().zip(pc.iter_mut()).zip(dc).enumerate() {
-                let i = c * CHUNK + k;
+        .map_init(RowScratch::default, |s, (b, (((fc, pc), dc), rc))| {
+            let (a, end) = (b * block, b * block + fc.len());
+            let base = offsets[a] as usize;
+            let mut later = Vec::new();
+            let mut next = a; // the wavefront of pass 2
+            for i in a..end {
                 let r = offsets[i] as usize - base..offsets[i + 1] as usize - base;
-                let drho = with_drho.then_some(di);
-                (*fi, *pi) = owner_row(ctx, terms, i, s, &mut rc[r], drho);
+                let drho = with_drho.then_some(&mut dc[i - a]);
+                (fc[i - a], pc[i - a]) = owner_row(ctx, terms, i, s, &mut rc[r], drho);
+                while next <= i {
+                    let owners = nb.dual.row(next);
+                    let first = owners.first().map_or(next, |&o| o as usize);
+                    let last = owners.last().map_or(next, |&o| o as usize);
+                    if first < a || last >= end {
+                        later.push(next as u32);
+                    } else if last <= i {
+                        let (f, p) = dual_sum(&nb.dual_slot[nb.dual.slots(next)], rc, base);
+                        fc[next - a] += f;
+                        pc[next - a] += p;
+                    } else {
+                        break;
+                    }
+                    next += 1;
+                }
             }
-        });
-    // pass 2: reactions through the dual-support (transpose), ascending i
+            later
+        })
+        .collect();
+    // the particles with owners in other blocks, now that every row is done
+    let later: Vec<u32> = later.concat();
     let reactions = &buf.reactions;
-    buf.force
-        .par_iter_mut()
-        .zip(buf.power.par_iter_mut())
-        .enumerate()
-        .with_min_len(CHUNK)
-        .for_each(|(j, (fj, pj))| {
-            let mut f_dual = V::zero();
-            let mut p_dual = 0.0;
-            for &slot in &nb.dual_slot[nb.dual.slots(j)] {
-                let r = &reactions[slot as usize];
-                f_dual -= r.force;
-                p_dual += r.power;
-            }
-            *fj += f_dual;
-            *pj += p_dual;
-        });
+    let sums: Vec<(V, Real)> = later
+        .par_iter()
+        .map(|&j| dual_sum(&nb.dual_slot[nb.dual.slots(j as usize)], reactions, 0))
+        .collect();
+    for (&j, (f, p)) in later.iter().zip(sums) {
+        buf.force[j as usize] += f;
+        buf.power[j as usize] += p;
+    }
 }
 
 fn classical<V: Vector>(
@@ -393,12 +435,20 @@ mod tests {
         }
     }
 
-    fn cloud(n: usize) -> (Fields<DVec2>, Neighbours<DVec2>) {
+    /// n particles with random positions in a square of side `side`, numbered by rows of
+    /// unit height (space order, as a generated lattice is) when `ordered`.
+    fn cloud_in(n: usize, side: Real, ordered: bool) -> (Fields<DVec2>, Neighbours<DVec2>) {
         let mut rng = ChaCha8Rng::seed_from_u64(5);
         let mut f = Fields::<DVec2>::default();
         f.resize(n);
+        let mut pos: Vec<DVec2> = (0..n)
+            .map(|_| DVec2::new(rng.random_range(0.0..side), rng.random_range(0.0..side)))
+            .collect();
+        if ordered {
+            pos.sort_by(|a, b| (a.y.floor(), a.x).partial_cmp(&(b.y.floor(), b.x)).unwrap());
+        }
         for i in 0..n {
-            f.pos[i] = DVec2::new(rng.random_range(0.0..10.0), rng.random_range(0.0..10.0));
+            f.pos[i] = pos[i];
             f.vel[i] = DVec2::new(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0));
             f.mass[i] = rng.random_range(0.5..1.5);
             f.rho[i] = rng.random_range(900.0..1100.0);
@@ -410,15 +460,45 @@ mod tests {
         (f, nb)
     }
 
+    fn cloud(n: usize) -> (Fields<DVec2>, Neighbours<DVec2>) {
+        cloud_in(n, 10.0, false)
+    }
+
     /// Pass 1 and pass 2 of the dual-support sweep (and the fused continuity sum) against a
     /// direct evaluation pair by pair in the same order: bitwise equal.
     #[test]
     fn row_sweep_equals_pairwise_reference_bitwise() {
         let (f, nb) = cloud(400);
+        assert_sweep_matches_pairwise(&f, &nb);
+    }
+
+    /// The same with several blocks and particles in space order, so that pass 2 runs both
+    /// behind pass 1 inside a block and, for particles with owners in another block, after it.
+    #[test]
+    fn blocked_wavefront_sweep_equals_pairwise_reference_bitwise() {
+        let n = 3 * MIN_BLOCK + 77;
+        let (f, nb) = cloud_in(n, 55.0, true);
+        let block = block_len(n);
+        let (mut inside, mut outside) = (0, 0);
+        for j in 0..n {
+            let (a, end) = (j / block * block, (j / block * block + block).min(n));
+            let owners = nb.dual.row(j);
+            let within = owners.iter().all(|&o| (a..end).contains(&(o as usize)));
+            if within { inside += 1 } else { outside += 1 }
+        }
+        assert!(n / block >= 2, "several blocks");
+        assert!(
+            inside > n / 2 && outside > 50,
+            "both paths: {inside} / {outside}"
+        );
+        assert_sweep_matches_pairwise(&f, &nb);
+    }
+
+    fn assert_sweep_matches_pairwise(f: &Fields<DVec2>, nb: &Neighbours<DVec2>) {
         let kernel = Kernel::new(KernelKind::CubicSpline, 2);
         let ctx = SweepCtx {
-            fields: &f,
-            neighbours: &nb,
+            fields: f,
+            neighbours: nb,
             kernel: &kernel,
             formulation: Formulation::DualSupport,
         };
@@ -442,7 +522,7 @@ mod tests {
                     w,
                     grad_raw: g,
                     grad: g,
-                    fields: &f,
+                    fields: f,
                 };
                 let mut out = PairOut::default();
                 for t in &terms {
@@ -454,7 +534,7 @@ mod tests {
             });
             force[i] = fo;
             power[i] = po;
-            let cont = crate::passes::own_support_continuity(&f, nb.support.row(i), i, &kernel);
+            let cont = crate::passes::own_support_continuity(f, nb.support.row(i), i, &kernel);
             assert_eq!(
                 buf.density_rate[i].to_bits(),
                 cont.to_bits(),
