@@ -10,9 +10,10 @@
 //!
 //! `S_i(h) = Σ_{j: r_ij < h} V_j W(r_ij, h) r_ij ⊗ r_ij`,  `I_i(h) = det S_i / (tr S_i / d)^d`,
 //!
-//! which is 1 for a support populated alike in every direction (a square lattice, a disk, but
-//! also a half-disk or a quarter-disk: a free surface or a corner does not lower it) and tends
-//! to 0 when the support degenerates to a line (in 2-D, `I = 4r/(1+r)²` with r the ratio of
+//! which is 1 for a support populated alike in every direction (a disk, a square lattice; in
+//! the continuum also a half-disk, but on a lattice the outermost row of a free surface lowers
+//! it to 0.95 at h = 2.6Δx, and a 90° corner has `S_xy ≠ 0`, 0.92) and tends to 0 when the
+//! support degenerates to a line (in 2-D, `I = 4r/(1+r)²` with r the ratio of
 //! the smallest to the largest eigenvalue). `h_i` is raised in steps of 5 % from its Eq. 6.1
 //! value until `I_i(h) ≥ I_min`, at most to `G` times that value. DS-SPH conserves linear and
 //! angular momentum exactly for any h field (§5, the dual-support sweep applies each pair
@@ -135,23 +136,33 @@ mod tests {
         let c = sq.len() / 2; // the centre (0, 0)
         let i_sq = isotropy(&k, 0.26, sq[c], &all, &sq, &vol);
         assert!((i_sq - 1.0).abs() < 1e-12, "{i_sq}");
-        // a half-disk support (free surface) keeps the second moment isotropic
+        // a half-plane support (free surface): isotropic in the continuum, but the lattice's
+        // outermost row adds to S_xx only: I = 0.9522 at h = 2.6Δx (an independent
+        // evaluation of the same sum, in Python); a 90° corner has S_xy ≠ 0, I = 0.9243
         let upper: Vec<u32> = all
             .iter()
             .copied()
             .filter(|&j| sq[j as usize].y >= 0.0)
             .collect();
         let i_half = isotropy(&k, 0.26, sq[c], &upper, &sq, &vol);
-        assert!((i_half - 1.0).abs() < 1e-12, "{i_half}");
+        assert!((i_half - 0.9522).abs() < 1e-4, "{i_half}");
+        let corner: Vec<u32> = upper
+            .iter()
+            .copied()
+            .filter(|&j| sq[j as usize].x >= 0.0)
+            .collect();
+        let i_corner = isotropy(&k, 0.26, sq[c], &corner, &sq, &vol);
+        assert!((i_corner - 0.9243).abs() < 1e-4, "{i_corner}");
         // spacing 0.04 × 0.25 at h = 0.26: rows at ±0.25 carry W(0.96 h) ≈ 0
         let sh = lattice(0.04, 0.25, 12);
         let all: Vec<u32> = (0..sh.len() as u32).collect();
+        let vol = vec![0.01; sh.len()];
         let i_sh = isotropy(&k, 0.26, sh[sh.len() / 2], &all, &sh, &vol);
         assert!(i_sh < 0.05, "{i_sh}");
     }
 
     #[test]
-    fn enlargement_raises_h_only_where_the_support_is_one_sided_in_direction() {
+    fn enlargement_leaves_a_square_lattice_and_raises_a_sheared_one_just_to_the_bound() {
         let k = Kernel::new(KernelKind::CubicSpline, 2);
         let iso = Isotropy {
             min: 0.8,
@@ -164,6 +175,7 @@ mod tests {
         assert_eq!(iso.enlarge(&k, &h, &sq, &vol)[c], 0.26);
         let sh = lattice(0.04, 0.25, 14);
         let h = vec![0.26; sh.len()];
+        let vol = vec![0.01; sh.len()];
         let out = iso.enlarge(&k, &h, &sh, &vol);
         let c = sh.len() / 2;
         // the result satisfies the bound, one step less does not, and stays within the cap
