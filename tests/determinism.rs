@@ -39,6 +39,7 @@ fn run_steps(threads: usize) -> Vec<(Real, DVec2, DVec2, DVec2, Real)> {
                 every: 5,
                 n: 2.0,
                 max_ratio: None,
+                isotropy: None,
             },
         );
         let mut sim = sim_with::<DVec2>(

@@ -1,6 +1,11 @@
 //! `SmoothingLengthUpdate(every: m, n: n)`: every m steps `h_i = n (m_i/ρ_i)^{1/d}` (Eq. 6.1).
-//! The neighbour lists are marked for rebuild after an update.
+//! The neighbour lists are marked for rebuild after an update. Two optional steps may then
+//! only raise h: [`isotropy`] (h from the particle distribution: each support populated in
+//! every direction) and the h-ratio limiter ([`limit_ratio`]), in this order.
 #![warn(missing_docs)]
+
+pub mod isotropy;
+pub use isotropy::Isotropy;
 
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::neighbours::Neighbours;
@@ -25,6 +30,13 @@ pub struct SmoothingLengthUpdate {
     /// sweep's exact conservation.
     #[serde(default)]
     pub max_ratio: Option<Real>,
+    /// h from the particle distribution, not the density alone: after Eq. 6.1, raise `h_i`
+    /// until the second moment of its support is isotropic to `min`,
+    /// `det S_i / (tr S_i/d)^d ≥ min` with `S_i = Σ_j V_j W(r_ij, h_i) r_ij ⊗ r_ij`, at most
+    /// to `max_growth` times the Eq. 6.1 value (see [`isotropy`]). None (the default)
+    /// leaves Eq. 6.1 alone.
+    #[serde(default)]
+    pub isotropy: Option<Isotropy>,
 }
 
 /// Settings as a resource.
@@ -36,6 +48,8 @@ pub struct HUpdate {
     pub n: Real,
     /// See [`SmoothingLengthUpdate::max_ratio`].
     pub max_ratio: Option<Real>,
+    /// See [`SmoothingLengthUpdate::isotropy`].
+    pub isotropy: Option<Isotropy>,
 }
 
 /// Applies Eq. 6.1 when `step % every == 0`.
@@ -43,6 +57,7 @@ pub struct HUpdate {
 pub fn update_h<V: Vector>(
     clock: Res<SimClock>,
     set: Res<HUpdate>,
+    kernel: Res<KernelRes>,
     mut nb: ResMut<Neighbours<V>>,
     mut q: Query<(
         &ParticleId,
@@ -56,20 +71,27 @@ pub fn update_h<V: Vector>(
         return;
     }
     let inv_d = 1.0 / V::DIM as Real;
-    let Some(ratio) = set.max_ratio else {
+    if set.max_ratio.is_none() && set.isotropy.is_none() {
         for (_, m, rho, _, mut h) in &mut q {
             h.0 = set.n * (m.0 / rho.0).powf(inv_d);
         }
         nb.dirty = true;
         return;
-    };
+    }
     let n = q.iter().len();
-    let (mut h_new, mut pos) = (vec![0.0; n], vec![V::zero(); n]);
+    let (mut h_new, mut pos, mut vol) = (vec![0.0; n], vec![V::zero(); n], vec![0.0; n]);
     for (id, m, rho, r, _) in &q {
         h_new[id.0 as usize] = set.n * (m.0 / rho.0).powf(inv_d);
         pos[id.0 as usize] = r.0;
+        vol[id.0 as usize] = m.0 / rho.0;
     }
-    let limited = limit_ratio(&h_new, &pos, &nb, ratio);
+    if let Some(iso) = set.isotropy {
+        h_new = iso.enlarge(&kernel.0, &h_new, &pos, &vol);
+    }
+    let limited = match set.max_ratio {
+        Some(ratio) => limit_ratio(&h_new, &pos, &nb, ratio),
+        None => h_new,
+    };
     for (id, _, _, _, mut h) in &mut q {
         h.0 = limited[id.0 as usize];
     }
@@ -113,6 +135,9 @@ impl SimPlugin for SmoothingLengthUpdate {
         {
             return Err(format!("max_ratio: must be at least 1, got {r}"));
         }
+        if let Some(iso) = &self.isotropy {
+            iso.validate()?;
+        }
         Ok(())
     }
 
@@ -126,6 +151,7 @@ impl SimPlugin for SmoothingLengthUpdate {
             every: self.every,
             n: self.n,
             max_ratio: self.max_ratio,
+            isotropy: self.isotropy,
         });
         sim.add_system(
             StepSet::SmoothingLength,
