@@ -1,5 +1,5 @@
 //! h from the particle distribution: enlarge `h_i` until its support is populated in every
-//! direction (`SmoothingLengthUpdate(isotropy: Some((min: I, max_growth: G)))`).
+//! direction (`SmoothingLengthUpdate(isotropy: (min: I, max_growth: G))`).
 //!
 //! Eq. 6.1 sizes h from the density alone, `h_i = n (m_i/ρ_i)^{1/d}`, i.e. from the *mean*
 //! spacing. Under a strong affine deformation (the stretched drop: x-spacing 0.4Δx, y-spacing
