@@ -111,7 +111,7 @@ fn prepare_pairs<V: Vector>(
     let (kind, g_norm, inv_h) = k.factor_parts();
     let mut sum = 0.0;
     macro_rules! each {
-        ($kind:expr) => {
+        ($kind:expr) => {{
             let rows = s.r[..n]
                 .iter_mut()
                 .zip(&s.rij[..n])
@@ -134,27 +134,15 @@ fn prepare_pairs<V: Vector>(
                 }
                 *o = PairOut::default();
             }
-        };
+        }};
     }
     match kind {
-        KernelKind::CubicSpline => {
-            each!(KernelKind::CubicSpline);
-        }
-        KernelKind::WendlandC2 => {
-            each!(KernelKind::WendlandC2);
-        }
-        KernelKind::QuinticSpline => {
-            each!(KernelKind::QuinticSpline);
-        }
-        KernelKind::Poly6 => {
-            each!(KernelKind::Poly6);
-        }
-        KernelKind::Spiky => {
-            each!(KernelKind::Spiky);
-        }
-        KernelKind::MullerViscosity => {
-            each!(KernelKind::MullerViscosity);
-        }
+        KernelKind::CubicSpline => each!(KernelKind::CubicSpline),
+        KernelKind::WendlandC2 => each!(KernelKind::WendlandC2),
+        KernelKind::QuinticSpline => each!(KernelKind::QuinticSpline),
+        KernelKind::Poly6 => each!(KernelKind::Poly6),
+        KernelKind::Spiky => each!(KernelKind::Spiky),
+        KernelKind::MullerViscosity => each!(KernelKind::MullerViscosity),
     }
     sum
 }
