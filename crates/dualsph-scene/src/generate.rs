@@ -107,6 +107,19 @@ pub(crate) fn positions(g: &Generator, d: usize) -> Vec<[f64; 3]> {
     if est.is_nan() || est > MAX_PARTICLES as f64 {
         return Vec::new();
     }
+    let mut out = Vec::with_capacity(est as usize);
+    for_each_position(g, d, |p| out.push(p));
+    out
+}
+
+/// Calls `f` with every position `g` generates, in the order of [`positions`], without
+/// storing them (nothing when the estimate exceeds [`MAX_PARTICLES`] or the spacing is
+/// unusable): the validator's checks need O(1) memory per generator.
+pub(crate) fn for_each_position(g: &Generator, d: usize, mut f: impl FnMut([f64; 3])) {
+    let est = estimate_count(g, d);
+    if est.is_nan() || est > MAX_PARTICLES as f64 {
+        return;
+    }
     let c = g.common();
     let dx = c.spacing;
     let (lo, _) = lattice_box(g, d);
@@ -118,7 +131,6 @@ pub(crate) fn positions(g: &Generator, d: usize) -> Vec<[f64; 3]> {
         }
         Generator::Block(_) => None,
     };
-    let mut out = Vec::with_capacity(est as usize);
     for i0 in ranges[0].0..ranges[0].1 {
         for i1 in ranges[1].0..ranges[1].1 {
             for i2 in ranges[2].0..ranges[2].1 {
@@ -139,11 +151,10 @@ pub(crate) fn positions(g: &Generator, d: usize) -> Vec<[f64; 3]> {
                 if c.cut.iter().any(|b| b.contains(&p, d)) {
                     continue;
                 }
-                out.push(p);
+                f(p);
             }
         }
     }
-    out
 }
 
 /// Velocity of a particle at `p`.

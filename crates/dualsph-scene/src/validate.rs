@@ -236,8 +236,6 @@ fn count_guard(s: &Scene, limit: Limit) -> Check {
 /// stored as counting-sorted index lists.
 struct CellGrid {
     origin: [f64; 3],
-    /// Upper corner of the points' bounding box (`origin` is the lower one).
-    upper: [f64; 3],
     cell: f64,
     dims: [usize; 3],
     starts: Vec<usize>,
@@ -247,7 +245,6 @@ struct CellGrid {
 impl CellGrid {
     fn new(points: &[[f64; 3]], cell: f64, d: usize) -> Self {
         let mut origin = [0.0; 3];
-        let mut upper = [0.0; 3];
         let mut dims = [1; 3];
         for k in 0..d {
             let lo = points.iter().map(|p| p[k]).fold(f64::INFINITY, f64::min);
@@ -256,12 +253,10 @@ impl CellGrid {
                 .map(|p| p[k])
                 .fold(f64::NEG_INFINITY, f64::max);
             origin[k] = lo;
-            upper[k] = hi;
             dims[k] = ((hi - lo) / cell).floor() as usize + 1;
         }
         let mut grid = CellGrid {
             origin,
-            upper,
             cell,
             dims,
             starts: Vec::new(),
@@ -284,11 +279,6 @@ impl CellGrid {
         grid.starts = starts;
         grid.items = items;
         grid
-    }
-
-    /// Whether the bounding boxes of two grids' points come within `r` of each other.
-    fn boxes_within(&self, other: &CellGrid, r: f64, d: usize) -> bool {
-        (0..d).all(|k| self.origin[k] <= other.upper[k] + r && other.origin[k] <= self.upper[k] + r)
     }
 
     fn coord(&self, x: f64, k: usize) -> i64 {
@@ -336,33 +326,56 @@ fn fmt_point(p: &[f64; 3], d: usize) -> String {
     format!("({})", parts.join(", "))
 }
 
-/// Two particles of different generators closer than half the smaller spacing. Each particle
-/// of the finer generator of a pair is looked up in a grid of the coarser one (cell size =
-/// the coarser spacing >= the search radius), so the check is linear in the particle count;
-/// pairs of generators whose bounding boxes are farther apart than the radius are skipped.
-fn overlaps(s: &Scene, pos: &[Vec<[f64; 3]>]) -> Check {
+/// The bounding box `[lo, hi]` of a generator's particles (first `d` components).
+type Bounds = ([f64; 3], [f64; 3]);
+
+/// Whether two boxes come within `r` of each other.
+fn bounds_within(a: &Bounds, b: &Bounds, r: f64, d: usize) -> bool {
+    (0..d).all(|k| a.0[k] <= b.1[k] + r && b.0[k] <= a.1[k] + r)
+}
+
+/// The positions of generator `g` inside `box` widened by `r` (regenerated, not stored
+/// beforehand: only the part near another generator is ever held in memory).
+fn positions_near(g: &Generator, d: usize, bx: &Bounds, r: f64) -> Vec<[f64; 3]> {
+    let mut out = Vec::new();
+    generate::for_each_position(g, d, |p| {
+        if (0..d).all(|k| p[k] >= bx.0[k] - r && p[k] <= bx.1[k] + r) {
+            out.push(p);
+        }
+    });
+    out
+}
+
+/// Two particles of different generators closer than half the smaller spacing. For each pair
+/// of generators whose bounding boxes come within the search radius, the particles of each
+/// that lie near the other's box are generated again; each particle of the finer one is looked
+/// up in a grid of the coarser one (cell size = the coarser spacing >= the search radius), so
+/// the check is linear in the particles near the pair's common region and needs no memory for
+/// the rest (generators far apart cost nothing: found by fuzzing, 112 side-by-side blocks took
+/// minutes when every pair was searched; a 48-million-particle block 2.3 GB when all positions
+/// were held).
+fn overlaps(s: &Scene, bounds: &[Bounds]) -> Check {
     let d = s.dimension;
     let spacing: Vec<f64> = s.particles.iter().map(Generator::spacing).collect();
-    let grids: Vec<CellGrid> = pos
-        .iter()
-        .zip(&spacing)
-        .map(|(p, &dx)| CellGrid::new(p, dx, d))
-        .collect();
-    for a in 0..pos.len() {
-        for b in 0..pos.len() {
+    for a in 0..bounds.len() {
+        for b in 0..bounds.len() {
             let coarser = spacing[b] > spacing[a] || (spacing[b] == spacing[a] && b > a);
             if !coarser {
                 continue;
             }
             let r = 0.5 * spacing[a];
-            // generators far apart cannot overlap: without this test many side-by-side
-            // generators cost O(G² N) (found by fuzzing: 112 blocks took minutes)
-            if !grids[a].boxes_within(&grids[b], r, d) {
+            if !bounds_within(&bounds[a], &bounds[b], r, d) {
                 continue;
             }
-            for p in &pos[a] {
-                if let Some(j) = grids[b].near(&pos[b], p, r, d) {
-                    let q = &pos[b][j];
+            let pa = positions_near(&s.particles[a], d, &bounds[b], r);
+            let pb = positions_near(&s.particles[b], d, &bounds[a], r);
+            if pa.is_empty() || pb.is_empty() {
+                continue;
+            }
+            let grid = CellGrid::new(&pb, spacing[b], d);
+            for p in &pa {
+                if let Some(j) = grid.near(&pb, p, r, d) {
+                    let q = &pb[j];
                     let dist = (0..d).map(|k| (p[k] - q[k]).powi(2)).sum::<f64>().sqrt();
                     let (lo, hi, plo, phi) = if a < b { (a, b, p, q) } else { (b, a, q, p) };
                     return Err(Problem::new(
@@ -384,18 +397,29 @@ fn overlaps(s: &Scene, pos: &[Vec<[f64; 3]>]) -> Check {
     Ok(())
 }
 
-/// Runs every check in order and returns the first problem.
+/// Runs every check in order and returns the first problem. The particles are streamed, not
+/// stored: per generator its count, the first particle outside the domain and its bounding box.
 pub(crate) fn validate(s: &Scene, limit: Limit) -> Check {
     settings(s)?;
     count_guard(s, limit)?;
     let d = s.dimension;
-    let pos: Vec<Vec<[f64; 3]>> = s
-        .particles
-        .iter()
-        .map(|g| generate::positions(g, d))
-        .collect();
-    for (i, p) in pos.iter().enumerate() {
-        if p.is_empty() {
+    let (min, max) = (&s.domain.min, &s.domain.max);
+    let mut bounds = Vec::with_capacity(s.particles.len());
+    let mut outside: Option<(usize, [f64; 3])> = None;
+    for (i, g) in s.particles.iter().enumerate() {
+        let (mut count, mut lo, mut hi) = (0usize, [f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        let mut first_out = None;
+        generate::for_each_position(g, d, |p| {
+            count += 1;
+            for k in 0..d {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+            if first_out.is_none() && (0..d).any(|k| p[k] < min[k] || p[k] > max[k]) {
+                first_out = Some(p);
+            }
+        });
+        if count == 0 {
             return Err(Problem::new(
                 format!("particles[{i}]"),
                 format!(
@@ -403,23 +427,21 @@ pub(crate) fn validate(s: &Scene, limit: Limit) -> Check {
                 ),
             ));
         }
-    }
-    let (min, max) = (&s.domain.min, &s.domain.max);
-    for (i, p) in pos.iter().enumerate() {
-        if let Some(x) = p
-            .iter()
-            .find(|x| (0..d).any(|k| x[k] < min[k] || x[k] > max[k]))
-        {
-            return Err(Problem::new(
-                format!("particles[{i}]"),
-                format!(
-                    "particles[{i}] generates a particle at {} outside the domain {:?}..{:?}",
-                    fmt_point(x, d),
-                    min,
-                    max
-                ),
-            ));
+        if outside.is_none() {
+            outside = first_out.map(|p| (i, p));
         }
+        bounds.push((lo, hi));
     }
-    overlaps(s, &pos)
+    if let Some((i, x)) = outside {
+        return Err(Problem::new(
+            format!("particles[{i}]"),
+            format!(
+                "particles[{i}] generates a particle at {} outside the domain {:?}..{:?}",
+                fmt_point(&x, d),
+                min,
+                max
+            ),
+        ));
+    }
+    overlaps(s, &bounds)
 }
