@@ -295,28 +295,6 @@ impl OwnerKernel {
         if r > 0.0 { d } else { 0.0 }
     }
 
-    /// [`Self::grad_factor`] of every `r[k]` into `out[k]` (the same arithmetic, bitwise), with
-    /// the kernel's kind resolved once for the whole row so the loop has no dispatch.
-    #[inline]
-    pub fn grad_factors(&self, r: &[Real], out: &mut [Real]) {
-        let (g, ih) = (self.g_norm, self.inv_h);
-        macro_rules! each {
-            ($kind:expr) => {
-                for (o, &r) in out.iter_mut().zip(r) {
-                    *o = Self::factor_of($kind, g, ih, r);
-                }
-            };
-        }
-        match self.kind {
-            KernelKind::CubicSpline => each!(KernelKind::CubicSpline),
-            KernelKind::WendlandC2 => each!(KernelKind::WendlandC2),
-            KernelKind::QuinticSpline => each!(KernelKind::QuinticSpline),
-            KernelKind::Poly6 => each!(KernelKind::Poly6),
-            KernelKind::Spiky => each!(KernelKind::Spiky),
-            KernelKind::MullerViscosity => each!(KernelKind::MullerViscosity),
-        }
-    }
-
     /// The kernel's kind and the two constants of [`Self::grad_factor`] (`C_d h_i^{-d-1}`,
     /// `1/h_i`), for loops that resolve the kind once.
     #[inline(always)]
