@@ -216,6 +216,11 @@ pub trait PairTerm<V: Vector>: Send + Sync + 'static {
     fn name(&self) -> &str;
     /// Adds this term's force and energy rates for the pair.
     fn interact(&self, pair: &Pair<'_, V>, out: &mut PairOut<V>);
+    /// The built-in term this is, if any: the sweep then may evaluate it in its fused loop
+    /// ([`crate::sweep::BuiltinTerm`]), which must give bitwise what `interact` gives.
+    fn builtin(&self) -> Option<crate::sweep::BuiltinTerm> {
+        None
+    }
     /// Adds this term to `out[k]` for every pair `k` of the row (`out.len() == row.len()`).
     #[inline]
     fn interact_row(&self, row: &Row<'_, V>, out: &mut [PairOut<V>]) {

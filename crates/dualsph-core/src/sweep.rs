@@ -35,8 +35,11 @@ use rayon::prelude::*;
 use std::sync::Arc;
 
 mod checks;
+mod fused;
 mod row;
 pub use checks::{check_row_matches_interact, check_row_override_2d};
+pub use fused::{AvSide, BuiltinTerm, artificial_viscosity_parts};
+use fused::{fused_owner_row, fused_plan};
 use row::{Reaction, RowScratch, owner_row};
 
 /// How pair interactions are summed (see module docs).
@@ -201,6 +204,9 @@ pub struct SweepBuffers<V: Vector> {
     pub with_density_rate: bool,
     /// `dρ_i/dt` from the last sweep (when `with_density_rate`).
     pub density_rate: Vec<Real>,
+    /// When true, the sweep never uses the fused loop for built-in terms (see
+    /// [`BuiltinTerm`]), only the general row path: for comparing the two.
+    pub general_only: bool,
 }
 
 /// Marker resource: the scene integrates the density with the pairwise continuity equation
@@ -217,6 +223,18 @@ pub fn continuity_in_sweep(requested: bool, has_terms: bool, formulation: Formul
             formulation,
             Formulation::DualSupport | Formulation::ConstantH
         )
+}
+
+/// True when the sweep evaluates `terms` with its fused loop for built-in terms (see
+/// [`BuiltinTerm`]) rather than term by term.
+pub fn fused_loop_applies<V: Vector>(
+    ctx: &SweepCtx<'_, V>,
+    terms: &[Arc<dyn PairTerm<V>>],
+) -> bool {
+    matches!(
+        ctx.formulation,
+        Formulation::DualSupport | Formulation::ConstantH
+    ) && fused_plan(ctx, terms).is_some()
 }
 
 /// Evaluates all pair terms: the total force and internal-energy power `m ε̇` per particle.
@@ -257,6 +275,11 @@ fn dual_support<V: Vector>(
     let r_blocks = split_rows_mut(&mut buf.reactions, offsets, block);
     let with_drho = buf.with_density_rate;
     buf.density_rate.resize(n, 0.0);
+    let plan = if buf.general_only {
+        None
+    } else {
+        fused_plan(ctx, terms)
+    };
     let later: Vec<Vec<u32>> = buf
         .force
         .par_chunks_mut(block)
@@ -272,7 +295,10 @@ fn dual_support<V: Vector>(
             for i in a..end {
                 let r = offsets[i] as usize - base..offsets[i + 1] as usize - base;
                 let drho = with_drho.then_some(&mut dc[i - a]);
-                (fc[i - a], pc[i - a]) = owner_row(ctx, terms, i, s, &mut rc[r], drho);
+                (fc[i - a], pc[i - a]) = match plan {
+                    Some(plan) => fused_owner_row(ctx, plan, i, s, &mut rc[r], drho),
+                    None => owner_row(ctx, terms, i, s, &mut rc[r], drho),
+                };
                 while next <= i {
                     let owners = nb.dual.row(next);
                     let first = owners.first().map_or(next, |&o| o as usize);

@@ -73,6 +73,10 @@ impl<V: Vector> PairTerm<V> for PressureTerm {
         "pressure (Eq. 4.19)"
     }
 
+    fn builtin(&self) -> Option<dualsph_core::sweep::BuiltinTerm> {
+        Some(dualsph_core::sweep::BuiltinTerm::Pressure)
+    }
+
     #[inline(always)]
     fn interact(&self, p: &Pair<'_, V>, out: &mut PairOut<V>) {
         let f = p.fields;

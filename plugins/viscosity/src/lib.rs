@@ -16,6 +16,7 @@ use dualsph_core::integrator::ensure_energy_equation;
 use dualsph_core::passes::ensure_velocity_gradient;
 use dualsph_core::prelude::*;
 use dualsph_core::sim::MaxViscosity;
+use dualsph_core::sweep::{BuiltinTerm, artificial_viscosity_parts};
 use serde::Deserialize;
 
 /// Monaghan artificial viscosity.
@@ -85,7 +86,9 @@ impl ArtificialViscosityTerm {
         2.0 * num / den
     }
 
-    /// `(x (β x − α c̄ D), D² (ρ_i + ρ_j))`: `Π_ij = 2 num/den` (see [`Self::pi_of`]).
+    /// `(x (β x − α c̄ D), D² (ρ_i + ρ_j))`: `Π_ij = 2 num/den` (see [`Self::pi_of`]); the
+    /// formula is the core's [`artificial_viscosity_parts`], which the sweep's fused loop uses
+    /// too.
     #[inline(always)]
     fn pi_parts<V: Vector>(
         &self,
@@ -95,14 +98,12 @@ impl ArtificialViscosityTerm {
         vr: Real,
         r: Real,
     ) -> (Real, Real) {
-        let hbar = 0.5 * (a.h + f.h[j]);
-        let eta = self.eta_factor * hbar;
-        let d = r * r + eta * eta;
-        let x = hbar * vr.min(0.0);
-        let cbar = 0.5 * (a.c + f.sound[j]);
-        (
-            x * (self.beta * x - self.alpha * cbar * d),
-            d * d * (a.rho + f.rho[j]),
+        artificial_viscosity_parts(
+            (self.alpha, self.beta, self.eta_factor),
+            (a.h, a.c, a.rho),
+            (f.h[j], f.sound[j], f.rho[j]),
+            vr,
+            r,
         )
     }
 
@@ -134,6 +135,14 @@ impl ArtificialViscosityTerm {
 impl<V: Vector> PairTerm<V> for ArtificialViscosityTerm {
     fn name(&self) -> &str {
         "artificial viscosity (Eq. 4.17)"
+    }
+
+    fn builtin(&self) -> Option<BuiltinTerm> {
+        Some(BuiltinTerm::ArtificialViscosity {
+            alpha: self.alpha,
+            beta: self.beta,
+            eta_factor: self.eta_factor,
+        })
     }
 
     #[inline(always)]

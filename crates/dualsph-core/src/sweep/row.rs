@@ -40,6 +40,12 @@ pub(super) struct RowScratch<V: Vector> {
 }
 
 impl<V: Vector> RowScratch<V> {
+    /// The compacted pairs `0..n`: `j`, slot, `r_ij`, `|r_ij|²` (see [`compact_row_into`]).
+    #[inline(always)]
+    pub(super) fn compacted(&self, n: usize) -> (&[u32], &[u32], &[V], &[Real]) {
+        (&self.j[..n], &self.slot[..n], &self.rij[..n], &self.r[..n])
+    }
+
     /// Makes every array hold at least `m` entries (grows only; never shrinks).
     #[inline]
     fn reserve(&mut self, m: usize) {
@@ -85,6 +91,29 @@ fn compact_row<V: Vector>(
         n += (r2 < h2) as usize;
     }
     n
+}
+
+/// Compacts owner i's candidates inside `h_i` (`r² < h2`) into the scratch (see
+/// [`compact_row`]; `|r_ij|²` goes to `r`) and zeroes i's reaction slots; returns their number.
+#[inline(always)]
+pub(super) fn compact_row_into<V: Vector>(
+    ctx: &SweepCtx<'_, V>,
+    i: usize,
+    h2: Real,
+    s: &mut RowScratch<V>,
+    reactions: &mut [Reaction<V>],
+) -> usize {
+    let fl = ctx.fields;
+    let cand = ctx.neighbours.support.row(i);
+    s.reserve(cand.len());
+    compact_row(
+        cand,
+        &fl.pos,
+        fl.pos[i],
+        h2,
+        (&mut s.j, &mut s.slot, &mut s.rij, &mut s.r),
+        reactions,
+    )
 }
 
 /// The per-pair quantities of the compacted row `0..n`, in one loop (a loop per quantity
@@ -161,17 +190,8 @@ pub(super) fn owner_row<V: Vector>(
     drho: Option<&mut Real>,
 ) -> (V, Real) {
     let fl = ctx.fields;
-    let (xi, k) = (fl.pos[i], OwnerKernel::new(ctx.kernel, fl.h[i]));
-    let cand = ctx.neighbours.support.row(i);
-    s.reserve(cand.len());
-    let n = compact_row(
-        cand,
-        &fl.pos,
-        xi,
-        k.h2,
-        (&mut s.j, &mut s.slot, &mut s.rij, &mut s.r),
-        reactions,
-    );
+    let k = OwnerKernel::new(ctx.kernel, fl.h[i]);
+    let n = compact_row_into(ctx, i, k.h2, s, reactions);
     let corrected = !fl.correction.is_empty();
     let drho_sum = prepare_pairs(fl, i, k, corrected, drho.is_some(), n, s);
     let out = &mut s.out[..n];

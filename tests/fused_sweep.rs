@@ -1,0 +1,155 @@
+//! The sweep's fused loop for the built-in terms (`PressureForce`, `ArtificialViscosity`, with
+//! the continuity sum) against the general path that runs the plugins' own pair terms: bitwise
+//! the same force, power and dρ/dt on every particle, for every order of the terms, in 2-D and
+//! 3-D, with a strongly varying h; and the general path is what a scene with any other term
+//! (here heat conduction) or the kernel correction uses.
+
+mod common;
+
+use common::*;
+use dualsph::core::sweep::{
+    Formulation, PairTerms, SweepBuffers, SweepCtx, evaluate, fused_loop_applies,
+};
+use dualsph::plugins::*;
+use dualsph::prelude::*;
+use glam::{DVec2, DVec3};
+
+fn eos() -> TaitEos {
+    TaitEos {
+        rho0: 1000.0,
+        gamma: 7.0,
+        c0: Some(20.0),
+        p0: None,
+        min_pressure: None,
+    }
+}
+
+fn av() -> ArtificialViscosity {
+    ArtificialViscosity {
+        alpha: 1.0,
+        beta: 2.0,
+        eta_factor: 0.1,
+    }
+}
+
+fn context<V: Vector>(sim: &Sim<V>) -> SweepCtx<'_, V> {
+    let w = &sim.world;
+    SweepCtx {
+        fields: w.resource::<Fields<V>>(),
+        neighbours: w.resource::<dualsph::core::neighbours::Neighbours<V>>(),
+        kernel: &w.resource::<KernelRes>().0,
+        formulation: *w.resource::<Formulation>(),
+    }
+}
+
+/// True when `sim`'s sweep takes the fused loop.
+fn fused<V: Vector>(sim: &Sim<V>) -> bool {
+    fused_loop_applies(&context(sim), &sim.world.resource::<PairTerms<V>>().terms)
+}
+
+/// Force, power and dρ/dt of one sweep of `sim`'s state, through the fused loop when it
+/// applies (`general_only = false`) or the general path.
+fn sweep<V: Vector>(sim: &Sim<V>, general_only: bool) -> (Vec<V>, Vec<Real>, Vec<Real>) {
+    let ctx = context(sim);
+    let mut buf = SweepBuffers::<V>::default();
+    buf.with_density_rate = true;
+    buf.general_only = general_only;
+    evaluate(&ctx, &sim.world.resource::<PairTerms<V>>().terms, &mut buf);
+    (buf.force, buf.power, buf.density_rate)
+}
+
+/// Asserts the two paths agree bitwise on `sim` after a few steps (so pressures, densities
+/// and velocities all vary), and that the work is not trivially zero.
+fn assert_paths_agree<V: Vector>(mut sim: Sim<V>, what: &str) {
+    assert!(fused(&sim), "{what}: the fused loop applies");
+    for _ in 0..3 {
+        sim.step().unwrap();
+    }
+    let (fa, pa, da) = sweep(&sim, false);
+    let (fb, pb, db) = sweep(&sim, true);
+    assert!(fa.iter().any(|f| f.length() > 0.0), "{what}: no force");
+    for i in 0..fa.len() {
+        let bits = |v: V| v.to_xyz().map(f64::to_bits);
+        assert_eq!(bits(fa[i]), bits(fb[i]), "{what}: force on {i}");
+        assert_eq!(pa[i].to_bits(), pb[i].to_bits(), "{what}: power of {i}");
+        assert_eq!(da[i].to_bits(), db[i].to_bits(), "{what}: dρ/dt of {i}");
+    }
+}
+
+fn orders() -> Vec<(&'static str, Vec<Box<dyn PluginConfig>>)> {
+    let cont = || {
+        Box::new(ContinuityDensity {
+            form: ContinuityForm::Pairwise,
+        }) as Box<dyn PluginConfig>
+    };
+    let e = || Box::new(eos()) as Box<dyn PluginConfig>;
+    let p = || Box::new(PressureForce {}) as Box<dyn PluginConfig>;
+    let v = || Box::new(av()) as Box<dyn PluginConfig>;
+    vec![
+        ("pressure, viscosity", vec![cont(), e(), p(), v()]),
+        ("viscosity, pressure", vec![cont(), e(), v(), p()]),
+        ("pressure", vec![cont(), e(), p()]),
+        ("viscosity", vec![cont(), e(), v()]),
+    ]
+}
+
+#[test]
+fn fused_loop_equals_the_plugins_terms_bitwise_2d() {
+    let particles = cloud::<DVec2>(24, 1.2, 4.0, 7);
+    for (what, plugins) in orders() {
+        let refs: Vec<&dyn PluginConfig> = plugins.iter().map(|b| b.as_ref()).collect();
+        let sim = sim_with::<DVec2>(&particles, Formulation::DualSupport, &refs);
+        assert_paths_agree(sim, what);
+    }
+}
+
+#[test]
+fn fused_loop_equals_the_plugins_terms_bitwise_3d() {
+    let particles = cloud::<DVec3>(9, 1.2, 3.0, 8);
+    for (what, plugins) in orders() {
+        let refs: Vec<&dyn PluginConfig> = plugins.iter().map(|b| b.as_ref()).collect();
+        let sim = sim_with::<DVec3>(&particles, Formulation::DualSupport, &refs);
+        assert_paths_agree(sim, what);
+    }
+}
+
+/// Any other pair term, the kernel correction or another formulation keeps the general path.
+#[test]
+fn other_terms_take_the_general_path() {
+    let particles = cloud::<DVec2>(8, 1.2, 3.0, 9);
+    let (cont, e, p, v) = (
+        ContinuityDensity {
+            form: ContinuityForm::Pairwise,
+        },
+        eos(),
+        PressureForce {},
+        av(),
+    );
+    let heat = HeatConduction {
+        conductivity: 0.7,
+        heat_capacity: 1.0,
+    };
+    let cases: [(&str, Formulation, Vec<&dyn PluginConfig>); 3] = [
+        (
+            "heat conduction is not built in",
+            Formulation::DualSupport,
+            vec![&cont, &e, &p, &v, &heat],
+        ),
+        (
+            "the corrected pressure force is not fused",
+            Formulation::DualSupport,
+            vec![&cont, &e, &KernelCorrection {}, &p, &v],
+        ),
+        (
+            "the averaged kernel is not a dual-support sweep",
+            Formulation::AveragedKernel,
+            vec![&cont, &e, &p, &v],
+        ),
+    ];
+    for (what, formulation, plugins) in cases {
+        let mut sim = sim_with::<DVec2>(&particles, formulation, &plugins);
+        // after a step every field the sweep reads is filled (the correction matrices too)
+        sim.step().unwrap();
+        assert!(!fused(&sim), "{what}");
+    }
+}
