@@ -116,22 +116,24 @@ pub(super) fn fused_owner_row<V: Vector>(
     let n = compact_row_into(ctx, i, k.h2, s, reactions);
     let (kind, g_norm, inv_h) = k.factor_parts();
     let pairs = Pairs { i, n, s: &*s };
+    let with_drho = drho.is_some();
+    macro_rules! go {
+        ($factor:expr, $p:literal, $av:literal, $first:literal, $coefs:expr) => {
+            if with_drho {
+                fused_pairs::<V, $p, $av, $first, true>(ctx, pairs, $factor, $coefs, reactions)
+            } else {
+                fused_pairs::<V, $p, $av, $first, false>(ctx, pairs, $factor, $coefs, reactions)
+            }
+        };
+    }
     macro_rules! with_kind {
         ($kind:expr) => {{
-            let factor = |r| OwnerKernel::factor_of($kind, g_norm, inv_h, r);
-            match (plan, drho.is_some()) {
-                (FusedPlan::Pressure, d) => {
-                    fused_pairs::<V, true, false, false>(ctx, pairs, factor, NO_AV, d, reactions)
-                }
-                (FusedPlan::Viscosity(av), d) => {
-                    fused_pairs::<V, false, true, false>(ctx, pairs, factor, av, d, reactions)
-                }
-                (FusedPlan::PressureThenViscosity(av), d) => {
-                    fused_pairs::<V, true, true, false>(ctx, pairs, factor, av, d, reactions)
-                }
-                (FusedPlan::ViscosityThenPressure(av), d) => {
-                    fused_pairs::<V, true, true, true>(ctx, pairs, factor, av, d, reactions)
-                }
+            let f = |r| OwnerKernel::factor_of($kind, g_norm, inv_h, r);
+            match plan {
+                FusedPlan::Pressure => go!(f, true, false, false, NO_AV),
+                FusedPlan::Viscosity(av) => go!(f, false, true, false, av),
+                FusedPlan::PressureThenViscosity(av) => go!(f, true, true, false, av),
+                FusedPlan::ViscosityThenPressure(av) => go!(f, true, true, true, av),
             }
         }};
     }
@@ -162,15 +164,14 @@ struct Pairs<'a, V: Vector> {
 
 /// The fused loop over owner i's pairs (`factor(r)` is [`OwnerKernel::grad_factor`] with the
 /// kind resolved): `P` adds the pressure force, `AV` the artificial viscosity `av`, in the
-/// order of the scene (`AV_FIRST`); the continuity sum is formed when `drho`. Returns i's
+/// order of the scene (`AV_FIRST`); the continuity sum is formed when `DRHO`. Returns i's
 /// force, power and `Σ m_j v_ij·∇_iW_ij`, and writes the reactions.
 #[inline(always)]
-fn fused_pairs<V: Vector, const P: bool, const AV: bool, const AV_FIRST: bool>(
+fn fused_pairs<V: Vector, const P: bool, const AV: bool, const AV_FIRST: bool, const DRHO: bool>(
     ctx: &SweepCtx<'_, V>,
     Pairs { i, n, s }: Pairs<'_, V>,
     factor: impl Fn(Real) -> Real,
     av: (Real, Real, Real),
-    drho: bool,
     reactions: &mut [Reaction<V>],
 ) -> (V, Real, Real) {
     let fl = ctx.fields;
@@ -195,7 +196,7 @@ fn fused_pairs<V: Vector, const P: bool, const AV: bool, const AV_FIRST: bool>(
         let vij = vi - vel[j];
         let vg = vij.dot(raw);
         let m_j = mass[j];
-        if drho {
+        if DRHO {
             rate += m_j * vg;
         }
         let mut o = PairOut::<V>::default();
