@@ -8,16 +8,6 @@ use dualsph::plugins::*;
 use dualsph::prelude::*;
 use glam::{DVec2, DVec3};
 
-fn tait() -> TaitEos {
-    TaitEos {
-        rho0: 1000.0,
-        gamma: 7.0,
-        c0: Some(20.0),
-        p0: None,
-        min_pressure: None,
-    }
-}
-
 fn pressure_av_heat_case<V: Vector>(f: Formulation, side: usize) -> (Real, Real, Real) {
     let particles = cloud::<V>(side, 1.5, 12.0, 42);
     let (eos, pf, av, heat, cont) = (

@@ -6,6 +6,17 @@ use dualsph::prelude::*;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
+/// Tait's equation of state for water (ρ0 = 1000, γ = 7) with sound speed 20.
+pub fn tait() -> dualsph::plugins::TaitEos {
+    dualsph::plugins::TaitEos {
+        rho0: 1000.0,
+        gamma: 7.0,
+        c0: Some(20.0),
+        p0: None,
+        min_pressure: None,
+    }
+}
+
 /// A jittered lattice of `side^d` particles with random velocity, density, internal energy
 /// and h varying log-uniformly over `[h_lo, h_hi]` (in units of the spacing 1).
 pub fn cloud<V: Vector>(side: usize, h_lo: Real, h_hi: Real, seed: u64) -> Vec<ParticleInit<V>> {

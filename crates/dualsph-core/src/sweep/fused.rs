@@ -12,7 +12,7 @@
 
 use super::SweepCtx;
 use super::row::{Reaction, RowScratch, compact_row_into};
-use crate::kernels::KernelKind;
+use crate::kernels::with_kernel_kind;
 use crate::math::{Real, Vector};
 use crate::pair::{OwnerKernel, PairOut, PairTerm};
 use std::sync::Arc;
@@ -137,14 +137,7 @@ pub(super) fn fused_owner_row<V: Vector>(
             }
         }};
     }
-    let (f, p, rate) = match kind {
-        KernelKind::CubicSpline => with_kind!(KernelKind::CubicSpline),
-        KernelKind::WendlandC2 => with_kind!(KernelKind::WendlandC2),
-        KernelKind::QuinticSpline => with_kind!(KernelKind::QuinticSpline),
-        KernelKind::Poly6 => with_kind!(KernelKind::Poly6),
-        KernelKind::Spiky => with_kind!(KernelKind::Spiky),
-        KernelKind::MullerViscosity => with_kind!(KernelKind::MullerViscosity),
-    };
+    let (f, p, rate) = with_kernel_kind!(kind, K => with_kind!(K));
     if let Some(d) = drho {
         *d = rate;
     }

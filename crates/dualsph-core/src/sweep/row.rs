@@ -3,7 +3,7 @@
 //! loop, every [`PairTerm`] called once on the row, and i's sums and the reactions formed.
 
 use super::SweepCtx;
-use crate::kernels::KernelKind;
+use crate::kernels::with_kernel_kind;
 use crate::math::{Matrix, Real, Vector};
 use crate::pair::{OwnerKernel, PairOut, PairTerm, Row};
 use std::sync::Arc;
@@ -165,14 +165,7 @@ fn prepare_pairs<V: Vector>(
             }
         }};
     }
-    match kind {
-        KernelKind::CubicSpline => each!(KernelKind::CubicSpline),
-        KernelKind::WendlandC2 => each!(KernelKind::WendlandC2),
-        KernelKind::QuinticSpline => each!(KernelKind::QuinticSpline),
-        KernelKind::Poly6 => each!(KernelKind::Poly6),
-        KernelKind::Spiky => each!(KernelKind::Spiky),
-        KernelKind::MullerViscosity => each!(KernelKind::MullerViscosity),
-    }
+    with_kernel_kind!(kind, K => each!(K));
     sum
 }
 
