@@ -73,13 +73,15 @@ pub(super) enum FusedPlan {
 }
 
 /// The fused plan for `terms` when they are one of the shapes of [`FusedPlan`] and the fused
-/// loop applies (no kernel correction, an equation of state); else `None`.
+/// loop applies (no kernel correction; pressure and sound speed of every particle from an
+/// equation of state); else `None`.
 pub(super) fn fused_plan<V: Vector>(
     ctx: &SweepCtx<'_, V>,
     terms: &[Arc<dyn PairTerm<V>>],
 ) -> Option<FusedPlan> {
     let fl = ctx.fields;
-    if !fl.correction.is_empty() || fl.pressure.is_empty() {
+    let n = fl.len();
+    if !fl.correction.is_empty() || fl.pressure.len() != n || fl.sound.len() != n {
         return None;
     }
     let b: Option<Vec<BuiltinTerm>> = terms.iter().map(|t| t.builtin()).collect();
