@@ -219,15 +219,23 @@ pub fn peak_rss_bytes() -> Option<u64> {
 /// (`sweep::evaluate` over the scene's pair terms), into `buf` — what the benches and the
 /// `perf` example time on their own.
 pub fn run_sweep<V: Vector>(sim: &Sim<V>, buf: &mut dualsph_core::sweep::SweepBuffers<V>) {
-    use dualsph_core::sweep::{Formulation, PairTerms, SweepCtx, evaluate};
+    use dualsph_core::sweep::{PairTerms, evaluate};
+    evaluate(
+        &sweep_ctx(sim),
+        &sim.world.resource::<PairTerms<V>>().terms,
+        buf,
+    );
+}
+
+/// The sweep's view of `sim`'s current state (fields, lists, kernel, formulation).
+pub fn sweep_ctx<V: Vector>(sim: &Sim<V>) -> dualsph_core::sweep::SweepCtx<'_, V> {
     let w = &sim.world;
-    let ctx = SweepCtx {
+    dualsph_core::sweep::SweepCtx {
         fields: w.resource::<Fields<V>>(),
         neighbours: w.resource::<dualsph_core::neighbours::Neighbours<V>>(),
         kernel: &w.resource::<dualsph_core::sim::KernelRes>().0,
-        formulation: *w.resource::<Formulation>(),
-    };
-    evaluate(&ctx, &w.resource::<PairTerms<V>>().terms, buf);
+        formulation: *w.resource::<dualsph_core::sweep::Formulation>(),
+    }
 }
 
 #[cfg(test)]

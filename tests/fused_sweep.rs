@@ -7,9 +7,8 @@
 mod common;
 
 use common::*;
-use dualsph::core::sweep::{
-    Formulation, PairTerms, SweepBuffers, SweepCtx, evaluate, fused_loop_applies,
-};
+use dualsph::core::sweep::{Formulation, PairTerms, SweepBuffers, fused_loop_applies};
+use dualsph::perf::{run_sweep, sweep_ctx};
 use dualsph::plugins::*;
 use dualsph::prelude::*;
 use glam::{DVec2, DVec3};
@@ -22,29 +21,18 @@ fn av() -> ArtificialViscosity {
     }
 }
 
-fn context<V: Vector>(sim: &Sim<V>) -> SweepCtx<'_, V> {
-    let w = &sim.world;
-    SweepCtx {
-        fields: w.resource::<Fields<V>>(),
-        neighbours: w.resource::<dualsph::core::neighbours::Neighbours<V>>(),
-        kernel: &w.resource::<KernelRes>().0,
-        formulation: *w.resource::<Formulation>(),
-    }
-}
-
 /// True when `sim`'s sweep takes the fused loop.
 fn fused<V: Vector>(sim: &Sim<V>) -> bool {
-    fused_loop_applies(&context(sim), &sim.world.resource::<PairTerms<V>>().terms)
+    fused_loop_applies(&sweep_ctx(sim), &sim.world.resource::<PairTerms<V>>().terms)
 }
 
 /// Force, power and dρ/dt of one sweep of `sim`'s state, through the fused loop when it
 /// applies (`general_only = false`) or the general path.
 fn sweep<V: Vector>(sim: &Sim<V>, general_only: bool) -> (Vec<V>, Vec<Real>, Vec<Real>) {
-    let ctx = context(sim);
     let mut buf = SweepBuffers::<V>::default();
     buf.with_density_rate = true;
     buf.general_only = general_only;
-    evaluate(&ctx, &sim.world.resource::<PairTerms<V>>().terms, &mut buf);
+    run_sweep(sim, &mut buf);
     (buf.force, buf.power, buf.density_rate)
 }
 

@@ -7,8 +7,8 @@
 //! intermediate. When a scene's pair terms are exactly built-in ones (each says so through
 //! [`PairTerm::builtin`]) and the kernel correction is off, the sweep uses this loop instead.
 //! It performs the same floating-point operations in the same order as the terms' own
-//! `interact`, so the results are bitwise those of the general path (a unit test compares the
-//! two on every pair, and `tests/` does so through the plugins).
+//! `interact`, so the results are bitwise those of the general path: `tests/fused_sweep.rs`
+//! compares the two through the plugins on every particle.
 
 use super::SweepCtx;
 use super::row::{Reaction, RowScratch, compact_row_into};
@@ -113,9 +113,7 @@ pub(super) fn fused_owner_row<V: Vector>(
     reactions: &mut [Reaction<V>],
     drho: Option<&mut Real>,
 ) -> (V, Real) {
-    let fl = ctx.fields;
-    let k = OwnerKernel::new(ctx.kernel, fl.h[i]);
-    let n = compact_row_into(ctx, i, k.h2, s, reactions);
+    let (k, n) = compact_row_into(ctx, i, s, reactions);
     let (kind, g_norm, inv_h) = k.factor_parts();
     let pairs = Pairs { i, n, s: &*s };
     let with_drho = drho.is_some();

@@ -93,27 +93,29 @@ fn compact_row<V: Vector>(
     n
 }
 
-/// Compacts owner i's candidates inside `h_i` (`r² < h2`) into the scratch (see
-/// [`compact_row`]; `|r_ij|²` goes to `r`) and zeroes i's reaction slots; returns their number.
+/// Owner i's kernel, and i's candidates inside `h_i` compacted into the scratch (see
+/// [`compact_row`]; `|r_ij|²` goes to `r`) with i's reaction slots zeroed: returns the kernel
+/// and the number of pairs.
 #[inline(always)]
 pub(super) fn compact_row_into<V: Vector>(
     ctx: &SweepCtx<'_, V>,
     i: usize,
-    h2: Real,
     s: &mut RowScratch<V>,
     reactions: &mut [Reaction<V>],
-) -> usize {
+) -> (OwnerKernel, usize) {
     let fl = ctx.fields;
+    let k = OwnerKernel::new(ctx.kernel, fl.h[i]);
     let cand = ctx.neighbours.support.row(i);
     s.reserve(cand.len());
-    compact_row(
+    let n = compact_row(
         cand,
         &fl.pos,
         fl.pos[i],
-        h2,
+        k.h2,
         (&mut s.j, &mut s.slot, &mut s.rij, &mut s.r),
         reactions,
-    )
+    );
+    (k, n)
 }
 
 /// The per-pair quantities of the compacted row `0..n`, in one loop (a loop per quantity
@@ -183,8 +185,7 @@ pub(super) fn owner_row<V: Vector>(
     drho: Option<&mut Real>,
 ) -> (V, Real) {
     let fl = ctx.fields;
-    let k = OwnerKernel::new(ctx.kernel, fl.h[i]);
-    let n = compact_row_into(ctx, i, k.h2, s, reactions);
+    let (k, n) = compact_row_into(ctx, i, s, reactions);
     let corrected = !fl.correction.is_empty();
     let drho_sum = prepare_pairs(fl, i, k, corrected, drho.is_some(), n, s);
     let out = &mut s.out[..n];
