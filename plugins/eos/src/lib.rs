@@ -78,8 +78,13 @@ impl Eos {
                 p_min,
             } => {
                 let x = rho / rho0;
-                let p = p0 * (pow(x, gamma) - 1.0);
-                (p.max(p_min), c0 * pow(x, 0.5 * (gamma - 1.0)))
+                let (x_gamma, x_c) = if gamma == 7.0 {
+                    water_powers(x)
+                } else {
+                    (pow(x, gamma), pow(x, 0.5 * (gamma - 1.0)))
+                };
+                let p = p0 * (x_gamma - 1.0);
+                (p.max(p_min), c0 * x_c)
             }
             Eos::Ideal { gamma } => {
                 let p = (gamma - 1.0) * rho * eps;
@@ -100,6 +105,16 @@ fn pow(x: Real, e: Real) -> Real {
     } else {
         x.powf(e)
     }
+}
+
+/// `(x⁷, x³)` for water's γ = 7 with four multiplications, `x³ = x·x²` and
+/// `x⁷ = x³·(x²·x²)`: the products [`powi`] forms for 7 and 3, in its order, so the values are
+/// bitwise those of `pow(x, 7.0)` and `pow(x, 3.0)` (tested) without the exponent loop.
+#[inline(always)]
+fn water_powers(x: Real) -> (Real, Real) {
+    let x2 = x * x;
+    let x3 = x * x2;
+    (x3 * (x2 * x2), x3)
 }
 
 /// `x^n` by binary exponentiation, inlined: the same multiplications in the same order as
@@ -260,6 +275,19 @@ mod tests {
             1.01f64.powi(std::hint::black_box(7)).to_bits()
         );
         assert_eq!(pow(1.01, 0.5), 1.01f64.powf(0.5));
+    }
+
+    /// The γ = 7 shortcut against the runtime's `powi` (through [`pow`]) on densities around
+    /// and far from ρ0: bitwise equal.
+    #[test]
+    fn water_powers_are_bitwise_pow_7_and_3() {
+        let mut x = 0.25;
+        while x < 4.0 {
+            let (x7, x3) = water_powers(x);
+            assert_eq!(x7.to_bits(), pow(x, 7.0).to_bits(), "{x}^7");
+            assert_eq!(x3.to_bits(), pow(x, 3.0).to_bits(), "{x}^3");
+            x += 0.000_123_456_7;
+        }
     }
 
     #[test]

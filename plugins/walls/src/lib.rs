@@ -38,7 +38,7 @@ pub fn reflect<V: Vector>(
 ) {
     let (lo, hi) = (domain.min, domain.max);
     let kappa = clearance.0;
-    q.par_iter_mut().for_each(|(mut r, mut v, h)| {
+    for (mut r, mut v, h) in &mut q {
         let gap = kappa * h.0;
         for k in 0..V::DIM {
             let (x, u) = (r.0.get(k), v.0.get(k));
@@ -58,7 +58,7 @@ pub fn reflect<V: Vector>(
                 }
             }
         }
-    });
+    }
 }
 
 impl SimPlugin for SpecularWalls {
