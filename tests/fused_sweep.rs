@@ -1,7 +1,8 @@
 //! The sweep's fused loop for the built-in terms (`PressureForce`, `ArtificialViscosity`, with
 //! the continuity sum) against the general path that runs the plugins' own pair terms: bitwise
 //! the same force, power and dρ/dt on every particle, for every order of the terms, in 2-D and
-//! 3-D, with a strongly varying h; and the general path is what a scene with any other term
+//! 3-D, with a strongly varying h, for kernels written for two lanes and one evaluated lane by
+//! lane (the fused loop evaluates pairs two at a time); and the general path is what a scene with any other term
 //! (here heat conduction) or the kernel correction uses.
 
 mod common;
@@ -71,13 +72,21 @@ fn orders() -> Vec<(&'static str, Vec<Box<dyn PluginConfig>>)> {
     ]
 }
 
-/// Both paths on a cloud of `side^d` particles with h varying over `[h_lo, h_hi]`.
+/// Both paths on a cloud of `side^d` particles with h varying over `[h_lo, h_hi]`, with the
+/// cubic spline for every order of the terms, and with Wendland C2 (also written for two
+/// lanes) and the quintic spline (evaluated lane by lane) for the dam break's order.
 fn check_every_order<V: Vector>(side: usize, h_lo: Real, h_hi: Real, seed: u64) {
     let particles = cloud::<V>(side, h_lo, h_hi, seed);
+    let dual = Formulation::DualSupport;
     for (what, plugins) in orders() {
         let refs: Vec<&dyn PluginConfig> = plugins.iter().map(|b| b.as_ref()).collect();
-        let sim = sim_with::<V>(&particles, Formulation::DualSupport, &refs);
-        assert_paths_agree(sim, what);
+        assert_paths_agree(sim_with::<V>(&particles, dual, &refs), what);
+    }
+    let (_, plugins) = orders().swap_remove(0);
+    let refs: Vec<&dyn PluginConfig> = plugins.iter().map(|b| b.as_ref()).collect();
+    for kind in [KernelKind::WendlandC2, KernelKind::QuinticSpline] {
+        let sim = sim_with_kernel::<V>(&particles, kind, dual, &refs);
+        assert_paths_agree(sim, &format!("{kind:?}"));
     }
 }
 

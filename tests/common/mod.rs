@@ -46,9 +46,19 @@ pub fn cloud<V: Vector>(side: usize, h_lo: Real, h_hi: Real, seed: u64) -> Vec<P
         .collect()
 }
 
-/// A simulation over a cloud with the given plugins (built in order).
+/// A simulation over a cloud with the given plugins (built in order), cubic spline kernel.
 pub fn sim_with<V: Vector>(
     particles: &[ParticleInit<V>],
+    formulation: Formulation,
+    plugins: &[&dyn PluginConfig],
+) -> Sim<V> {
+    sim_with_kernel(particles, KernelKind::CubicSpline, formulation, plugins)
+}
+
+/// [`sim_with`] with the given kernel.
+pub fn sim_with_kernel<V: Vector>(
+    particles: &[ParticleInit<V>],
+    kernel: KernelKind,
     formulation: Formulation,
     plugins: &[&dyn PluginConfig],
 ) -> Sim<V> {
@@ -57,7 +67,7 @@ pub fn sim_with<V: Vector>(
         max.set(k, 1.0e3);
     }
     let mut sim = Sim::<V>::new(SimConfig {
-        kernel: KernelKind::CubicSpline,
+        kernel,
         formulation,
         domain: Domain { min: -max, max },
         skin: 0.1,

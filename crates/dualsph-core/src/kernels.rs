@@ -27,6 +27,7 @@
 //! 3-D ([`KernelKind::supports_dimension`]; a 1-D scene asking for it is rejected), and with
 //! `W(0) = ∞` it must not be used with summation density.
 
+use crate::lanes::Lanes;
 use crate::math::{Real, Vector};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
@@ -143,21 +144,40 @@ impl KernelKind {
     /// Derivative `f'(q)` of the profile.
     #[inline(always)]
     pub fn profile_derivative(self, q: Real) -> Real {
+        self.profile_derivative_lanes(q)
+    }
+
+    /// [`Self::profile_derivative`] for one pair or several side by side ([`Lanes`]): the
+    /// cubic spline and Wendland C2 are written once for both; the other kinds are evaluated
+    /// lane by lane.
+    #[inline(always)]
+    pub fn profile_derivative_lanes<T: Lanes>(self, q: T) -> T {
+        let c = T::splat;
         // Every piece is evaluated and the right one selected (no branch on q), so a loop over
         // a row of pairs compiles to vector instructions; the values are those of the
         // piecewise formulas.
         let d = match self {
             KernelKind::CubicSpline => {
-                let s = 2.0 * q;
-                let inner = -3.0 * s + 2.25 * s * s;
-                let t = 2.0 - s;
-                let outer = -0.75 * t * t;
-                2.0 * if s < 1.0 { inner } else { outer }
+                let s = c(2.0) * q;
+                let inner = c(-3.0) * s + c(2.25) * s * s;
+                let t = c(2.0) - s;
+                let outer = c(-0.75) * t * t;
+                c(2.0) * T::if_lt(s, c(1.0), inner, outer)
             }
             KernelKind::WendlandC2 => {
-                let t = 1.0 - q;
-                -20.0 * q * t * t * t
+                let t = c(1.0) - q;
+                c(-20.0) * q * t * t * t
             }
+            _ => return q.map(|q| self.profile_derivative_other(q)),
+        };
+        T::in_unit(q, d)
+    }
+
+    /// `f'(q)` of the kinds not written for [`Lanes`].
+    #[inline(always)]
+    fn profile_derivative_other(self, q: Real) -> Real {
+        let d = match self {
+            KernelKind::CubicSpline | KernelKind::WendlandC2 => return self.profile_derivative(q),
             KernelKind::QuinticSpline => {
                 let s = 3.0 * q;
                 let p4 = |x: Real| if x > 0.0 { x.powi(4) } else { 0.0 };

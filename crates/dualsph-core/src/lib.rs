@@ -9,6 +9,7 @@ pub mod components;
 pub mod diagnostics;
 pub mod integrator;
 pub mod kernels;
+pub mod lanes;
 pub mod math;
 pub mod neighbours;
 pub mod output;

@@ -4,6 +4,7 @@
 //! [`crate::sweep`], which re-exports everything here.
 
 use crate::kernels::{Kernel, KernelKind};
+use crate::lanes::Lanes;
 use crate::math::{Matrix, Real, Vector};
 use bevy_ecs::prelude::*;
 use std::sync::Arc;
@@ -296,8 +297,16 @@ impl OwnerKernel {
 
     #[inline(always)]
     pub(crate) fn factor_of(kind: KernelKind, g_norm: Real, inv_h: Real, r: Real) -> Real {
-        let d = g_norm * kind.profile_derivative(r * inv_h) / r;
-        if r > 0.0 { d } else { 0.0 }
+        Self::factor_lanes(kind, g_norm, inv_h, r)
+    }
+
+    /// [`Self::grad_factor`] for one pair or several side by side (see [`Lanes`]), the kind
+    /// resolved by the caller: `C_d h_i^{-d-1} f'(r/h_i) / r`, zero at `r = 0`.
+    #[inline(always)]
+    pub(crate) fn factor_lanes<T: Lanes>(kind: KernelKind, g_norm: Real, inv_h: Real, r: T) -> T {
+        let d = T::splat(g_norm) * kind.profile_derivative_lanes(r * T::splat(inv_h)) / r;
+        let zero = T::splat(0.0);
+        T::if_gt(r, zero, d, zero)
     }
 
     /// The kernel's kind and the two constants of [`Self::grad_factor`] (`C_d h_i^{-d-1}`,

@@ -12,10 +12,12 @@
 
 use super::SweepCtx;
 use super::row::{Reaction, RowScratch, compact_row_into};
-use crate::kernels::with_kernel_kind;
+use crate::kernels::{KernelKind, with_kernel_kind};
+use crate::lanes::{LaneVec, Lanes};
 use crate::math::{Real, Vector};
-use crate::pair::{OwnerKernel, PairOut, PairTerm};
+use crate::pair::{OwnerKernel, PairTerm};
 use std::sync::Arc;
+use wide::f64x2;
 
 /// A pair term the sweep can evaluate in its fused loop (see the module docs).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -44,18 +46,34 @@ pub type AvSide = (Real, Real, Real);
 /// `den = D² (ρ_i + ρ_j)`: one division, and no branch (a receding pair has `x = 0`).
 #[inline(always)]
 pub fn artificial_viscosity_parts(
-    (alpha, beta, eta_factor): (Real, Real, Real),
-    (h_i, c_i, rho_i): AvSide,
-    (h_j, c_j, rho_j): AvSide,
+    av: (Real, Real, Real),
+    side_i: AvSide,
+    side_j: AvSide,
     vr: Real,
     r: Real,
 ) -> (Real, Real) {
-    let hbar = 0.5 * (h_i + h_j);
-    let eta = eta_factor * hbar;
+    av_parts_lanes(av, side_i, side_j, vr, r)
+}
+
+/// [`artificial_viscosity_parts`] for one pair or several side by side ([`Lanes`]).
+#[inline(always)]
+fn av_parts_lanes<T: Lanes>(
+    (alpha, beta, eta_factor): (Real, Real, Real),
+    (h_i, c_i, rho_i): (T, T, T),
+    (h_j, c_j, rho_j): (T, T, T),
+    vr: T,
+    r: T,
+) -> (T, T) {
+    let c = T::splat;
+    let hbar = c(0.5) * (h_i + h_j);
+    let eta = c(eta_factor) * hbar;
     let d = r * r + eta * eta;
-    let x = hbar * vr.min(0.0);
-    let cbar = 0.5 * (c_i + c_j);
-    (x * (beta * x - alpha * cbar * d), d * d * (rho_i + rho_j))
+    let x = hbar * T::if_lt(vr, c(0.0), vr, c(0.0));
+    let cbar = c(0.5) * (c_i + c_j);
+    (
+        x * (c(beta) * x - c(alpha) * cbar * d),
+        d * d * (rho_i + rho_j),
+    )
 }
 
 /// What the fused loop evaluates: the pressure force, the artificial viscosity `(α, β, η_f)`,
@@ -118,22 +136,22 @@ pub(super) fn fused_owner_row<V: Vector>(
     let pairs = Pairs { i, n, s: &*s };
     let with_drho = drho.is_some();
     macro_rules! go {
-        ($factor:expr, $p:literal, $av:literal, $first:literal, $coefs:expr) => {
+        ($kind:expr, $p:literal, $av:literal, $first:literal, $coefs:expr) => {{
+            let kernel = ($kind, g_norm, inv_h);
             if with_drho {
-                fused_pairs::<V, $p, $av, $first, true>(ctx, pairs, $factor, $coefs, reactions)
+                fused_pairs::<V, $p, $av, $first, true>(ctx, pairs, kernel, $coefs, reactions)
             } else {
-                fused_pairs::<V, $p, $av, $first, false>(ctx, pairs, $factor, $coefs, reactions)
+                fused_pairs::<V, $p, $av, $first, false>(ctx, pairs, kernel, $coefs, reactions)
             }
-        };
+        }};
     }
     macro_rules! with_kind {
         ($kind:expr) => {{
-            let f = |r| OwnerKernel::factor_of($kind, g_norm, inv_h, r);
             match plan {
-                FusedPlan::Pressure => go!(f, true, false, false, NO_AV),
-                FusedPlan::Viscosity(av) => go!(f, false, true, false, av),
-                FusedPlan::PressureThenViscosity(av) => go!(f, true, true, false, av),
-                FusedPlan::ViscosityThenPressure(av) => go!(f, true, true, true, av),
+                FusedPlan::Pressure => go!($kind, true, false, false, NO_AV),
+                FusedPlan::Viscosity(av) => go!($kind, false, true, false, av),
+                FusedPlan::PressureThenViscosity(av) => go!($kind, true, true, false, av),
+                FusedPlan::ViscosityThenPressure(av) => go!($kind, true, true, true, av),
             }
         }};
     }
@@ -155,18 +173,114 @@ struct Pairs<'a, V: Vector> {
     s: &'a RowScratch<V>,
 }
 
-/// The fused loop over owner i's pairs (`factor(r)` is [`OwnerKernel::grad_factor`] with the
-/// kind resolved): `P` adds the pressure force, `AV` the artificial viscosity `av`, in the
-/// order of the scene (`AV_FIRST`); the continuity sum is formed when `DRHO`. Returns i's
-/// force, power and `Σ m_j v_ij·∇_iW_ij`, and writes the reactions.
+/// The owner's values the pair formulas use.
+#[derive(Clone, Copy)]
+struct Owner<V: Vector> {
+    v: V,
+    m: Real,
+    /// `(h_i, c_i, ρ_i)` for the artificial viscosity.
+    av: AvSide,
+    /// `m_i p_i / ρ_i²`.
+    p_coef: Real,
+}
+
+/// What one lane group of pairs gives: the force on i, the powers of i and j, and
+/// `m_j v_ij·∇_iW_ij` (the continuity term), per lane.
+struct LaneOut<T: Lanes> {
+    force: LaneVec<T>,
+    power_i: T,
+    power_j: T,
+    rate: T,
+}
+
+/// The fused loop over owner i's pairs, two pairs at a time in the lanes of an `f64x2` (and an
+/// odd last pair alone): `P` adds the pressure force, `AV` the artificial viscosity `av`, in
+/// the order of the scene (`AV_FIRST`); the continuity sum is formed when `DRHO`. i's sums are
+/// formed pair by pair in row order, as the one-pair loop would. Returns i's force, power and
+/// `Σ m_j v_ij·∇_iW_ij`, and writes the reactions.
 #[inline(always)]
 fn fused_pairs<V: Vector, const P: bool, const AV: bool, const AV_FIRST: bool, const DRHO: bool>(
     ctx: &SweepCtx<'_, V>,
     Pairs { i, n, s }: Pairs<'_, V>,
-    factor: impl Fn(Real) -> Real,
+    kernel: (KernelKind, Real, Real),
     av: (Real, Real, Real),
     reactions: &mut [Reaction<V>],
 ) -> (V, Real, Real) {
+    let fl = ctx.fields;
+    let rho_i = fl.rho[i];
+    let owner = Owner {
+        v: fl.vel[i],
+        m: fl.mass[i],
+        av: (fl.h[i], fl.sound[i], rho_i),
+        p_coef: fl.mass[i] * fl.pressure[i] / (rho_i * rho_i),
+    };
+    let (mut f_own, mut p_own, mut rate) = (V::zero(), 0.0, 0.0);
+    let (js, slots, rijs, r2s) = s.compacted(n);
+    let mut add = |out: LaneOut<f64x2>, at: usize, lanes: usize| {
+        for l in 0..lanes {
+            let force: V = out.force.lane(l);
+            f_own += force;
+            p_own += out.power_i.lane(l);
+            if DRHO {
+                rate += out.rate.lane(l);
+            }
+            reactions[slots[at + l] as usize] = Reaction {
+                force,
+                power: out.power_j.lane(l),
+            };
+        }
+    };
+    let mut k = 0;
+    while k + 2 <= n {
+        let at = k..k + 2;
+        let out: LaneOut<f64x2> = pair_lanes::<V, _, P, AV, AV_FIRST>(
+            ctx,
+            owner,
+            kernel,
+            av,
+            (&js[at.clone()], &rijs[at.clone()], &r2s[at]),
+        );
+        add(out.widen(), k, 2);
+        k += 2;
+    }
+    if k < n {
+        let at = k..k + 1;
+        let out: LaneOut<Real> = pair_lanes::<V, _, P, AV, AV_FIRST>(
+            ctx,
+            owner,
+            kernel,
+            av,
+            (&js[at.clone()], &rijs[at.clone()], &r2s[at]),
+        );
+        add(out.widen(), k, 1);
+    }
+    (f_own, p_own, rate)
+}
+
+impl<T: Lanes> LaneOut<T> {
+    /// The same values as two lanes (the one-pair tail shares [`fused_pairs`]'s accumulation).
+    #[inline(always)]
+    fn widen(self) -> LaneOut<f64x2> {
+        let w = |x: T| f64x2::from_fn(|l| x.lane(l.min(T::N - 1)));
+        LaneOut {
+            force: LaneVec([w(self.force.0[0]), w(self.force.0[1]), w(self.force.0[2])]),
+            power_i: w(self.power_i),
+            power_j: w(self.power_j),
+            rate: w(self.rate),
+        }
+    }
+}
+
+/// The pair formulas for the `T::N` pairs `js` (with their `r_ij` and `|r_ij|²`), lane by
+/// lane the operations of the pressure term's and the viscosity term's own `interact`.
+#[inline(always)]
+fn pair_lanes<V: Vector, T: Lanes, const P: bool, const AV: bool, const AV_FIRST: bool>(
+    ctx: &SweepCtx<'_, V>,
+    o: Owner<V>,
+    (kind, g_norm, inv_h): (KernelKind, Real, Real),
+    av: (Real, Real, Real),
+    (js, rijs, r2s): (&[u32], &[V], &[Real]),
+) -> LaneOut<T> {
     let fl = ctx.fields;
     let np = fl.pos.len();
     let (vel, mass, rho, h, sound) = (
@@ -176,49 +290,73 @@ fn fused_pairs<V: Vector, const P: bool, const AV: bool, const AV_FIRST: bool, c
         &fl.h[..np],
         &fl.sound[..np],
     );
-    let (vi, m_i, rho_i) = (vel[i], mass[i], rho[i]);
-    let av_i = (h[i], sound[i], rho_i);
-    let p_owner = m_i * fl.pressure[i] / (rho_i * rho_i);
-    let (mut f_own, mut p_own, mut rate) = (V::zero(), 0.0, 0.0);
-    let (js, slots, rijs, r2s) = s.compacted(n);
-    for k in 0..n {
-        let j = js[k] as usize;
-        let rij = rijs[k];
-        let r = r2s[k].sqrt();
-        let raw = rij * factor(r);
-        let vij = vi - vel[j];
-        let vg = vij.dot(raw);
-        let m_j = mass[j];
-        if DRHO {
-            rate += m_j * vg;
-        }
-        let mut o = PairOut::<V>::default();
-        let viscosity = |o: &mut PairOut<V>| {
-            let av_j = (h[j], sound[j], rho[j]);
-            let (num, den) = artificial_viscosity_parts(av, av_i, av_j, vij.dot(rij), r);
-            let coef = m_i * m_j * num / den;
-            o.force += raw * (-coef);
-            let heat = 0.5 * coef * vg;
-            o.power_i += heat;
-            o.power_j += heat;
-        };
-        if AV && AV_FIRST {
-            viscosity(&mut o);
+    // the lanes' particles, each checked once against the arrays' common length
+    let jl = [js[0] as usize, js[T::N - 1] as usize];
+    let j = |l: usize| jl[l];
+    let c = T::splat;
+    let rij = LaneVec::<T>::from_fn(|l| rijs[l]);
+    let r = T::from_fn(|l| r2s[l]).sqrt();
+    let raw = rij.scale::<V>(OwnerKernel::factor_lanes(kind, g_norm, inv_h, r));
+    let vij = LaneVec::<T>::splat(o.v).minus::<V>(LaneVec::from_fn(|l| vel[j(l)]));
+    let vg = vij.dot::<V>(raw);
+    let m_j = T::from_fn(|l| mass[j(l)]);
+    let mut out = LaneOut {
+        force: LaneVec([c(0.0); 3]),
+        power_i: c(0.0),
+        power_j: c(0.0),
+        rate: m_j * vg,
+    };
+    let pair = PairLanes { raw, vg, m_j };
+    if AV {
+        let side_j = (
+            T::from_fn(|l| h[j(l)]),
+            T::from_fn(|l| sound[j(l)]),
+            T::from_fn(|l| rho[j(l)]),
+        );
+        let (num, den) = av_parts_lanes(av, splat3(o.av), side_j, vij.dot::<V>(rij), r);
+        let coef = c(o.m) * m_j * num / den;
+        if AV_FIRST {
+            add_viscosity::<V, T>(&mut out, &pair, coef);
         }
         if P {
-            let coef = p_owner * m_j;
-            o.force += raw * (-coef);
-            o.power_i += coef * vg;
+            add_pressure::<V, T>(&mut out, &pair, o.p_coef);
         }
-        if AV && !AV_FIRST {
-            viscosity(&mut o);
+        if !AV_FIRST {
+            add_viscosity::<V, T>(&mut out, &pair, coef);
         }
-        f_own += o.force;
-        p_own += o.power_i;
-        reactions[slots[k] as usize] = Reaction {
-            force: o.force,
-            power: o.power_j,
-        };
+    } else if P {
+        add_pressure::<V, T>(&mut out, &pair, o.p_coef);
     }
-    (f_own, p_own, rate)
+    out
+}
+
+/// Per-lane values both terms use: `∇_iW_ij`, `v_ij·∇_iW_ij`, `m_j`.
+struct PairLanes<T: Lanes> {
+    raw: LaneVec<T>,
+    vg: T,
+    m_j: T,
+}
+
+/// `(x, y, z)` in every lane.
+#[inline(always)]
+fn splat3<T: Lanes>((x, y, z): (Real, Real, Real)) -> (T, T, T) {
+    (T::splat(x), T::splat(y), T::splat(z))
+}
+
+/// The viscosity's force `−coef ∇_iW_ij` and its heat `coef v_ij·∇_iW_ij / 2` to each of i
+/// and j, with `coef = m_i m_j Π_ij / 2` (Eq. 4.17).
+#[inline(always)]
+fn add_viscosity<V: Vector, T: Lanes>(out: &mut LaneOut<T>, p: &PairLanes<T>, coef: T) {
+    out.force = out.force.plus::<V>(p.raw.scale::<V>(-coef));
+    let heat = T::splat(0.5) * coef * p.vg;
+    out.power_i = out.power_i + heat;
+    out.power_j = out.power_j + heat;
+}
+
+/// The pressure force `−(m_i p_i/ρ_i²) m_j ∇_iW_ij` and its power to i (Eq. 4.19).
+#[inline(always)]
+fn add_pressure<V: Vector, T: Lanes>(out: &mut LaneOut<T>, p: &PairLanes<T>, p_coef: Real) {
+    let coef = T::splat(p_coef) * p.m_j;
+    out.force = out.force.plus::<V>(p.raw.scale::<V>(-coef));
+    out.power_i = out.power_i + coef * p.vg;
 }
