@@ -219,12 +219,13 @@ pub struct Sim<V: Vector> {
     _v: PhantomData<V>,
 }
 
-/// Gives bevy's `ComputeTaskPool` (which runs the systems' `Query::par_iter_mut` loops) as many
+/// Gives bevy's `ComputeTaskPool` (which runs any system's `Query::par_iter_mut` loop) as many
 /// threads as the current rayon pool (which runs the neighbour loops), so a run on N threads
 /// uses N for both. The pool is global: the first call of a process (normally the first
-/// [`Sim::new`]) sets its size; later calls do nothing. Every `par_iter_mut` loop in the engine
-/// updates each particle from its own data only, so the result does not depend on the number
-/// of threads (bitwise).
+/// [`Sim::new`]) sets its size; later calls do nothing. The engine's own per-particle updates
+/// are sequential query loops (cheaper than bevy's per-entity parallel calls, see
+/// [`crate::integrator`]); a plugin's `par_iter_mut` loop must update each particle from its
+/// own data only, so that the result does not depend on the number of threads (bitwise).
 pub fn init_task_pool() {
     bevy_tasks::ComputeTaskPool::get_or_init(|| {
         bevy_tasks::TaskPoolBuilder::new()

@@ -541,6 +541,17 @@ mod tests {
             with_density_rate: true,
             ..Default::default()
         };
+        // a first sweep of the particles moved (other pairs inside h) leaves its reactions in
+        // the reused slot buffer: the sweep under test must not read any of them
+        let mut moved = f.clone();
+        for (k, x) in moved.pos.iter_mut().enumerate() {
+            *x += DVec2::new(0.31, -0.17) * ((k % 7) as Real - 3.0);
+        }
+        let warm = SweepCtx {
+            fields: &moved,
+            ..ctx
+        };
+        evaluate(&warm, &terms, &mut buf);
         evaluate(&ctx, &terms, &mut buf);
         let n = f.len();
         let (mut force, mut power) = (vec![DVec2::ZERO; n], vec![0.0; n]);

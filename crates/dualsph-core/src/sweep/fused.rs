@@ -214,47 +214,64 @@ fn fused_pairs<V: Vector, const P: bool, const AV: bool, const AV_FIRST: bool, c
         av: (fl.h[i], fl.sound[i], rho_i),
         p_coef: fl.mass[i] * fl.pressure[i] / (rho_i * rho_i),
     };
-    let (mut f_own, mut p_own, mut rate) = (V::zero(), 0.0, 0.0);
     let (js, slots, rijs, r2s) = s.compacted(n);
-    let mut add = |out: LaneOut<f64x2>, at: usize, lanes: usize| {
-        for l in 0..lanes {
-            let force: V = out.force.lane(l);
-            f_own += force;
-            p_own += out.power_i.lane(l);
-            if DRHO {
-                rate += out.rate.lane(l);
-            }
-            reactions[slots[at + l] as usize] = Reaction {
-                force,
-                power: out.power_j.lane(l),
-            };
-        }
+    let row = RowPairs {
+        ctx,
+        owner,
+        kernel,
+        av,
+        js,
+        rijs,
+        r2s,
     };
+    let mut sums = (V::zero(), 0.0, 0.0);
     let mut k = 0;
     while k + 2 <= n {
-        let at = k..k + 2;
-        let out: LaneOut<f64x2> = pair_lanes::<V, _, P, AV, AV_FIRST>(
-            ctx,
-            owner,
-            kernel,
-            av,
-            (&js[at.clone()], &rijs[at.clone()], &r2s[at]),
-        );
-        add(out.widen(), k, 2);
+        let out = pair_lanes::<V, f64x2, P, AV, AV_FIRST>(row, k);
+        add_lanes::<V, DRHO>(&mut sums, reactions, out, &slots[k..k + 2]);
         k += 2;
     }
     if k < n {
-        let at = k..k + 1;
-        let out: LaneOut<Real> = pair_lanes::<V, _, P, AV, AV_FIRST>(
-            ctx,
-            owner,
-            kernel,
-            av,
-            (&js[at.clone()], &rijs[at.clone()], &r2s[at]),
-        );
-        add(out.widen(), k, 1);
+        let out = pair_lanes::<V, Real, P, AV, AV_FIRST>(row, k).widen();
+        add_lanes::<V, DRHO>(&mut sums, reactions, out, &slots[k..k + 1]);
     }
-    (f_own, p_own, rate)
+    sums
+}
+
+/// Adds the lanes' pairs (their support `slots`, one per lane used) to i's sums
+/// `(force, power, Σ m_j v_ij·∇_iW_ij)`, lane by lane, and writes their reactions.
+#[inline(always)]
+fn add_lanes<V: Vector, const DRHO: bool>(
+    (f_own, p_own, rate): &mut (V, Real, Real),
+    reactions: &mut [Reaction<V>],
+    out: LaneOut<f64x2>,
+    slots: &[u32],
+) {
+    for (l, &slot) in slots.iter().enumerate() {
+        let force: V = out.force.lane(l);
+        *f_own += force;
+        *p_own += out.power_i.lane(l);
+        if DRHO {
+            *rate += out.rate.lane(l);
+        }
+        reactions[slot as usize] = Reaction {
+            force,
+            power: out.power_j.lane(l),
+        };
+    }
+}
+
+/// What the pair formulas of one owner row read: the owner, the kernel `(kind, C_d h_i^{-d-1},
+/// 1/h_i)`, the viscosity's `(α, β, η_f)` and the compacted pairs (`j`, `r_ij`, `|r_ij|²`).
+#[derive(Clone, Copy)]
+struct RowPairs<'a, V: Vector> {
+    ctx: &'a SweepCtx<'a, V>,
+    owner: Owner<V>,
+    kernel: (KernelKind, Real, Real),
+    av: (Real, Real, Real),
+    js: &'a [u32],
+    rijs: &'a [V],
+    r2s: &'a [Real],
 }
 
 impl<T: Lanes> LaneOut<T> {
@@ -271,16 +288,22 @@ impl<T: Lanes> LaneOut<T> {
     }
 }
 
-/// The pair formulas for the `T::N` pairs `js` (with their `r_ij` and `|r_ij|²`), lane by
-/// lane the operations of the pressure term's and the viscosity term's own `interact`.
+/// The pair formulas for the `T::N` pairs from `k` of the row, lane by lane the operations of
+/// the pressure term's and the viscosity term's own `interact`.
 #[inline(always)]
 fn pair_lanes<V: Vector, T: Lanes, const P: bool, const AV: bool, const AV_FIRST: bool>(
-    ctx: &SweepCtx<'_, V>,
-    o: Owner<V>,
-    (kind, g_norm, inv_h): (KernelKind, Real, Real),
-    av: (Real, Real, Real),
-    (js, rijs, r2s): (&[u32], &[V], &[Real]),
+    row: RowPairs<'_, V>,
+    k: usize,
 ) -> LaneOut<T> {
+    let RowPairs {
+        ctx,
+        owner: o,
+        kernel: (kind, g_norm, inv_h),
+        av,
+        ..
+    } = row;
+    let at = k..k + T::N;
+    let (js, rijs, r2s) = (&row.js[at.clone()], &row.rijs[at.clone()], &row.r2s[at]);
     let fl = ctx.fields;
     let np = fl.pos.len();
     let (vel, mass, rho, h, sound) = (
