@@ -1,9 +1,9 @@
 //! The sweep's fused loop for the built-in terms (`PressureForce`, `ArtificialViscosity`, with
 //! the continuity sum) against the general path that runs the plugins' own pair terms: bitwise
 //! the same force, power and dρ/dt on every particle, for every order of the terms, in 2-D and
-//! 3-D, with a strongly varying h, for kernels written for two lanes and one evaluated lane by
-//! lane (the fused loop evaluates pairs two at a time); and the general path is what a scene with any other term
-//! (here heat conduction) or the kernel correction uses.
+//! 3-D, with a strongly varying h, for three kernels (the fused loop evaluates pairs two at a
+//! time); and the general path is what a scene with any other term (here heat conduction) or
+//! the kernel correction uses.
 
 mod common;
 
@@ -73,8 +73,8 @@ fn orders() -> Vec<(&'static str, Vec<Box<dyn PluginConfig>>)> {
 }
 
 /// Both paths on a cloud of `side^d` particles with h varying over `[h_lo, h_hi]`, with the
-/// cubic spline for every order of the terms, and with Wendland C2 (also written for two
-/// lanes) and the quintic spline (evaluated lane by lane) for the dam break's order.
+/// cubic spline for every order of the terms, and with Wendland C2 and the quintic spline (whose
+/// pieces are selected per lane) for the dam break's order.
 fn check_every_order<V: Vector>(side: usize, h_lo: Real, h_hi: Real, seed: u64) {
     let particles = cloud::<V>(side, h_lo, h_hi, seed);
     let dual = Formulation::DualSupport;

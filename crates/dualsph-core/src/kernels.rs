@@ -147,9 +147,8 @@ impl KernelKind {
         self.profile_derivative_lanes(q)
     }
 
-    /// [`Self::profile_derivative`] for one pair or several side by side ([`Lanes`]): the
-    /// cubic spline and Wendland C2 are written once for both; the other kinds are evaluated
-    /// lane by lane.
+    /// [`Self::profile_derivative`] for one pair or several side by side ([`Lanes`]), written
+    /// once for both.
     #[inline(always)]
     pub fn profile_derivative_lanes<T: Lanes>(self, q: T) -> T {
         let c = T::splat;
@@ -168,32 +167,28 @@ impl KernelKind {
                 let t = c(1.0) - q;
                 c(-20.0) * q * t * t * t
             }
-            _ => return q.map(|q| self.profile_derivative_other(q)),
-        };
-        T::in_unit(q, d)
-    }
-
-    /// `f'(q)` of the kinds not written for [`Lanes`].
-    #[inline(always)]
-    fn profile_derivative_other(self, q: Real) -> Real {
-        let d = match self {
-            KernelKind::CubicSpline | KernelKind::WendlandC2 => return self.profile_derivative(q),
             KernelKind::QuinticSpline => {
-                let s = 3.0 * q;
-                let p4 = |x: Real| if x > 0.0 { x.powi(4) } else { 0.0 };
-                3.0 * (-5.0 * p4(3.0 - s) + 30.0 * p4(2.0 - s) - 75.0 * p4(1.0 - s))
+                let s = c(3.0) * q;
+                // x⁴ as (x²)², the products `powi(4)` forms
+                let p4 = |x: T| {
+                    let x2 = x * x;
+                    T::if_gt(x, c(0.0), x2 * x2, c(0.0))
+                };
+                c(3.0)
+                    * (c(-5.0) * p4(c(3.0) - s) + c(30.0) * p4(c(2.0) - s)
+                        - c(75.0) * p4(c(1.0) - s))
             }
             KernelKind::Poly6 => {
-                let t = 1.0 - q * q;
-                -6.0 * q * t * t
+                let t = c(1.0) - q * q;
+                c(-6.0) * q * t * t
             }
             KernelKind::Spiky => {
-                let t = 1.0 - q;
-                -3.0 * t * t
+                let t = c(1.0) - q;
+                c(-3.0) * t * t
             }
-            KernelKind::MullerViscosity => -1.5 * q * q + 2.0 * q - 0.5 / (q * q),
+            KernelKind::MullerViscosity => c(-1.5) * q * q + c(2.0) * q - c(0.5) / (q * q),
         };
-        if (0.0..1.0).contains(&q) { d } else { 0.0 }
+        T::in_unit(q, d)
     }
 
     /// The points in `[0, 1]` where the piecewise polynomial profile changes formula.

@@ -34,11 +34,6 @@ pub trait Lanes:
     fn if_gt(a: Self, b: Self, t: Self, f: Self) -> Self;
     /// `if 0 ≤ q < 1 { d } else { 0 }` per lane (false for NaN, as `(0.0..1.0).contains`).
     fn in_unit(q: Self, d: Self) -> Self;
-    /// `f(x)` lane by lane, for formulas written for one value only.
-    #[inline(always)]
-    fn map(self, f: impl Fn(Real) -> Real) -> Self {
-        Self::from_fn(|l| f(self.lane(l)))
-    }
 }
 
 impl Lanes for Real {
