@@ -39,7 +39,7 @@ mod fused;
 mod row;
 pub use checks::{check_row_matches_interact, check_row_override_2d};
 pub use fused::{AvSide, BuiltinTerm, artificial_viscosity_parts};
-use fused::{fused_owner_row, fused_plan};
+use fused::{RowEval, WithRowEval, fused_plan, with_fused_rows};
 use row::{Reaction, RowScratch, owner_row};
 
 /// How pair interactions are summed (see module docs).
@@ -272,6 +272,52 @@ fn dual_support<V: Vector>(
     terms: &[Arc<dyn PairTerm<V>>],
     buf: &mut SweepBuffers<V>,
 ) {
+    let plan = if buf.general_only {
+        None
+    } else {
+        fused_plan(ctx, terms)
+    };
+    let with_drho = buf.with_density_rate;
+    let blocks = Blocks { ctx, buf };
+    match plan {
+        Some(plan) => with_fused_rows(ctx, plan, with_drho, blocks),
+        None => blocks.call(&GeneralRows { ctx: *ctx, terms }),
+    }
+}
+
+/// Pass 1 by the general path: every [`PairTerm`] on the row in turn.
+struct GeneralRows<'a, V: Vector> {
+    ctx: SweepCtx<'a, V>,
+    terms: &'a [Arc<dyn PairTerm<V>>],
+}
+
+impl<V: Vector> RowEval<V> for GeneralRows<'_, V> {
+    #[inline]
+    fn row(
+        &self,
+        i: usize,
+        s: &mut RowScratch<V>,
+        reactions: &mut [Reaction<V>],
+        drho: Option<&mut Real>,
+    ) -> (V, Real) {
+        owner_row(&self.ctx, self.terms, i, s, reactions, drho)
+    }
+}
+
+/// The blocked sweep of [`dual_support`], run with the row evaluation chosen for the sweep.
+struct Blocks<'a, 'b, V: Vector> {
+    ctx: &'a SweepCtx<'a, V>,
+    buf: &'b mut SweepBuffers<V>,
+}
+
+impl<V: Vector> WithRowEval<V> for Blocks<'_, '_, V> {
+    fn call<E: RowEval<V>>(self, eval: &E) {
+        blocks(self.ctx, eval, self.buf)
+    }
+}
+
+/// Pass 1 (rows by `eval`) and pass 2 of [`dual_support`].
+fn blocks<V: Vector, E: RowEval<V>>(ctx: &SweepCtx<'_, V>, eval: &E, buf: &mut SweepBuffers<V>) {
     let nb = ctx.neighbours;
     let offsets = &nb.support.offsets;
     let slots = nb.support.indices.len();
@@ -282,11 +328,6 @@ fn dual_support<V: Vector>(
     let r_blocks = split_rows_mut(&mut buf.reactions, offsets, block);
     let with_drho = buf.with_density_rate;
     buf.density_rate.resize(n, 0.0);
-    let plan = if buf.general_only {
-        None
-    } else {
-        fused_plan(ctx, terms)
-    };
     let later: Vec<Vec<u32>> = buf
         .force
         .par_chunks_mut(block)
@@ -302,10 +343,7 @@ fn dual_support<V: Vector>(
             for i in a..end {
                 let r = offsets[i] as usize - base..offsets[i + 1] as usize - base;
                 let drho = with_drho.then_some(&mut dc[i - a]);
-                (fc[i - a], pc[i - a]) = match plan {
-                    Some(plan) => fused_owner_row(ctx, plan, i, s, &mut rc[r], drho),
-                    None => owner_row(ctx, terms, i, s, &mut rc[r], drho),
-                };
+                (fc[i - a], pc[i - a]) = eval.row(i, s, &mut rc[r], drho);
                 let wave = (i - a) % WAVE == WAVE - 1 || i + 1 == end;
                 while wave && next <= i {
                     let owners = nb.dual.row(next);

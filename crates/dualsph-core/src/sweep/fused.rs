@@ -121,27 +121,47 @@ pub(super) fn fused_plan<V: Vector>(
     }
 }
 
-/// Pass 1 for owner i with the fused loop: the same contract as [`super::row::owner_row`].
-#[inline]
-pub(super) fn fused_owner_row<V: Vector>(
+/// Pass 1's evaluation of one owner row, fixed for a whole sweep so that the block loop is
+/// compiled once per kind of row (see [`with_fused_rows`]): the same contract as
+/// [`super::row::owner_row`].
+pub(super) trait RowEval<V: Vector>: Sync {
+    /// Owner i's sums `(force, power)`, its reactions written into `reactions` (i's support
+    /// slots), and `dρ_i/dt` (Eq. 4.9) into `drho` when given.
+    fn row(
+        &self,
+        i: usize,
+        s: &mut RowScratch<V>,
+        reactions: &mut [Reaction<V>],
+        drho: Option<&mut Real>,
+    ) -> (V, Real);
+}
+
+/// Code generic over the row evaluation, called with the one chosen for a sweep.
+pub(super) trait WithRowEval<V: Vector> {
+    /// Runs with `eval`.
+    fn call<E: RowEval<V>>(self, eval: &E);
+}
+
+/// Calls `w` with the fused row evaluation for `plan`, the kernel of `ctx` and the
+/// continuity sum when `drho`: one monomorphic block loop per (kernel, plan, continuity), so
+/// that nothing is dispatched per row.
+pub(super) fn with_fused_rows<V: Vector, W: WithRowEval<V>>(
     ctx: &SweepCtx<'_, V>,
     plan: FusedPlan,
-    i: usize,
-    s: &mut RowScratch<V>,
-    reactions: &mut [Reaction<V>],
-    drho: Option<&mut Real>,
-) -> (V, Real) {
-    let (k, n) = compact_row_into(ctx, i, s, reactions);
-    let (kind, g_norm, inv_h) = k.factor_parts();
-    let pairs = Pairs { i, n, s: &*s };
-    let with_drho = drho.is_some();
+    drho: bool,
+    w: W,
+) {
     macro_rules! go {
         ($kind:expr, $p:literal, $av:literal, $first:literal, $coefs:expr) => {{
-            let kernel = ($kind, g_norm, inv_h);
-            if with_drho {
-                fused_pairs::<V, $p, $av, $first, true>(ctx, pairs, kernel, $coefs, reactions)
+            const KIND: usize = $kind as usize;
+            if drho {
+                w.call(&FusedRows::<V, KIND, $p, $av, $first, true>::new(
+                    ctx, $coefs,
+                ))
             } else {
-                fused_pairs::<V, $p, $av, $first, false>(ctx, pairs, kernel, $coefs, reactions)
+                w.call(&FusedRows::<V, KIND, $p, $av, $first, false>::new(
+                    ctx, $coefs,
+                ))
             }
         }};
     }
@@ -155,11 +175,68 @@ pub(super) fn fused_owner_row<V: Vector>(
             }
         }};
     }
-    let (f, p, rate) = with_kernel_kind!(kind, K => with_kind!(K));
-    if let Some(d) = drho {
-        *d = rate;
+    with_kernel_kind!(ctx.kernel.kind, K => with_kind!(K))
+}
+
+/// The fused row evaluation: kernel `KernelKind::ALL[KIND]`, `P` adds the pressure force,
+/// `AV` the artificial viscosity `av`, in the order of the scene (`AV_FIRST`); the continuity
+/// sum is formed when `DRHO`.
+pub(super) struct FusedRows<
+    'a,
+    V: Vector,
+    const KIND: usize,
+    const P: bool,
+    const AV: bool,
+    const AV_FIRST: bool,
+    const DRHO: bool,
+> {
+    ctx: SweepCtx<'a, V>,
+    av: (Real, Real, Real),
+}
+
+impl<
+    'a,
+    V: Vector,
+    const KIND: usize,
+    const P: bool,
+    const AV: bool,
+    const AV_FIRST: bool,
+    const DRHO: bool,
+> FusedRows<'a, V, KIND, P, AV, AV_FIRST, DRHO>
+{
+    fn new(ctx: &SweepCtx<'a, V>, av: (Real, Real, Real)) -> Self {
+        FusedRows { ctx: *ctx, av }
     }
-    (f, p)
+}
+
+impl<
+    V: Vector,
+    const KIND: usize,
+    const P: bool,
+    const AV: bool,
+    const AV_FIRST: bool,
+    const DRHO: bool,
+> RowEval<V> for FusedRows<'_, V, KIND, P, AV, AV_FIRST, DRHO>
+{
+    #[inline(always)]
+    fn row(
+        &self,
+        i: usize,
+        s: &mut RowScratch<V>,
+        reactions: &mut [Reaction<V>],
+        drho: Option<&mut Real>,
+    ) -> (V, Real) {
+        let (k, n) = compact_row_into(&self.ctx, i, s, reactions);
+        let (_, g_norm, inv_h) = k.factor_parts();
+        let kernel = (KernelKind::ALL[KIND], g_norm, inv_h);
+        let pairs = Pairs { i, n, s: &*s };
+        let (f, p, rate) =
+            fused_pairs::<V, P, AV, AV_FIRST, DRHO>(&self.ctx, pairs, kernel, self.av, reactions);
+        if let Some(d) = drho {
+            *d = rate;
+        }
+        (f, p)
+    }
 }
 
 /// Unused artificial-viscosity coefficients (plans without it).
@@ -215,25 +292,34 @@ fn fused_pairs<V: Vector, const P: bool, const AV: bool, const AV_FIRST: bool, c
         p_coef: fl.mass[i] * fl.pressure[i] / (rho_i * rho_i),
     };
     let (js, slots, rijs, r2s) = s.compacted(n);
+    let np = fl.pos.len();
     let row = RowPairs {
-        ctx,
         owner,
         kernel,
         av,
-        js,
-        rijs,
-        r2s,
+        side: Side {
+            vel: &fl.vel[..np],
+            mass: &fl.mass[..np],
+            rho: &fl.rho[..np],
+            h: &fl.h[..np],
+            sound: &fl.sound[..np],
+        },
     };
     let mut sums = (V::zero(), 0.0, 0.0);
-    let mut k = 0;
-    while k + 2 <= n {
-        let out = pair_lanes::<V, f64x2, P, AV, AV_FIRST>(row, k);
-        add_lanes::<V, DRHO>(&mut sums, reactions, out, &slots[k..k + 2]);
-        k += 2;
+    let (js2, js1) = js.as_chunks::<2>();
+    let (slots2, slots1) = slots.as_chunks::<2>();
+    let (rijs2, rijs1) = rijs.as_chunks::<2>();
+    let (r2s2, r2s1) = r2s.as_chunks::<2>();
+    let two = js2.iter().zip(slots2).zip(rijs2).zip(r2s2);
+    for (((js, slots), rijs), r2s) in two {
+        let out = pair_lanes::<V, f64x2, P, AV, AV_FIRST>(row, js, rijs, r2s);
+        add_lanes::<V, DRHO>(&mut sums, reactions, out, slots);
     }
-    if k < n {
-        let out = pair_lanes::<V, Real, P, AV, AV_FIRST>(row, k).widen();
-        add_lanes::<V, DRHO>(&mut sums, reactions, out, &slots[k..k + 1]);
+    if let (Some(j), Some(slot), Some(rij), Some(r2)) =
+        (js1.first(), slots1.first(), rijs1.first(), r2s1.first())
+    {
+        let out = pair_lanes::<V, Real, P, AV, AV_FIRST>(row, &[*j], &[*rij], &[*r2]).widen();
+        add_lanes::<V, DRHO>(&mut sums, reactions, out, &[*slot]);
     }
     sums
 }
@@ -262,16 +348,24 @@ fn add_lanes<V: Vector, const DRHO: bool>(
 }
 
 /// What the pair formulas of one owner row read: the owner, the kernel `(kind, C_d h_i^{-d-1},
-/// 1/h_i)`, the viscosity's `(α, β, η_f)` and the compacted pairs (`j`, `r_ij`, `|r_ij|²`).
+/// 1/h_i)`, the viscosity's `(α, β, η_f)` and the neighbours' values.
 #[derive(Clone, Copy)]
 struct RowPairs<'a, V: Vector> {
-    ctx: &'a SweepCtx<'a, V>,
     owner: Owner<V>,
     kernel: (KernelKind, Real, Real),
     av: (Real, Real, Real),
-    js: &'a [u32],
-    rijs: &'a [V],
-    r2s: &'a [Real],
+    side: Side<'a, V>,
+}
+
+/// The neighbour's values the pair formulas read, every array of the same length (so that
+/// one bounds check of j covers them all).
+#[derive(Clone, Copy)]
+struct Side<'a, V: Vector> {
+    vel: &'a [V],
+    mass: &'a [Real],
+    rho: &'a [Real],
+    h: &'a [Real],
+    sound: &'a [Real],
 }
 
 impl<T: Lanes> LaneOut<T> {
@@ -288,31 +382,28 @@ impl<T: Lanes> LaneOut<T> {
     }
 }
 
-/// The pair formulas for the `T::N` pairs from `k` of the row, lane by lane the operations of
-/// the pressure term's and the viscosity term's own `interact`.
+/// The pair formulas for the `T::N` pairs `js` (with their `r_ij` and `|r_ij|²`), lane by
+/// lane the operations of the pressure term's and the viscosity term's own `interact`.
 #[inline(always)]
 fn pair_lanes<V: Vector, T: Lanes, const P: bool, const AV: bool, const AV_FIRST: bool>(
     row: RowPairs<'_, V>,
-    k: usize,
+    js: &[u32],
+    rijs: &[V],
+    r2s: &[Real],
 ) -> LaneOut<T> {
     let RowPairs {
-        ctx,
         owner: o,
         kernel: (kind, g_norm, inv_h),
         av,
-        ..
+        side:
+            Side {
+                vel,
+                mass,
+                rho,
+                h,
+                sound,
+            },
     } = row;
-    let at = k..k + T::N;
-    let (js, rijs, r2s) = (&row.js[at.clone()], &row.rijs[at.clone()], &row.r2s[at]);
-    let fl = ctx.fields;
-    let np = fl.pos.len();
-    let (vel, mass, rho, h, sound) = (
-        &fl.vel[..np],
-        &fl.mass[..np],
-        &fl.rho[..np],
-        &fl.h[..np],
-        &fl.sound[..np],
-    );
     // the lanes' particles, each checked once against the arrays' common length
     let jl = [js[0] as usize, js[T::N - 1] as usize];
     let j = |l: usize| jl[l];

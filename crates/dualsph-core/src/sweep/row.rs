@@ -47,25 +47,31 @@ impl<V: Vector> RowScratch<V> {
     }
 
     /// Makes every array hold at least `m` entries (grows only; never shrinks).
-    #[inline]
+    #[inline(always)]
     fn reserve(&mut self, m: usize) {
         if self.j.len() < m {
-            self.j.resize(m, 0);
-            self.slot.resize(m, 0);
-            self.rij.resize(m, V::zero());
-            self.r.resize(m, 0.0);
-            self.vij.resize(m, V::zero());
-            self.grad_raw.resize(m, V::zero());
-            self.grad.resize(m, V::zero());
-            self.out.resize(m, PairOut::default());
+            self.grow(m);
         }
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn grow(&mut self, m: usize) {
+        self.j.resize(m, 0);
+        self.slot.resize(m, 0);
+        self.rij.resize(m, V::zero());
+        self.r.resize(m, 0.0);
+        self.vij.resize(m, V::zero());
+        self.grad_raw.resize(m, V::zero());
+        self.grad.resize(m, V::zero());
+        self.out.resize(m, PairOut::default());
     }
 }
 
 /// Compacts the candidates with `|r_ij|² < h_i²` into the front of the row arrays (`j`, slot,
 /// `r_ij`, `|r_ij|²` in `r2s`) and returns their number. Branch-free: every candidate is
-/// written at the next free place and the place is kept only if it is inside; the row's
-/// reaction slots are zeroed in one fill (pass 1 overwrites those of the pairs afterwards).
+/// written at the next free place and the place is kept only if it is inside. Every reaction
+/// slot of the row is zeroed on the way (pass 1 overwrites those of the pairs afterwards).
 #[inline(always)]
 fn compact_row<V: Vector>(
     cand: &[u32],
@@ -77,17 +83,16 @@ fn compact_row<V: Vector>(
 ) -> usize {
     let m = cand.len();
     let (js, slots, rijs, r2s) = (&mut js[..m], &mut slots[..m], &mut rijs[..m], &mut r2s[..m]);
-    reactions[..m].fill(Reaction::default());
     let mut n = 0;
-    for (slot, &j) in cand.iter().enumerate() {
+    for ((slot, &j), reaction) in cand.iter().enumerate().zip(&mut reactions[..m]) {
         let rij = xi - pos[j as usize];
         let r2 = rij.length_squared();
         // n <= slot < m: the writes stay in bounds
-        let at = n.min(slot);
-        js[at] = j;
-        slots[at] = slot as u32;
-        rijs[at] = rij;
-        r2s[at] = r2;
+        js[n] = j;
+        slots[n] = slot as u32;
+        rijs[n] = rij;
+        r2s[n] = r2;
+        *reaction = Reaction::default();
         n += (r2 < h2) as usize;
     }
     n
