@@ -9,6 +9,7 @@
 //! valgrind --tool=callgrind target/release/examples/perf 2 uniform dam 20 1
 //! ```
 
+use dualsph::core::neighbours::Neighbours;
 use dualsph::perf::{Case, Layout, cpu_seconds, peak_rss_bytes, run_sweep, support_pairs};
 use dualsph::prelude::*;
 use std::time::Instant;
@@ -35,8 +36,10 @@ fn run<V: Vector>(case: Case, steps: usize) {
     let setup_rss = peak_rss_bytes().unwrap_or(0);
     let n = sim.particle_count();
     let pairs = support_pairs(&sim);
+    let builds0 = sim.world.resource::<Neighbours<V>>().builds;
     let (c1, w1) = (cpu_seconds(), Instant::now());
     let best = step_loop(&mut sim, steps);
+    let builds = sim.world.resource::<Neighbours<V>>().builds - builds0;
     let (cpu, wall) = (cpu_seconds() - c1, w1.elapsed().as_secs_f64());
     let ps = (n * steps) as f64;
     println!(
@@ -56,6 +59,10 @@ fn run<V: Vector>(case: Case, steps: usize) {
         best * 1e3,
         n as f64 / best
     );
+    println!(
+        "neighbour lists built {builds} times in the {steps} steps; {} candidates per pair at the end",
+        fmt_ratio(&sim)
+    );
     println!("state fingerprint {:016x}", fingerprint(&mut sim));
     if let Some(rss) = peak_rss_bytes() {
         println!(
@@ -67,6 +74,12 @@ fn run<V: Vector>(case: Case, steps: usize) {
     }
     // after the RSS line: the extra sweep buffers of this measurement are not the engine's
     sweep_only(&sim, steps);
+}
+
+/// Candidate slots (inside the Verlet skin) per pair inside `h_i`, on the current lists.
+fn fmt_ratio<V: Vector>(sim: &Sim<V>) -> String {
+    let slots = sim.world.resource::<Neighbours<V>>().support.indices.len();
+    format!("{:.2}", slots as f64 / support_pairs(sim).max(1) as f64)
 }
 
 /// The pair sweep alone (`sweep::evaluate`, what the Forces set runs), `steps` times on the

@@ -2,11 +2,13 @@
 //! potential / total energy, and the largest density variation, summed in particle-id order
 //! (deterministic).
 
+use crate::chunks::{DENSE, MIN_LEN};
 use crate::components::*;
 use crate::math::{Real, Vector};
 use crate::sim::{Domain, Sim, SimClock, StepSet};
 use bevy_ecs::prelude::*;
 use glam::DVec3;
+use rayon::prelude::*;
 
 /// Potential of a body force per unit mass at a point, registered by plugins (gravity).
 #[derive(Resource, Clone, Default)]
@@ -285,51 +287,113 @@ pub fn check_health<V: Vector>(
         .fold(0.0, Real::max);
     let tol = DOMAIN_TOLERANCE * extent;
     let (lo, hi) = (domain.min, domain.max);
+    let limits = Limits {
+        rho: (rho_lo, rho_hi),
+        h: (h_lo, h_hi),
+        lo,
+        hi,
+        tol,
+    };
     let mut worst: Option<(u32, &'static str, Real)> = None;
-    for (id, r, v, rho, h, e) in &q {
-        // fast path: one sum is finite iff every term is (or it overflowed: then look closer)
-        let mut sum = rho.0 + h.0 + e.map_or(0.0, |e| e.0);
-        let mut inside = true;
-        for k in 0..V::DIM {
-            let x = r.0.get(k);
-            sum += x + v.0.get(k);
-            inside &= x >= lo.get(k) - tol && x <= hi.get(k) + tol;
-        }
-        let sane = rho.0 >= rho_lo && rho.0 <= rho_hi && h.0 >= h_lo && h.0 <= h_hi;
-        if sum.is_finite() && rho.0 > 0.0 && h.0 > 0.0 && inside && sane {
+    for (ids, r, v, rho, h, e) in q.contiguous_iter().expect(DENSE) {
+        // the common case in parallel: every particle passes the fast test
+        let fine = |r: &Position<V>, v: &Velocity<V>, rho: &Density, h: &SmoothingLength, e| {
+            limits.fine(r.0, v.0, rho.0, h.0, e)
+        };
+        let all_fine = match e {
+            Some(e) => (r, v, rho, h, e)
+                .into_par_iter()
+                .with_min_len(MIN_LEN)
+                .all(|(r, v, rho, h, e)| fine(r, v, rho, h, e.0)),
+            None => (r, v, rho, h)
+                .into_par_iter()
+                .with_min_len(MIN_LEN)
+                .all(|(r, v, rho, h)| fine(r, v, rho, h, 0.0)),
+        };
+        if all_fine {
             continue;
         }
-        let outside = distance_outside(r.0, lo, hi);
-        let bad = if !r.0.is_finite() {
-            Some(("position", r.0.length()))
-        } else if !v.0.is_finite() {
-            Some(("velocity", v.0.length()))
-        } else if !(rho.0.is_finite() && rho.0 > 0.0) {
-            Some(("density", rho.0))
-        } else if !(h.0.is_finite() && h.0 > 0.0) {
-            Some(("smoothing length", h.0))
-        } else if e.is_some_and(|e| !e.0.is_finite()) {
-            Some(("internal energy", e.map_or(0.0, |e| e.0)))
-        } else if outside > tol {
-            Some((OUTSIDE_DOMAIN, outside))
-        } else if rho.0 > rho_hi {
-            Some((DENSITY_ABOVE, rho.0))
-        } else if rho.0 < rho_lo {
-            Some((DENSITY_BELOW, rho.0))
-        } else if h.0 > h_hi {
-            Some((H_ABOVE, h.0))
-        } else if h.0 < h_lo {
-            Some((H_BELOW, h.0))
-        } else {
-            None
-        };
-        if let Some((what, val)) = bad
-            && worst.is_none_or(|w| id.0 < w.0)
-        {
-            worst = Some((id.0, what, val));
+        // else the smallest id with a problem, in order
+        for (k, id) in ids.iter().enumerate() {
+            let e = e.map(|e| e[k].0);
+            if let Some((what, val)) = limits.problem(r[k].0, v[k].0, rho[k].0, h[k].0, e)
+                && worst.is_none_or(|w| id.0 < w.0)
+            {
+                worst = Some((id.0, what, val));
+            }
         }
     }
     health.problem = worst;
+}
+
+/// The sane ranges of one health check.
+struct Limits<V: Vector> {
+    rho: (Real, Real),
+    h: (Real, Real),
+    lo: V,
+    hi: V,
+    tol: Real,
+}
+
+impl<V: Vector> Limits<V> {
+    /// The fast test of one particle (position, velocity, ρ, h, ε or 0): true when it is
+    /// certainly fine. One sum is finite iff every term is (or it overflowed: then
+    /// [`Self::problem`] looks closer).
+    #[inline(always)]
+    fn fine(&self, r: V, v: V, rho: Real, h: Real, e: Real) -> bool {
+        let (lo, hi, tol) = (self.lo, self.hi, self.tol);
+        let ((rho_lo, rho_hi), (h_lo, h_hi)) = (self.rho, self.h);
+        let mut sum = rho + h + e;
+        let mut inside = true;
+        for k in 0..V::DIM {
+            let x = r.get(k);
+            sum += x + v.get(k);
+            inside &= x >= lo.get(k) - tol && x <= hi.get(k) + tol;
+        }
+        let sane = rho >= rho_lo && rho <= rho_hi && h >= h_lo && h <= h_hi;
+        sum.is_finite() && rho > 0.0 && h > 0.0 && inside && sane
+    }
+
+    /// What is wrong with one particle (position, velocity, ρ, h, ε), if anything: the
+    /// quantity and its value.
+    fn problem(
+        &self,
+        r: V,
+        v: V,
+        rho: Real,
+        h: Real,
+        e: Option<Real>,
+    ) -> Option<(&'static str, Real)> {
+        if self.fine(r, v, rho, h, e.unwrap_or(0.0)) {
+            return None;
+        }
+        let (lo, hi, tol) = (self.lo, self.hi, self.tol);
+        let ((rho_lo, rho_hi), (h_lo, h_hi)) = (self.rho, self.h);
+        let outside = distance_outside(r, lo, hi);
+        if !r.is_finite() {
+            Some(("position", r.length()))
+        } else if !v.is_finite() {
+            Some(("velocity", v.length()))
+        } else if !(rho.is_finite() && rho > 0.0) {
+            Some(("density", rho))
+        } else if !(h.is_finite() && h > 0.0) {
+            Some(("smoothing length", h))
+        } else if e.is_some_and(|e| !e.is_finite()) {
+            Some(("internal energy", e.unwrap_or(0.0)))
+        } else if outside > tol {
+            Some((OUTSIDE_DOMAIN, outside))
+        } else if rho > rho_hi {
+            Some((DENSITY_ABOVE, rho))
+        } else if rho < rho_lo {
+            Some((DENSITY_BELOW, rho))
+        } else if h > h_hi {
+            Some((H_ABOVE, h))
+        } else if h < h_lo {
+            Some((H_BELOW, h))
+        } else {
+            None
+        }
+    }
 }
 
 impl HealthBounds {

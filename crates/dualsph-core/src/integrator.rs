@@ -6,18 +6,18 @@
 //! Then all rates are evaluated at `(r^{t+Δt}, v^p, ρ^p, ε^p)`.
 //! Corrector:  `v^{t+Δt} = v^t + Δt/2 (a^t + a^{t+Δt})`, and likewise for ρ and ε.
 //!
-//! The per-particle updates are plain sequential query loops, not `par_iter_mut`: bevy's
-//! parallel iterator calls the closure per entity without inlining it, ~80 instructions per
-//! particle, more than these updates cost themselves (callgrind: `predict_kinematics` 121 →
-//! 42 instructions per particle), so on two threads the sequential loop is still faster. The
-//! pair sweep, where the work per particle is large, is what runs in parallel.
+//! The per-particle updates run over bevy's contiguous table slices, in rayon pieces (see
+//! [`crate::chunks`]): each particle is updated from its own data, so the result does not
+//! depend on the number of threads.
 
+use crate::chunks::{DENSE, MIN_LEN, id_run};
 use crate::components::*;
 use crate::math::{Real, Vector};
 use crate::neighbours::Neighbours;
 use crate::sim::{InitialInternalEnergy, MaxViscosity, Sim, SimClock, StepSet, TimeStepping};
 use crate::sweep::Fields;
 use bevy_ecs::prelude::*;
+use rayon::prelude::*;
 
 /// Chooses dt for this step (fixed, or the CFL / force / viscous criteria with each
 /// particle's own h).
@@ -42,20 +42,39 @@ pub fn choose_dt<V: Vector>(
             viscous,
             max_dt,
         } => {
-            let mut dt = max_dt;
-            for (v, a, h, rho, c) in &q {
-                let c = c.map_or(0.0, |c| c.0);
-                let speed = c + v.0.length();
+            let visc = visc.0;
+            let limit = |v: V, a: V, h: Real, rho: Real, c: Real| {
+                let mut dt = Real::INFINITY;
+                let speed = c + v.length();
                 if speed > 0.0 {
-                    dt = dt.min(courant * h.0 / speed);
+                    dt = dt.min(courant * h / speed);
                 }
-                let acc = a.0.length();
+                let acc = a.length();
                 if acc > 0.0 {
-                    dt = dt.min(force * (h.0 / acc).sqrt());
+                    dt = dt.min(force * (h / acc).sqrt());
                 }
-                if visc.0 > 0.0 {
-                    dt = dt.min(viscous * rho.0 * h.0 * h.0 / visc.0);
+                if visc > 0.0 {
+                    dt = dt.min(viscous * rho * h * h / visc);
                 }
+                dt
+            };
+            let mut dt = max_dt;
+            // a minimum: exact and independent of the order, so of the thread count
+            for (v, a, h, rho, c) in q.contiguous_iter().expect(DENSE) {
+                let inf = || Real::INFINITY;
+                let chunk = match c {
+                    Some(c) => (v, a, h, rho, c)
+                        .into_par_iter()
+                        .with_min_len(MIN_LEN)
+                        .map(|(v, a, h, rho, c)| limit(v.0, a.0, h.0, rho.0, c.0))
+                        .reduce(inf, Real::min),
+                    None => (v, a, h, rho)
+                        .into_par_iter()
+                        .with_min_len(MIN_LEN)
+                        .map(|(v, a, h, rho)| limit(v.0, a.0, h.0, rho.0, 0.0))
+                        .reduce(inf, Real::min),
+                };
+                dt = dt.min(chunk);
             }
             dt
         }
@@ -135,11 +154,14 @@ pub fn predict_kinematics<V: Vector>(
     )>,
 ) {
     let dt = clock.dt;
-    for (mut r, mut v, a, mut k) in &mut q {
-        k.v0 = v.0;
-        k.a0 = a.0;
-        r.0 += v.0 * dt + a.0 * (0.5 * dt * dt);
-        v.0 += a.0 * dt;
+    for (mut r, mut v, a, mut k) in q.contiguous_iter_mut().expect(DENSE) {
+        let rows = (&mut *r, &mut *v, a, &mut *k).into_par_iter();
+        rows.with_min_len(MIN_LEN).for_each(|(r, v, a, k)| {
+            k.v0 = v.0;
+            k.a0 = a.0;
+            r.0 += v.0 * dt + a.0 * (0.5 * dt * dt);
+            v.0 += a.0 * dt;
+        });
     }
 }
 
@@ -150,8 +172,9 @@ pub fn correct_kinematics<V: Vector>(
     mut q: Query<(&mut Velocity<V>, &Acceleration<V>, &Kinematics<V>)>,
 ) {
     let half = 0.5 * clock.dt;
-    for (mut v, a, k) in &mut q {
-        v.0 = k.v0 + (k.a0 + a.0) * half;
+    for (mut v, a, k) in q.contiguous_iter_mut().expect(DENSE) {
+        let rows = (&mut *v, a, k).into_par_iter().with_min_len(MIN_LEN);
+        rows.for_each(|(v, a, k)| v.0 = k.v0 + (k.a0 + a.0) * half);
     }
 }
 
@@ -159,10 +182,13 @@ pub fn correct_kinematics<V: Vector>(
 #[inline(never)] // a frame of its own in profiles
 pub fn predict_energy(clock: Res<SimClock>, mut q: Query<(&mut InternalEnergy, &mut EnergyRate)>) {
     let dt = clock.dt;
-    for (mut e, mut r) in &mut q {
-        r.e0 = e.0;
-        r.rate0 = r.rate;
-        e.0 += dt * r.rate;
+    for (mut e, mut r) in q.contiguous_iter_mut().expect(DENSE) {
+        let rows = (&mut *e, &mut *r).into_par_iter().with_min_len(MIN_LEN);
+        rows.for_each(|(e, r)| {
+            r.e0 = e.0;
+            r.rate0 = r.rate;
+            e.0 += dt * r.rate;
+        });
     }
 }
 
@@ -170,8 +196,9 @@ pub fn predict_energy(clock: Res<SimClock>, mut q: Query<(&mut InternalEnergy, &
 #[inline(never)] // a frame of its own in profiles
 pub fn correct_energy(clock: Res<SimClock>, mut q: Query<(&mut InternalEnergy, &EnergyRate)>) {
     let half = 0.5 * clock.dt;
-    for (mut e, r) in &mut q {
-        e.0 = r.e0 + half * (r.rate0 + r.rate);
+    for (mut e, r) in q.contiguous_iter_mut().expect(DENSE) {
+        let rows = (&mut *e, r).into_par_iter().with_min_len(MIN_LEN);
+        rows.for_each(|(e, r)| e.0 = r.e0 + half * (r.rate0 + r.rate));
     }
 }
 
@@ -179,10 +206,13 @@ pub fn correct_energy(clock: Res<SimClock>, mut q: Query<(&mut InternalEnergy, &
 #[inline(never)] // a frame of its own in profiles
 pub fn predict_density(clock: Res<SimClock>, mut q: Query<(&mut Density, &mut DensityRate)>) {
     let dt = clock.dt;
-    for (mut rho, mut r) in &mut q {
-        r.rho0 = rho.0;
-        r.rate0 = r.rate;
-        rho.0 += dt * r.rate;
+    for (mut rho, mut r) in q.contiguous_iter_mut().expect(DENSE) {
+        let rows = (&mut *rho, &mut *r).into_par_iter().with_min_len(MIN_LEN);
+        rows.for_each(|(rho, r)| {
+            r.rho0 = rho.0;
+            r.rate0 = r.rate;
+            rho.0 += dt * r.rate;
+        });
     }
 }
 
@@ -190,8 +220,9 @@ pub fn predict_density(clock: Res<SimClock>, mut q: Query<(&mut Density, &mut De
 #[inline(never)] // a frame of its own in profiles
 pub fn correct_density(clock: Res<SimClock>, mut q: Query<(&mut Density, &DensityRate)>) {
     let half = 0.5 * clock.dt;
-    for (mut rho, r) in &mut q {
-        rho.0 = r.rho0 + half * (r.rate0 + r.rate);
+    for (mut rho, r) in q.contiguous_iter_mut().expect(DENSE) {
+        let rows = (&mut *rho, r).into_par_iter().with_min_len(MIN_LEN);
+        rows.for_each(|(rho, r)| rho.0 = r.rho0 + half * (r.rate0 + r.rate));
     }
 }
 
@@ -210,18 +241,35 @@ pub fn gather_fields<V: Vector>(
     eps: Query<(&ParticleId, &InternalEnergy)>,
 ) {
     let f = &mut *fields;
-    for (id, r, v, m, rho, h) in &q {
-        let i = id.0 as usize;
-        f.pos[i] = r.0;
-        f.vel[i] = v.0;
-        f.mass[i] = m.0;
-        f.rho[i] = rho.0;
-        f.h[i] = h.0;
+    for (ids, r, v, m, rho, h) in q.contiguous_iter().expect(DENSE) {
+        let Some(a) = id_run(ids) else {
+            for (k, id) in ids.iter().enumerate() {
+                let i = id.0 as usize;
+                (f.pos[i], f.vel[i], f.mass[i]) = (r[k].0, v[k].0, m[k].0);
+                (f.rho[i], f.h[i]) = (rho[k].0, h[k].0);
+            }
+            continue;
+        };
+        let at = a..a + ids.len();
+        let dense = (
+            &mut f.pos[at.clone()],
+            &mut f.vel[at.clone()],
+            &mut f.mass[at.clone()],
+            &mut f.rho[at.clone()],
+            &mut f.h[at],
+        );
+        let rows = (dense, (r, v, m, rho, h)).into_par_iter();
+        rows.with_min_len(MIN_LEN)
+            .for_each(|((fr, fv, fm, frho, fh), (r, v, m, rho, h))| {
+                (*fr, *fv, *fm, *frho, *fh) = (r.0, v.0, m.0, rho.0, h.0);
+            });
     }
     if !eps.is_empty() {
         f.eps.resize(f.pos.len(), 0.0);
-        for (id, e) in &eps {
-            f.eps[id.0 as usize] = e.0;
+        for (ids, e) in eps.contiguous_iter().expect(DENSE) {
+            for (id, e) in ids.iter().zip(e) {
+                f.eps[id.0 as usize] = e.0;
+            }
         }
     }
 }

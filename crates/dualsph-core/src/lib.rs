@@ -5,6 +5,7 @@
 //! `shared/papers`): `h_i` is the support radius of particle i, `H_i` its support and `H'_i`
 //! its dual-support.
 #![warn(missing_docs)]
+pub mod chunks;
 pub mod components;
 pub mod diagnostics;
 pub mod integrator;

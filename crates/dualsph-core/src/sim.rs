@@ -223,8 +223,8 @@ pub struct Sim<V: Vector> {
 /// threads as the current rayon pool (which runs the neighbour loops), so a run on N threads
 /// uses N for both. The pool is global: the first call of a process (normally the first
 /// [`Sim::new`]) sets its size; later calls do nothing. The engine's own per-particle updates
-/// are sequential query loops (cheaper than bevy's per-entity parallel calls, see
-/// [`crate::integrator`]); a plugin's `par_iter_mut` loop must update each particle from its
+/// run over contiguous table slices on rayon (cheaper than bevy's per-entity parallel calls,
+/// see [`crate::chunks`]); a plugin's `par_iter_mut` loop must update each particle from its
 /// own data only, so that the result does not depend on the number of threads (bitwise).
 pub fn init_task_pool() {
     bevy_tasks::ComputeTaskPool::get_or_init(|| {

@@ -24,6 +24,7 @@
 //! * `AveragedKernel` — the conventional reference, Eq. 2.13:
 //!   `W̄_ij = ½[W(r, h_i) + W(r, h_j)]` over `H_i ∪ H'_i`, classical symmetric sums.
 
+use crate::chunks::{DENSE, for_rows};
 use crate::components::{Acceleration, DensityRate, EnergyRate, ParticleId};
 use crate::kernels::Kernel;
 use crate::math::{Real, Vector};
@@ -448,14 +449,14 @@ pub fn pair_sweep_system<V: Vector>(
         continuity_in_sweep(continuity.is_some(), !terms.terms.is_empty(), *formulation);
     evaluate(&ctx, &terms.terms, &mut buf);
     let with_drho = buf.with_density_rate;
-    for (id, mut a, e, d) in &mut q {
-        let i = id.0 as usize;
-        a.0 = buf.force[i] / fields.mass[i];
+    let (force, power, rate, mass) = (&buf.force, &buf.power, &buf.density_rate, &fields.mass);
+    for (ids, mut a, e, d) in q.contiguous_iter_mut().expect(DENSE) {
+        for_rows(ids, &mut a, |a, i| a.0 = force[i] / mass[i]);
         if let Some(mut e) = e {
-            e.rate = buf.power[i] / fields.mass[i];
+            for_rows(ids, &mut e, |e, i| e.rate = power[i] / mass[i]);
         }
         if with_drho && let Some(mut d) = d {
-            d.rate = buf.density_rate[i];
+            for_rows(ids, &mut d, |d, i| d.rate = rate[i]);
         }
     }
 }

@@ -4,6 +4,7 @@
 #![warn(missing_docs)]
 
 use dualsph_core::bevy_ecs::prelude::*;
+use dualsph_core::chunks::{DENSE, for_rows};
 use dualsph_core::integrator::ensure_energy_equation;
 use dualsph_core::prelude::*;
 use rayon::prelude::*;
@@ -157,9 +158,10 @@ pub fn apply_eos<V: Vector>(
         .for_each(|(i, (p, c))| {
             (*p, *c) = eos.eval(rho[i], eps.get(i).copied().unwrap_or(0.0));
         });
-    for (id, mut p, mut c) in &mut q {
-        p.0 = f.pressure[id.0 as usize];
-        c.0 = f.sound[id.0 as usize];
+    let (pressure, sound) = (&f.pressure, &f.sound);
+    for (ids, mut p, mut c) in q.contiguous_iter_mut().expect(DENSE) {
+        for_rows(ids, &mut p, |p, i| p.0 = pressure[i]);
+        for_rows(ids, &mut c, |c, i| c.0 = sound[i]);
     }
 }
 

@@ -3,8 +3,10 @@
 #![warn(missing_docs)]
 
 use dualsph_core::bevy_ecs::prelude::*;
+use dualsph_core::chunks::{DENSE, MIN_LEN};
 use dualsph_core::diagnostics::ExternalPotentials;
 use dualsph_core::prelude::*;
+use rayon::prelude::*;
 use serde::Deserialize;
 
 /// Uniform gravity.
@@ -26,8 +28,10 @@ fn potential(x: &[Real; 3], g: &[Real; 3]) -> Real {
 /// Adds `g` to every particle's acceleration (after the pair sweep).
 #[inline(never)] // a frame of its own in profiles
 pub fn apply_gravity<V: Vector>(g: Res<GravityAccel<V>>, mut q: Query<&mut Acceleration<V>>) {
-    for mut a in &mut q {
-        a.0 += g.0;
+    let g = g.0;
+    for mut a in q.contiguous_iter_mut().expect(DENSE) {
+        let rows = a.par_iter_mut().with_min_len(MIN_LEN);
+        rows.for_each(|a| a.0 += g);
     }
 }
 

@@ -13,7 +13,9 @@
 #![warn(missing_docs)]
 
 use dualsph_core::bevy_ecs::prelude::*;
+use dualsph_core::chunks::{DENSE, MIN_LEN};
 use dualsph_core::prelude::*;
+use rayon::prelude::*;
 use serde::Deserialize;
 
 /// Specular reflection on the domain box.
@@ -38,24 +40,30 @@ pub fn reflect<V: Vector>(
 ) {
     let (lo, hi) = (domain.min, domain.max);
     let kappa = clearance.0;
-    for (mut r, mut v, h) in &mut q {
-        let gap = kappa * h.0;
-        for k in 0..V::DIM {
-            let (x, u) = (r.0.get(k), v.0.get(k));
-            if x <= lo.get(k) + gap {
-                if x < lo.get(k) {
-                    r.0.set(k, (2.0 * lo.get(k) - x).min(hi.get(k)));
-                }
-                if u < 0.0 {
-                    v.0.set(k, -u);
-                }
-            } else if x >= hi.get(k) - gap {
-                if x > hi.get(k) {
-                    r.0.set(k, (2.0 * hi.get(k) - x).max(lo.get(k)));
-                }
-                if u > 0.0 {
-                    v.0.set(k, -u);
-                }
+    for (mut r, mut v, h) in q.contiguous_iter_mut().expect(DENSE) {
+        let rows = (&mut *r, &mut *v, h).into_par_iter().with_min_len(MIN_LEN);
+        rows.for_each(|(r, v, h)| reflect_one(&mut r.0, &mut v.0, kappa * h.0, lo, hi));
+    }
+}
+
+/// One particle of [`reflect`], at distance `gap` from the faces `lo`, `hi`.
+#[inline(always)]
+fn reflect_one<V: Vector>(r: &mut V, v: &mut V, gap: Real, lo: V, hi: V) {
+    for k in 0..V::DIM {
+        let (x, u) = (r.get(k), v.get(k));
+        if x <= lo.get(k) + gap {
+            if x < lo.get(k) {
+                r.set(k, (2.0 * lo.get(k) - x).min(hi.get(k)));
+            }
+            if u < 0.0 {
+                v.set(k, -u);
+            }
+        } else if x >= hi.get(k) - gap {
+            if x > hi.get(k) {
+                r.set(k, (2.0 * hi.get(k) - x).max(lo.get(k)));
+            }
+            if u > 0.0 {
+                v.set(k, -u);
             }
         }
     }
