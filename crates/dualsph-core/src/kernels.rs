@@ -87,7 +87,8 @@ pub enum KernelKind {
 }
 
 impl KernelKind {
-    /// Every kernel, for listings and tests.
+    /// Every kernel, for listings and tests; `ALL[kind as usize] == kind` (the fused sweep
+    /// names its kernel by that index).
     pub const ALL: [KernelKind; 6] = [
         KernelKind::CubicSpline,
         KernelKind::WendlandC2,
@@ -357,6 +358,13 @@ mod tests {
             }
         }
         s * d * d
+    }
+
+    #[test]
+    fn all_is_in_declaration_order() {
+        for (k, kind) in KernelKind::ALL.into_iter().enumerate() {
+            assert_eq!(kind as usize, k);
+        }
     }
 
     #[test]

@@ -154,14 +154,11 @@ pub(super) fn with_fused_rows<V: Vector, W: WithRowEval<V>>(
     macro_rules! go {
         ($kind:expr, $p:literal, $av:literal, $first:literal, $coefs:expr) => {{
             const KIND: usize = $kind as usize;
+            let (ctx, av) = (*ctx, $coefs);
             if drho {
-                w.call(&FusedRows::<V, KIND, $p, $av, $first, true>::new(
-                    ctx, $coefs,
-                ))
+                w.call(&FusedRows::<V, KIND, $p, $av, $first, true> { ctx, av })
             } else {
-                w.call(&FusedRows::<V, KIND, $p, $av, $first, false>::new(
-                    ctx, $coefs,
-                ))
+                w.call(&FusedRows::<V, KIND, $p, $av, $first, false> { ctx, av })
             }
         }};
     }
@@ -192,21 +189,6 @@ pub(super) struct FusedRows<
 > {
     ctx: SweepCtx<'a, V>,
     av: (Real, Real, Real),
-}
-
-impl<
-    'a,
-    V: Vector,
-    const KIND: usize,
-    const P: bool,
-    const AV: bool,
-    const AV_FIRST: bool,
-    const DRHO: bool,
-> FusedRows<'a, V, KIND, P, AV, AV_FIRST, DRHO>
-{
-    fn new(ctx: &SweepCtx<'a, V>, av: (Real, Real, Real)) -> Self {
-        FusedRows { ctx: *ctx, av }
-    }
 }
 
 impl<
