@@ -93,21 +93,9 @@ fn dam_break_processes_on_1_and_2_threads_write_identical_files() {
     std::fs::write(&scene, text).unwrap();
     let run = |threads: usize| {
         let out = tmp.path().join(format!("t{threads}"));
-        let o = std::process::Command::new(env!("CARGO_BIN_EXE_dualsph"))
-            .arg("run")
-            .arg(&scene)
-            .arg("--quiet")
-            .arg("--out")
-            .arg(&out)
-            .args(["--checkpoint-every", "200"])
-            .env("RAYON_NUM_THREADS", threads.to_string())
-            .output()
-            .unwrap();
-        assert!(
-            o.status.success(),
-            "{threads} threads: {}",
-            String::from_utf8_lossy(&o.stderr)
-        );
+        let threads = threads.to_string();
+        let env = [("RAYON_NUM_THREADS", threads.as_str())];
+        run_dualsph(&scene, &out, &["--checkpoint-every", "200"], &env);
         out
     };
     let (one, two) = (run(1), run(2));
@@ -140,19 +128,7 @@ fn dam_break_state_does_not_depend_on_the_skin() {
         );
         std::fs::write(&scene, with_skin).unwrap();
         let out = tmp.path().join(format!("skin_{skin}"));
-        let o = std::process::Command::new(env!("CARGO_BIN_EXE_dualsph"))
-            .arg("run")
-            .arg(&scene)
-            .arg("--quiet")
-            .arg("--out")
-            .arg(&out)
-            .output()
-            .unwrap();
-        assert!(
-            o.status.success(),
-            "skin {skin}: {}",
-            String::from_utf8_lossy(&o.stderr)
-        );
+        run_dualsph(&scene, &out, &[], &[]);
         std::fs::read(out.join("final.csv")).unwrap()
     };
     let reference = run("0.15");
@@ -163,4 +139,30 @@ fn dam_break_state_does_not_depend_on_the_skin() {
             "skin {skin} changes the final state"
         );
     }
+}
+
+/// `dualsph run SCENE --quiet --out OUT ARGS…` with the environment `env`; on failure, panics
+/// with the program's stderr.
+fn run_dualsph(
+    scene: &std::path::Path,
+    out: &std::path::Path,
+    args: &[&str],
+    env: &[(&str, &str)],
+) {
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_dualsph"))
+        .arg("run")
+        .arg(scene)
+        .arg("--quiet")
+        .arg("--out")
+        .arg(out)
+        .args(args)
+        .envs(env.iter().copied())
+        .output()
+        .unwrap();
+    assert!(
+        o.status.success(),
+        "{} {args:?} {env:?}: {}",
+        scene.display(),
+        String::from_utf8_lossy(&o.stderr)
+    );
 }
