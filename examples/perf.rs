@@ -60,8 +60,9 @@ fn run<V: Vector>(case: Case, steps: usize) {
         n as f64 / best
     );
     println!(
-        "neighbour lists built {builds} times in the {steps} steps; {} candidates per pair at the end",
-        fmt_ratio(&sim)
+        "neighbour lists built {builds} times in the {steps} steps; {} candidates per pair at the end; skin {:.3}",
+        fmt_ratio(&sim),
+        sim.world.resource::<Neighbours<V>>().skin
     );
     println!("state fingerprint {:016x}", fingerprint(&mut sim));
     if let Some(rss) = peak_rss_bytes() {

@@ -117,6 +117,11 @@ pub fn build_sim<V: Vector>(scene: &Scene) -> Result<Sim<V>, SimError> {
         formulation,
         domain,
         skin: scene.neighbours.skin,
+        skin_rule: if scene.neighbours.tune_skin {
+            SkinRule::Tuned
+        } else {
+            SkinRule::Fixed
+        },
         time_stepping,
     });
     let particles: Vec<ParticleInit<V>> = scene

@@ -211,7 +211,7 @@ fn main() -> ExitCode {
             let summary = runner::run_with(&s, &RunOptions { out: out.clone(), progress }, &restart)
                 .map_err(|e| format!("{}: {e}", scene.display()))?;
             println!(
-                "done: {} particles, {} steps to t = {:.6} s in {:.2} s wall, {:.2} CPU-s ({:.3e} particle-steps per wall-s, {:.3e} per CPU-s, {} threads); output in {}",
+                "done: {} particles, {} steps to t = {:.6} s in {:.2} s wall, {:.2} CPU-s ({:.3e} particle-steps per wall-s, {:.3e} per CPU-s, {} threads; {} neighbour-list builds, last skin {:.3}); output in {}",
                 summary.particles,
                 summary.steps,
                 summary.t,
@@ -220,6 +220,8 @@ fn main() -> ExitCode {
                 summary.particle_steps_per_second,
                 summary.particle_steps_per_cpu_second,
                 rayon::current_num_threads(),
+                summary.list_builds,
+                summary.skin,
                 out.display()
             );
             let (a, b) = (&summary.initial, &summary.last);

@@ -9,6 +9,7 @@ use crate::checkpoint::{self, Checkpoint, CheckpointError};
 use crate::{build_sim, with_dimension};
 use dualsph_core::diagnostics::{Diagnostics, Health, HealthBounds};
 use dualsph_core::integrator::{CFL_LIMIT, TimeStepCheck};
+use dualsph_core::neighbours::Neighbours;
 use dualsph_core::prelude::*;
 use dualsph_io::{DiagnosticsRow, OutputDir, ParticleRecord};
 use dualsph_scene::Scene;
@@ -56,6 +57,10 @@ pub struct RunSummary {
     pub cpu_seconds: f64,
     /// Particle-steps per CPU second (the throughput figure of `docs/performance.md`).
     pub particle_steps_per_cpu_second: f64,
+    /// Neighbour-list builds during the run (set-up included, a resumed run's included).
+    pub list_builds: u64,
+    /// The Verlet skin of the last lists (chosen by the tuner unless the scene fixes it).
+    pub skin: Real,
     /// Diagnostics at t = 0.
     pub initial: Diagnostics,
     /// Diagnostics at the end.
@@ -312,6 +317,8 @@ pub fn run_dim_with<V: Vector>(
     }
     out.write_final(&records)?;
     let stepped = last.step - steps_before;
+    let nb = sim.world.resource::<Neighbours<V>>();
+    let (list_builds, skin) = (nb.builds, nb.skin);
     Ok(RunSummary {
         particles: n,
         steps: last.step,
@@ -320,6 +327,8 @@ pub fn run_dim_with<V: Vector>(
         particle_steps_per_second: (n * stepped) as f64 / wall.max(1e-9),
         cpu_seconds: cpu,
         particle_steps_per_cpu_second: (n * stepped) as f64 / cpu.max(1e-9),
+        list_builds,
+        skin,
         initial,
         last,
     })

@@ -73,6 +73,7 @@ fn drop_sim(
             max: DVec2::splat(3.0),
         },
         skin: 0.15,
+        skin_rule: SkinRule::Fixed,
         time_stepping: TimeStepping::Adaptive {
             courant: 0.1,
             force: 0.25,

@@ -3,7 +3,7 @@
 //!
 //! A checkpoint holds every particle component (in particle-id order), the clock (t, step,
 //! dt), the neighbour lists with the state of their rebuild rule (positions and smallest h of
-//! the last build, the dirty flag, the build count), the initial densities used by the
+//! the last build, the dirty flag, the build count, the steps since that build), the initial densities used by the
 //! diagnostics, the probes' samples so far and the step of the last diagnostics row. The
 //! h-update (every m steps) and the output cadences are functions of the step counter, and
 //! settings come from the scene, so nothing else is needed to take the same decisions again.
@@ -27,7 +27,7 @@ use std::path::{Path, PathBuf};
 /// First bytes of every checkpoint file.
 pub const MAGIC: &[u8; 8] = b"DSPHCKPT";
 /// Version of the layout written by this build.
-pub const FORMAT_VERSION: u32 = 1;
+pub const FORMAT_VERSION: u32 = 2;
 const HEADER_LEN: usize = 8 + 4 + 8 + 8;
 
 /// One particle component: `width` reals per particle, particles in id order.
@@ -64,6 +64,8 @@ pub struct NeighbourData {
     pub dirty: bool,
     /// Builds so far.
     pub builds: u64,
+    /// Steps since the last build (the tuned skin's measure of the motion).
+    pub steps_since_build: u64,
 }
 
 /// The complete state of a run after a step.
@@ -301,6 +303,7 @@ mod tests {
                 h_min: 0.3,
                 dirty: true,
                 builds: 9,
+                steps_since_build: 4,
             },
             initial_density: vec![1000.0; 3],
             probe_rows: Some(vec![(5, 0.5, awkward)]),

@@ -262,6 +262,7 @@ pub fn capture<V: Vector>(
         h_min: nb.h_min,
         dirty: nb.dirty,
         builds: nb.builds,
+        steps_since_build: nb.steps_since_build,
     };
     let initial_density = world
         .get_resource::<InitialDensity>()
@@ -316,7 +317,14 @@ fn restore_neighbours<V: Vector>(
     d: &NeighbourData,
     n: usize,
 ) -> Result<(), String> {
-    if d.skin.to_bits() != nb.skin.to_bits() {
+    if !(d.skin.is_finite() && d.skin >= 0.0) {
+        return Err(format!(
+            "its neighbour skin {} is not a number >= 0",
+            d.skin
+        ));
+    }
+    // a tuned skin is the state's; a fixed one must be the scene's
+    if nb.rule == SkinRule::Fixed && d.skin.to_bits() != nb.skin.to_bits() {
         return Err(format!(
             "its neighbour skin is {}, the scene's is {}",
             d.skin, nb.skin
@@ -344,6 +352,8 @@ fn restore_neighbours<V: Vector>(
     nb.h_min = d.h_min;
     nb.dirty = d.dirty;
     nb.builds = d.builds;
+    nb.skin = d.skin;
+    nb.steps_since_build = d.steps_since_build;
     Ok(())
 }
 

@@ -71,6 +71,7 @@ pub fn sim_with_kernel<V: Vector>(
         formulation,
         domain: Domain { min: -max, max },
         skin: 0.1,
+        skin_rule: SkinRule::Fixed,
         time_stepping: TimeStepping::Fixed(1e-4),
     });
     sim.spawn_particles(particles);

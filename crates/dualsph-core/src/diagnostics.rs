@@ -426,6 +426,7 @@ pub(crate) fn add_diagnostics_system<V: Vector>(sim: &mut Sim<V>) {
 mod tests {
     use super::*;
     use crate::kernels::KernelKind;
+    use crate::neighbours::SkinRule;
     use crate::sim::{ParticleInit, SimConfig, TimeStepping};
     use crate::sweep::Formulation;
     use glam::DVec2;
@@ -440,6 +441,7 @@ mod tests {
                 max: DVec2::ONE,
             },
             skin: 0.1,
+            skin_rule: SkinRule::Fixed,
             time_stepping: TimeStepping::Fixed(1e-3),
         });
         let p = |x: f64, density: f64, h: f64| ParticleInit {

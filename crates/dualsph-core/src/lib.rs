@@ -30,6 +30,7 @@ pub mod prelude {
     pub use crate::diagnostics::Diagnostics;
     pub use crate::kernels::{Kernel, KernelKind};
     pub use crate::math::{Mat1, Matrix, Real, Vec1, Vector};
+    pub use crate::neighbours::SkinRule;
     pub use crate::output::{RunOutputDir, StepLimit};
     pub use crate::plugin::{PluginConfig, Registry, SceneInfo, SimPlugin};
     pub use crate::sim::{

@@ -7,7 +7,7 @@
 use crate::components::*;
 use crate::kernels::{Kernel, KernelKind};
 use crate::math::{Real, Vector};
-use crate::neighbours::Neighbours;
+use crate::neighbours::{Neighbours, SkinRule};
 use crate::sweep::{Fields, Formulation, PairTerm, PairTerms};
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::{ScheduleLabel, SingleThreadedExecutor};
@@ -182,8 +182,10 @@ pub struct SimConfig<V: Vector> {
     pub formulation: Formulation,
     /// Domain box.
     pub domain: Domain<V>,
-    /// Verlet skin (fraction of h).
+    /// Verlet skin (fraction of h): of every build, or of the first with a tuned rule.
     pub skin: Real,
+    /// How the skin of later builds is chosen.
+    pub skin_rule: SkinRule,
     /// dt rule.
     pub time_stepping: TimeStepping,
 }
@@ -251,7 +253,7 @@ impl<V: Vector> Sim<V> {
         world.insert_resource(config.formulation);
         world.insert_resource(config.domain);
         world.insert_resource(config.time_stepping);
-        world.insert_resource(Neighbours::<V>::new(config.skin));
+        world.insert_resource(Neighbours::<V>::with_rule(config.skin, config.skin_rule));
         world.insert_resource(Fields::<V>::default());
         world.insert_resource(PairTerms::<V>::default());
         world.insert_resource(MaxViscosity::default());

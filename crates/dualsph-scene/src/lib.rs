@@ -18,7 +18,8 @@
 //! )
 //! ```
 //!
-//! Optional: `neighbours` (skin 0.15), `plugins` (none), `max_steps` (None), `output`
+//! Optional: `neighbours` (`skin: 0.15, tune_skin: true`: the first build's skin, then one chosen
+//! from the measured motion), `plugins` (none), `max_steps` (None), `output`
 //! (`diagnostics_every: 10, snapshot_every: 200, vtk: true`), `health` (`density_below: 300,
 //! density_above: 10, h_below: 10, h_above: 300`: the run stops when a density or h leaves its
 //! initial range widened by those factors; each must be > 1, refused at its position), `integrator.max_dt` (None), and

@@ -207,13 +207,21 @@ impl Generator {
 #[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct NeighbourSettings {
-    /// Verlet skin added to the search radius (>= 0); default 0.15.
+    /// Verlet skin added to the search radius, as a fraction of h (>= 0); default 0.15.
+    /// With `tune_skin` it is the skin of the first build only.
     pub skin: f64,
+    /// When true (the default), every build after the first chooses its skin from the
+    /// measured motion by a cost model (`dualsph_core::neighbours::SkinRule::Tuned`); the
+    /// results are bitwise the same for any skin, only the cost changes.
+    pub tune_skin: bool,
 }
 
 impl Default for NeighbourSettings {
     fn default() -> Self {
-        NeighbourSettings { skin: 0.15 }
+        NeighbourSettings {
+            skin: 0.15,
+            tune_skin: true,
+        }
     }
 }
 

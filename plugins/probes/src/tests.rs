@@ -24,6 +24,7 @@ fn block_sim(depth: Real, dx: Real) -> Sim<DVec2> {
             max: DVec2::new(1.0, 1.0),
         },
         skin: 0.0,
+        skin_rule: SkinRule::Fixed,
         time_stepping: TimeStepping::Fixed(1e-5),
     });
     let (nx, ny) = ((1.0 / dx).round() as usize, (depth / dx).round() as usize);

@@ -30,11 +30,13 @@ use rayon::prelude::*;
 
 mod cells;
 mod kd;
+mod skin;
 #[cfg(test)]
 mod tests;
 
 pub use cells::GridPlan;
 pub use kd::KdSearch;
+pub use skin::{SkinRule, optimal_skin};
 
 /// A compressed-sparse-row adjacency: row i is `indices[offsets[i]..offsets[i+1]]`.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -238,8 +240,12 @@ pub struct Neighbours<V: Vector> {
     pub dual: Csr,
     /// For each dual entry, the slot in `support` of the same pair.
     pub dual_slot: Vec<u32>,
-    /// Verlet skin `s` as a fraction of h.
+    /// Verlet skin `s` as a fraction of h: the skin of the current lists.
     pub skin: Real,
+    /// How the skin of each build is chosen (see [`SkinRule`]).
+    pub rule: SkinRule,
+    /// Calls of [`Neighbours::update`] (steps) since the last build.
+    pub steps_since_build: u64,
     /// Positions at the last build.
     pub build_positions: Vec<V>,
     /// Smallest h at the last build.
@@ -255,13 +261,15 @@ pub struct Neighbours<V: Vector> {
 }
 
 impl<V: Vector> Neighbours<V> {
-    /// Empty lists with the given skin; the first `update` builds them.
+    /// Empty lists with the given fixed skin; the first `update` builds them.
     pub fn new(skin: Real) -> Self {
         Neighbours {
             support: Csr::default(),
             dual: Csr::default(),
             dual_slot: Vec::new(),
             skin,
+            rule: SkinRule::Fixed,
+            steps_since_build: 0,
             build_positions: Vec::new(),
             h_min: 0.0,
             dirty: true,
@@ -271,17 +279,34 @@ impl<V: Vector> Neighbours<V> {
         }
     }
 
-    /// True when the rebuild rule (module docs) requires new lists.
-    pub fn needs_rebuild(&self, positions: &[V]) -> bool {
-        if self.dirty || self.build_positions.len() != positions.len() {
-            return true;
+    /// Empty lists whose first build uses `skin` and later builds follow `rule`.
+    pub fn with_rule(skin: Real, rule: SkinRule) -> Self {
+        Neighbours {
+            rule,
+            ..Self::new(skin)
+        }
+    }
+
+    /// The largest displacement since the last build, when the lists were built for these
+    /// particles.
+    fn max_displacement(&self, positions: &[V]) -> Option<Real> {
+        if self.build_positions.is_empty() || self.build_positions.len() != positions.len() {
+            return None;
         }
         let max_d2 = positions
             .iter()
             .zip(&self.build_positions)
             .map(|(a, b)| (*a - *b).length_squared())
             .fold(0.0, Real::max);
-        2.0 * max_d2.sqrt() > self.skin * self.h_min
+        Some(max_d2.sqrt())
+    }
+
+    /// True when the rebuild rule (module docs) requires new lists.
+    pub fn needs_rebuild(&self, positions: &[V]) -> bool {
+        match self.max_displacement(positions) {
+            Some(d) => self.dirty || 2.0 * d > self.skin * self.h_min,
+            None => true,
+        }
     }
 
     /// Rebuilds the lists from scratch.
@@ -301,16 +326,32 @@ impl<V: Vector> Neighbours<V> {
         self.h_min = h.iter().copied().fold(Real::INFINITY, Real::min);
         self.dirty = false;
         self.builds += 1;
+        self.steps_since_build = 0;
     }
 
-    /// Rebuilds if the rule says so; returns whether it did.
+    /// Called once per step: rebuilds if the rule says so, or, with [`SkinRule::Tuned`], when
+    /// a rebuild with the optimal skin is cheaper than keeping the lists
+    /// ([`skin::retune_now`]); a tuned rebuild first sets the skin to
+    /// [`optimal_skin`] of the motion measured since the last build. Returns whether it
+    /// rebuilt.
     pub fn update(&mut self, positions: &[V], h: &[Real]) -> bool {
-        if self.needs_rebuild(positions) {
-            self.rebuild(positions, h);
-            true
-        } else {
-            false
+        self.steps_since_build += 1;
+        let d = self.max_displacement(positions);
+        let rule = d.is_none_or(|d| self.dirty || 2.0 * d > self.skin * self.h_min);
+        let steps = self.steps_since_build;
+        let u = match (self.rule, d) {
+            (SkinRule::Tuned, Some(d)) => Some(skin::motion_rate(d, self.h_min, steps)),
+            _ => None,
+        };
+        let early = u.is_some_and(|u| skin::retune_now(self.skin, u, steps, V::DIM));
+        if !(rule || early) {
+            return false;
         }
+        if let Some(u) = u {
+            self.skin = optimal_skin(u, V::DIM);
+        }
+        self.rebuild(positions, h);
+        true
     }
 }
 

@@ -90,6 +90,47 @@ fn skin_lists_stay_supersets_until_rebuild_rule_fires() {
     assert!(nb.needs_rebuild(&pos));
 }
 
+/// A tuned skin follows the motion (small while the particles creep, larger while they run)
+/// and its lists stay supersets of the exact supports at every step.
+#[test]
+fn tuned_skin_follows_the_motion_and_lists_stay_supersets() {
+    let (mut pos, h) = cloud::<DVec2>(400, 5);
+    let mut nb = Neighbours::<DVec2>::with_rule(0.3, SkinRule::Tuned);
+    nb.update(&pos, &h);
+    assert_eq!(
+        (nb.builds, nb.skin),
+        (1, 0.3),
+        "the first build uses the given skin"
+    );
+    let mut rng = ChaCha8Rng::seed_from_u64(17);
+    let mut skins = Vec::new();
+    for (steps, speed) in [(60, 1e-4), (60, 2e-2), (60, 1e-4)] {
+        let builds = nb.builds;
+        for _ in 0..steps {
+            for p in &mut pos {
+                *p += DVec2::new(
+                    rng.random_range(-speed..speed),
+                    rng.random_range(-speed..speed),
+                );
+            }
+            nb.update(&pos, &h);
+            let exact = brute_force_support(&pos, &h);
+            for i in 0..pos.len() {
+                for j in exact.row(i) {
+                    assert!(nb.support.row(i).contains(j), "pair ({i},{j}) missing");
+                }
+            }
+        }
+        assert!(nb.builds > builds, "no build while moving at {speed}");
+        skins.push(nb.skin);
+    }
+    // creeping: an early rebuild replaced 0.3 by a thin skin; running: thicker; creeping again
+    assert!(
+        skins[0] < 0.05 && skins[1] > 2.0 * skins[0] && skins[2] < skins[1],
+        "{skins:?}"
+    );
+}
+
 #[test]
 fn lattice_with_many_equal_coordinates() {
     // k-d trees can choke on many identical coordinates: a square lattice has them.

@@ -12,6 +12,7 @@ fn base_scene_parses_with_defaults() {
     assert_eq!(s.kernel, KernelKind::CubicSpline);
     assert_eq!(s.formulation, Formulation::DualSupport);
     assert_eq!(s.neighbours.skin, 0.15);
+    assert!(s.neighbours.tune_skin);
     assert_eq!(s.particles.len(), 2);
     assert!(
         matches!(&s.particles[0], Generator::Block(b) if b.lattice == Lattice::Staggered && b.clip.is_none() && b.cut.is_empty() && b.velocity.is_none() && b.group.is_none())
@@ -45,7 +46,7 @@ fn every_optional_field_parses() {
     let text = edit(&[
         (
             "formulation: DualSupport,",
-            "formulation: AveragedKernel, neighbours: (skin: 0.3),",
+            "formulation: AveragedKernel, neighbours: (skin: 0.3, tune_skin: false),",
         ),
         (
             "lattice: Staggered, density: 1000.0, h_factor: 2.0)",
@@ -69,6 +70,7 @@ fn every_optional_field_parses() {
     let s = load(&text).unwrap();
     assert_eq!(s.formulation, Formulation::AveragedKernel);
     assert_eq!(s.neighbours.skin, 0.3);
+    assert!(!s.neighbours.tune_skin);
     let Generator::Block(b) = &s.particles[0] else {
         panic!()
     };
