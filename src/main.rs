@@ -66,6 +66,9 @@ enum Command {
         /// first 0.3 s of a dam break).
         #[arg(long, value_name = "T")]
         end_time: Option<f64>,
+        /// Print the wall time of every system of the step at the end (where the time goes).
+        #[arg(long)]
+        profile: bool,
     },
     /// Run the paper's benchmarks, grade them against their references, write report.md + PNGs.
     Report {
@@ -185,7 +188,7 @@ fn main() -> ExitCode {
                 .map(|path| println!("report written: {}", path.display()))
                 .map_err(|e| e.to_string())
         }
-        Command::Run { scene, out, quiet, formulation, checkpoint_every, resume, end_time } => load(&scene).and_then(|mut s| {
+        Command::Run { scene, out, quiet, formulation, checkpoint_every, resume, end_time, profile } => load(&scene).and_then(|mut s| {
             if let Some(f) = formulation {
                 s.formulation = f.into();
             }
@@ -208,7 +211,7 @@ fn main() -> ExitCode {
                 eprintln!("dualsph: resuming from {}", ck.display());
             }
             let restart = RestartOptions { checkpoint_every, resume };
-            let summary = runner::run_with(&s, &RunOptions { out: out.clone(), progress }, &restart)
+            let summary = runner::run_with(&s, &RunOptions { out: out.clone(), progress, profile }, &restart)
                 .map_err(|e| format!("{}: {e}", scene.display()))?;
             println!(
                 "done: {} particles, {} steps to t = {:.6} s in {:.2} s wall, {:.2} CPU-s ({:.3e} particle-steps per wall-s, {:.3e} per CPU-s, {} threads; {} neighbour-list builds, last skin {:.3}); output in {}",
@@ -229,6 +232,14 @@ fn main() -> ExitCode {
                 "conservation: mass {:.3e} → {:.3e}, momentum [{:.3e}, {:.3e}, {:.3e}], E_tot {:.6e} → {:.6e}",
                 a.mass, b.mass, b.momentum[0], b.momentum[1], b.momentum[2], a.e_tot, b.e_tot
             );
+            if let Some(p) = &summary.profile {
+                println!("\nwall time per system over {} steps ({} threads):\n{}", p.steps, rayon::current_num_threads(), p.table(summary.particles));
+                println!(
+                    "steps {:.3} s of the run loop's {:.3} s; the rest is output, checkpoints and progress",
+                    p.total(),
+                    summary.wall_seconds
+                );
+            }
             if out.join(dualsph::probes::PROBES_FILE).exists() {
                 let pngs = dualsph::probes::plot_probes(&out)?;
                 println!("probes: {} plots in {}", pngs.len(), out.display());

@@ -38,6 +38,8 @@ pub struct RunOptions {
     pub out: PathBuf,
     /// Progress reporting.
     pub progress: Progress,
+    /// Time every system of the step (wall time per system in [`RunSummary::profile`]).
+    pub profile: bool,
 }
 
 /// What a finished run reports.
@@ -61,6 +63,8 @@ pub struct RunSummary {
     pub list_builds: u64,
     /// The Verlet skin of the last lists (chosen by the tuner unless the scene fixes it).
     pub skin: Real,
+    /// Wall time per system over the run's steps, when [`RunOptions::profile`].
+    pub profile: Option<dualsph_core::profile::SystemTimes>,
     /// Diagnostics at t = 0.
     pub initial: Diagnostics,
     /// Diagnostics at the end.
@@ -245,6 +249,9 @@ pub fn run_dim_with<V: Vector>(
             )
         }
     };
+    if opts.profile {
+        sim.enable_profile()?;
+    }
     let mut keeper = Keeper::new(scene, restart, &opts.out);
     keeper.keep(&mut sim, &initial, last_written);
     let diag_every = scene.output.diagnostics_every.max(1);
@@ -329,6 +336,7 @@ pub fn run_dim_with<V: Vector>(
         particle_steps_per_cpu_second: (n * stepped) as f64 / cpu.max(1e-9),
         list_builds,
         skin,
+        profile: sim.profile().cloned(),
         initial,
         last,
     })

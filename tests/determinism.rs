@@ -146,14 +146,80 @@ fn dam_break_state_does_not_depend_on_the_skin() {
     }
 }
 
-/// `dualsph run SCENE --quiet --out OUT ARGS…` with the environment `env`; on failure, panics
-/// with the program's stderr.
+/// `--profile` times every system of the step and changes no bit of the state: the dam break
+/// of `scenes/dam_break_2d.ron` for 200 steps with and without it gives the same `final.csv`,
+/// and the profiled run prints one row per system of `dualsph plan`'s schedule, the sweep
+/// among them, with times that add up to the steps' total.
+#[test]
+fn profiling_changes_no_bit_and_times_every_system() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(root.join("scenes/dam_break_2d.ron")).unwrap();
+    let text = text.replacen("    end_time:", "    max_steps: 200,\n    end_time:", 1);
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = tmp.path().join("dam.ron");
+    std::fs::write(&scene, text).unwrap();
+    let (plain, profiled) = (tmp.path().join("plain"), tmp.path().join("profiled"));
+    run_dualsph(&scene, &plain, &[], &[]);
+    let stdout = run_dualsph(&scene, &profiled, &["--profile"], &[]);
+    let (a, b) = (plain.join("final.csv"), profiled.join("final.csv"));
+    assert!(std::fs::read(a).unwrap() == std::fs::read(b).unwrap());
+    let table = stdout
+        .split("wall time per system over 200 steps")
+        .nth(1)
+        .unwrap_or_else(|| panic!("no profile in {stdout}"));
+    let rows: Vec<&str> = table
+        .lines()
+        .skip(2)
+        .take_while(|l| !l.is_empty())
+        .collect();
+    let plan = std::process::Command::new(env!("CARGO_BIN_EXE_dualsph"))
+        .arg("plan")
+        .arg(&scene)
+        .output()
+        .unwrap();
+    let plan = String::from_utf8_lossy(&plan.stdout);
+    let numbered = |l: &&str| {
+        l.trim_start()
+            .split_once(". ")
+            .is_some_and(|(k, _)| k.parse::<u32>().is_ok())
+    };
+    let systems = plan.lines().filter(numbered).count();
+    assert_eq!(rows.len(), systems, "{table}\n{plan}");
+    assert!(
+        rows[0].starts_with("pair_sweep"),
+        "the sweep is not the costliest: {table}"
+    );
+    let secs: f64 = rows
+        .iter()
+        .map(|r| {
+            r.split_whitespace()
+                .rev()
+                .nth(3)
+                .unwrap()
+                .parse::<f64>()
+                .unwrap()
+        })
+        .sum();
+    let total: f64 = table
+        .split("steps ")
+        .nth(1)
+        .and_then(|t| t.split_whitespace().next())
+        .and_then(|t| t.parse().ok())
+        .unwrap_or_else(|| panic!("no total in {table}"));
+    assert!(
+        (secs - total).abs() <= 0.001 * rows.len() as f64,
+        "{secs} vs {total}"
+    );
+}
+
+/// `dualsph run SCENE --quiet --out OUT ARGS…` with the environment `env`: returns its
+/// standard output; on failure, panics with the program's stderr.
 fn run_dualsph(
     scene: &std::path::Path,
     out: &std::path::Path,
     args: &[&str],
     env: &[(&str, &str)],
-) {
+) -> String {
     let o = std::process::Command::new(env!("CARGO_BIN_EXE_dualsph"))
         .arg("run")
         .arg(scene)
@@ -170,4 +236,5 @@ fn run_dualsph(
         scene.display(),
         String::from_utf8_lossy(&o.stderr)
     );
+    String::from_utf8_lossy(&o.stdout).into_owned()
 }

@@ -24,6 +24,7 @@ fn run_short(name: &str, steps: u64) -> tempfile::TempDir {
         &RunOptions {
             out: dir.path().to_path_buf(),
             progress: Progress::Silent,
+            profile: false,
         },
     )
     .unwrap();

@@ -27,6 +27,7 @@ fn run(scene: &Scene, out: &Path, every: u64, resume: Option<PathBuf>) -> runner
     let opts = RunOptions {
         out: out.to_path_buf(),
         progress: Progress::Silent,
+        profile: false,
     };
     let restart = RestartOptions {
         checkpoint_every: Some(every),
@@ -423,6 +424,7 @@ fn damaged_or_foreign_checkpoints_are_refused_clearly() {
         &RunOptions {
             out: tmp.path().join("out2"),
             progress: Progress::Silent,
+            profile: false,
         },
         &RestartOptions {
             checkpoint_every: None,

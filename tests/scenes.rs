@@ -21,6 +21,7 @@ fn run_in_tempdir(scene: &Scene) -> (tempfile::TempDir, runner::RunSummary) {
         &RunOptions {
             out: dir.path().to_path_buf(),
             progress: Progress::Silent,
+            profile: false,
         },
     )
     .unwrap();

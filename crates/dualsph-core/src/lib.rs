@@ -17,6 +17,7 @@ pub mod output;
 pub mod pair;
 pub mod passes;
 pub mod plugin;
+pub mod profile;
 pub mod sampling;
 pub mod sim;
 pub mod sweep;

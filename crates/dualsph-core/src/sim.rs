@@ -102,6 +102,11 @@ pub struct Step;
 #[derive(SystemSet, Debug, Clone, Copy, PartialEq, Eq, Hash)]
 struct Slot(usize);
 
+/// The profiling marker after slot `k` (see [`crate::profile`]); `None` is the one before the
+/// first slot.
+#[derive(SystemSet, Debug, Clone, Copy, PartialEq, Eq, Hash)]
+struct Mark(Option<usize>);
+
 /// Time, step counter and dt.
 #[derive(Resource, Clone, Copy, Debug, PartialEq)]
 pub struct SimClock {
@@ -218,6 +223,8 @@ pub struct Sim<V: Vector> {
     requirements: Vec<(&'static str, String)>,
     components: BTreeSet<String>,
     schedule: Option<Schedule>,
+    /// The systems' labels in schedule order (set when the schedule is built).
+    labels: Vec<String>,
     _v: PhantomData<V>,
 }
 
@@ -266,6 +273,7 @@ impl<V: Vector> Sim<V> {
             requirements: Vec::new(),
             components: BTreeSet::new(),
             schedule: None,
+            labels: Vec::new(),
             _v: PhantomData,
         };
         crate::integrator::add_core_systems(&mut sim);
@@ -434,7 +442,45 @@ impl<V: Vector> Sim<V> {
                 add(&mut schedule, slot);
             }
         }
+        self.labels = order
+            .iter()
+            .map(|&k| self.systems[k].label.clone())
+            .collect();
         self.schedule = Some(schedule);
+    }
+
+    /// Times every system of the step from now on (wall time per system, see
+    /// [`crate::profile`]); read with [`Sim::profile`]. Builds the schedule if needed; a second
+    /// call does nothing.
+    pub fn enable_profile(&mut self) -> Result<(), SimError> {
+        use crate::profile::{SystemTimes, begin_step, marker};
+        self.finish()?;
+        if self.world.contains_resource::<SystemTimes>() {
+            return Ok(());
+        }
+        let n = self.labels.len();
+        self.world
+            .insert_resource(SystemTimes::new(self.labels.clone()));
+        let Some(schedule) = self.schedule.as_mut() else {
+            return Ok(());
+        };
+        schedule.add_systems(begin_step.in_set(Mark(None)));
+        if n > 0 {
+            schedule.configure_sets(Slot(0).after(Mark(None)));
+        }
+        for k in 0..n {
+            schedule.add_systems(marker(k).in_set(Mark(Some(k))));
+            schedule.configure_sets(Mark(Some(k)).after(Slot(k)));
+            if k + 1 < n {
+                schedule.configure_sets(Slot(k + 1).after(Mark(Some(k))));
+            }
+        }
+        Ok(())
+    }
+
+    /// Wall time per system since [`Sim::enable_profile`], or `None` when not profiling.
+    pub fn profile(&self) -> Option<&crate::profile::SystemTimes> {
+        self.world.get_resource()
     }
 
     /// Evaluates neighbours, densities and rates at t = 0 without advancing (call once).
