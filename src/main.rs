@@ -8,6 +8,20 @@ use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+/// `println!` that ends the process quietly when standard output is a closed pipe
+/// (`dualsph plan scene.ron | head`) instead of panicking; output files are written
+/// atomically, so nothing is left half written.
+macro_rules! say {
+    ($($t:tt)*) => {{
+        use std::io::Write as _;
+        if let Err(e) = writeln!(std::io::stdout(), $($t)*) {
+            if e.kind() == std::io::ErrorKind::BrokenPipe {
+                std::process::exit(0);
+            }
+        }
+    }};
+}
+
 #[derive(Parser)]
 #[command(
     name = "dualsph",
@@ -150,9 +164,9 @@ fn grid_command(
     let title = format!("{} — {field} from {file}", s.name);
     let (vti, png) =
         dualsph::gridded::write_field(&f, &dir, &stem, &title).map_err(|e| e.to_string())?;
-    println!("wrote {}", vti.display());
+    say!("wrote {}", vti.display());
     if s.dimension >= 2 {
-        println!("wrote {}", png.display());
+        say!("wrote {}", png.display());
     }
     Ok(())
 }
@@ -185,7 +199,7 @@ fn main() -> ExitCode {
             let command: Vec<String> = std::env::args().skip(1).collect();
             let command = format!("cargo run --release -- {}", command.join(" "));
             dualsph::report::write_report(&list, &opts, &command)
-                .map(|path| println!("report written: {}", path.display()))
+                .map(|path| say!("report written: {}", path.display()))
                 .map_err(|e| e.to_string())
         }
         Command::Run { scene, out, quiet, formulation, checkpoint_every, resume, end_time, profile } => load(&scene).and_then(|mut s| {
@@ -213,7 +227,7 @@ fn main() -> ExitCode {
             let restart = RestartOptions { checkpoint_every, resume };
             let summary = runner::run_with(&s, &RunOptions { out: out.clone(), progress, profile }, &restart)
                 .map_err(|e| format!("{}: {e}", scene.display()))?;
-            println!(
+            say!(
                 "done: {} particles, {} steps to t = {:.6} s in {:.2} s wall, {:.2} CPU-s ({:.3e} particle-steps per wall-s, {:.3e} per CPU-s, {} threads; {} neighbour-list builds, last skin {:.3}); output in {}",
                 summary.particles,
                 summary.steps,
@@ -228,13 +242,13 @@ fn main() -> ExitCode {
                 out.display()
             );
             let (a, b) = (&summary.initial, &summary.last);
-            println!(
+            say!(
                 "conservation: mass {:.3e} → {:.3e}, momentum [{:.3e}, {:.3e}, {:.3e}], E_tot {:.6e} → {:.6e}",
                 a.mass, b.mass, b.momentum[0], b.momentum[1], b.momentum[2], a.e_tot, b.e_tot
             );
             if let Some(p) = &summary.profile {
-                println!("\nwall time per system over {} steps ({} threads):\n{}", p.steps, rayon::current_num_threads(), p.table(summary.particles));
-                println!(
+                say!("\nwall time per system over {} steps ({} threads):\n{}", p.steps, rayon::current_num_threads(), p.table(summary.particles));
+                say!(
                     "steps {:.3} s of the run loop's {:.3} s; the rest is output, checkpoints and progress",
                     p.total(),
                     summary.wall_seconds
@@ -242,33 +256,33 @@ fn main() -> ExitCode {
             }
             if out.join(dualsph::probes::PROBES_FILE).exists() {
                 let pngs = dualsph::probes::plot_probes(&out)?;
-                println!("probes: {} plots in {}", pngs.len(), out.display());
+                say!("probes: {} plots in {}", pngs.len(), out.display());
             }
             Ok(())
         }),
         Command::Check { scene } => load(&scene).and_then(|s| {
             // building the simulation also checks what plugins require of each other
             runner::plan(&s).map_err(|e| format!("{}: {e}", scene.display()))?;
-            println!("{}: ok ({}-D, {} particles, {} plugins)", scene.display(), s.dimension, s.generate().len(), s.plugins.len());
+            say!("{}: ok ({}-D, {} particles, {} plugins)", scene.display(), s.dimension, s.generate().len(), s.plugins.len());
             Ok(())
         }),
         Command::Plan { scene } => load(&scene).and_then(|s| {
             let plan = runner::plan(&s).map_err(|e| format!("{}: {e}", scene.display()))?;
-            println!("scene {} ({}-D, formulation {:?}, kernel {:?})", s.name, s.dimension, s.formulation, s.kernel);
-            println!("\nschedule (in order):");
+            say!("scene {} ({}-D, formulation {:?}, kernel {:?})", s.name, s.dimension, s.formulation, s.kernel);
+            say!("\nschedule (in order):");
             for (k, (set, label)) in plan.systems.iter().enumerate() {
-                println!("  {:>2}. {:<16} {}", k + 1, format!("{set:?}"), label);
+                say!("  {:>2}. {:<16} {}", k + 1, format!("{set:?}"), label);
             }
-            println!("\npair terms fused into the sweep:");
+            say!("\npair terms fused into the sweep:");
             if plan.pair_terms.is_empty() {
-                println!("  (none)");
+                say!("  (none)");
             }
             for t in &plan.pair_terms {
-                println!("  - {t}");
+                say!("  - {t}");
             }
-            println!("\nparticle components:");
+            say!("\nparticle components:");
             for c in &plan.components {
-                println!("  - {c}");
+                say!("  - {c}");
             }
             Ok(())
         }),
@@ -277,12 +291,12 @@ fn main() -> ExitCode {
         }
         Command::PlotProbes { dir } => dualsph::probes::plot_probes(&dir).map(|pngs| {
             for p in pngs {
-                println!("wrote {}", p.display());
+                say!("wrote {}", p.display());
             }
         }),
         Command::Plugins => {
             for e in dualsph::default_registry().entries() {
-                println!("{:<22} {}", e.name, e.summary);
+                say!("{:<22} {}", e.name, e.summary);
             }
             Ok(())
         }

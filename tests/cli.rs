@@ -153,3 +153,30 @@ fn missing_scene_file_is_a_clear_error() {
         "{err}"
     );
 }
+
+/// Output into a closed pipe (`dualsph plan scene.ron | head -1`) ends the program quietly,
+/// without a panic: here the reading end is closed before the program writes anything.
+#[test]
+fn output_into_a_closed_pipe_is_not_a_panic() {
+    for args in [vec!["plugins"], vec!["plan", "dam_break_2d.ron"]] {
+        let mut cmd = bin();
+        for a in &args {
+            let p = scene(a);
+            cmd.arg(if a.ends_with(".ron") {
+                p.into_os_string()
+            } else {
+                a.into()
+            });
+        }
+        let mut child = cmd
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        drop(child.stdout.take());
+        let out = child.wait_with_output().unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+        assert!(out.status.success(), "{args:?}: {:?} {stderr}", out.status);
+    }
+}

@@ -225,6 +225,8 @@ pub struct Sim<V: Vector> {
     schedule: Option<Schedule>,
     /// The systems' labels in schedule order (set when the schedule is built).
     labels: Vec<String>,
+    /// The threads that run the steps (see [`Sim::step`]); made at the first step.
+    pool: Option<rayon::ThreadPool>,
     _v: PhantomData<V>,
 }
 
@@ -274,6 +276,7 @@ impl<V: Vector> Sim<V> {
             components: BTreeSet::new(),
             schedule: None,
             labels: Vec::new(),
+            pool: None,
             _v: PhantomData,
         };
         crate::integrator::add_core_systems(&mut sim);
@@ -501,9 +504,31 @@ impl<V: Vector> Sim<V> {
         Ok(())
     }
 
+    /// Runs the step's schedule on a thread of a rayon pool. Called from outside any pool,
+    /// every parallel loop of the step would be injected into the global pool from outside:
+    /// the caller sleeps and a worker wakes, a dozen times per step, and on a VM waking an
+    /// idle vCPU takes tens of microseconds (`dualsph run` on 1 thread spent half its wall time
+    /// waiting so). The pool is made at the first step with as many threads as the current
+    /// pool ([`rayon::current_num_threads`]); a step called from inside a pool runs where it
+    /// is. The sums do not depend on the pool (any block length gives the same bits).
     fn run_schedule(&mut self) {
-        if let Some(schedule) = self.schedule.as_mut() {
-            schedule.run(&mut self.world);
+        let Some(schedule) = self.schedule.as_mut() else {
+            return;
+        };
+        let world = &mut self.world;
+        if rayon::current_thread_index().is_some() {
+            return schedule.run(world);
+        }
+        if self.pool.is_none() {
+            self.pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(rayon::current_num_threads())
+                .thread_name(|k| format!("dualsph-step-{k}"))
+                .build()
+                .ok();
+        }
+        match &self.pool {
+            Some(pool) => pool.install(|| schedule.run(world)),
+            None => schedule.run(world),
         }
     }
 
