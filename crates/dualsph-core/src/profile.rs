@@ -44,7 +44,11 @@ impl SystemTimes {
     pub fn table(&self, particles: u64) -> String {
         let total = self.total().max(1e-12);
         let steps = self.steps.max(1) as f64;
-        let mut rows: Vec<(&String, f64)> = self.labels.iter().zip(self.seconds.clone()).collect();
+        let mut rows: Vec<(&String, f64)> = self
+            .labels
+            .iter()
+            .zip(self.seconds.iter().copied())
+            .collect();
         rows.sort_by(|a, b| b.1.total_cmp(&a.1));
         let width = rows.iter().map(|r| r.0.len()).max().unwrap_or(6).max(6);
         let mut out = format!(

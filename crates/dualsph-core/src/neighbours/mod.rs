@@ -303,10 +303,13 @@ impl<V: Vector> Neighbours<V> {
 
     /// True when the rebuild rule (module docs) requires new lists.
     pub fn needs_rebuild(&self, positions: &[V]) -> bool {
-        match self.max_displacement(positions) {
-            Some(d) => self.dirty || 2.0 * d > self.skin * self.h_min,
-            None => true,
-        }
+        self.rule_fires(self.max_displacement(positions))
+    }
+
+    /// The rebuild rule for the largest displacement `d` since the last build (`None`: no
+    /// lists for these particles yet).
+    fn rule_fires(&self, d: Option<Real>) -> bool {
+        d.is_none_or(|d| self.dirty || 2.0 * d > self.skin * self.h_min)
     }
 
     /// Rebuilds the lists from scratch.
@@ -337,7 +340,7 @@ impl<V: Vector> Neighbours<V> {
     pub fn update(&mut self, positions: &[V], h: &[Real]) -> bool {
         self.steps_since_build += 1;
         let d = self.max_displacement(positions);
-        let rule = d.is_none_or(|d| self.dirty || 2.0 * d > self.skin * self.h_min);
+        let rule = self.rule_fires(d);
         let steps = self.steps_since_build;
         let u = match (self.rule, d) {
             (SkinRule::Tuned, Some(d)) => Some(skin::motion_rate(d, self.h_min, steps)),
