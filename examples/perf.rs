@@ -4,7 +4,7 @@
 //!
 //! ```sh
 //! cargo run --release --example perf -- [dim] [uniform|two-level] [particles|dam] [steps] [threads]
-//! cargo run --release --example perf -- 2 uniform dam 200 1        # the issue's 12,800 column
+//! cargo run --release --example perf -- 2 uniform dam 200 1        # the reference 12,800 column
 //! cargo run --release --example perf -- 3 uniform 1000000 3 2      # memory per particle at 1e6
 //! valgrind --tool=callgrind target/release/examples/perf 2 uniform dam 20 1
 //! ```

@@ -10,8 +10,8 @@
 //!   Case II layout with the refinement at the bottom), h = 2Δx locally.
 //!
 //! Δx is chosen from the requested particle count; the generated count is what the
-//! benches report. `dam_column_2d()` is the issue's reference case: 12,800 particles,
-//! Δx = 0.0125.
+//! benches report. `dam_column_2d()` is the reference case of docs/performance.md: 12,800
+//! particles, Δx = 0.0125.
 
 use crate::{build_sim, default_registry};
 use dualsph_core::prelude::*;
@@ -39,7 +39,8 @@ pub struct Case {
 }
 
 impl Case {
-    /// The uniform 2-D dam-break column of the issue: 12,800 particles, Δx = 0.0125.
+    /// The uniform 2-D dam-break column, the reference case of docs/performance.md: 12,800
+    /// particles, Δx = 0.0125.
     pub fn dam_column_2d() -> Self {
         Case {
             dim: 2,

@@ -1,6 +1,7 @@
-//! The paper's four benchmarks (paper 001 §7), graded against their references
-//! (`dualsph-reference`): the erf solution, the exact Riemann solution, the drop ODE and
-//! Koshizuka & Oka's experiment. Heat, Sod and the drop run at the paper's resolution; the
+//! The paper's four benchmarks (§7 of Ren, Dai, Zhuang & Rabczuk, *Dual-support Smoothed
+//! Particle Hydrodynamics*, preprint; RenDSSPH in docs/references.md), graded against their
+//! references (`dualsph-reference`): the erf solution, the exact Riemann solution, the drop ODE
+//! and Koshizuka & Oka's experiment. Heat, Sod and the drop run at the paper's resolution; the
 //! dam break at half of it (spacing × 2) to fit CI. `dualsph report` runs the same cases at
 //! full resolution and writes `docs/validation/report.md`.
 
@@ -71,7 +72,7 @@ fn sod_tube_matches_the_exact_riemann_solution() {
         dual.l1, cases[1].l1
     );
     assert!((dual.run.final_diagnostics().t - 0.2).abs() < 1e-9);
-    // The issue asks ≤ 0.006 for density; the best SPH codes reach about 0.003.
+    // The target is ≤ 0.006 for density; the best SPH codes reach about 0.003.
     assert!(dual.l1[0] <= 0.0045, "density L1 = {}", dual.l1[0]);
     assert!(dual.l1[2] <= 0.006, "pressure L1 = {}", dual.l1[2]);
     assert!(

@@ -1,5 +1,7 @@
-//! Exact conservation of the dual-support sweep (paper 001 §5), measured on the instantaneous
-//! rates of random clouds whose support radii vary by a factor of 8 between neighbours.
+//! Exact conservation of the dual-support sweep (§5 of Ren, Dai, Zhuang & Rabczuk,
+//! *Dual-support Smoothed Particle Hydrodynamics*, preprint; RenDSSPH in docs/references.md),
+//! measured on the instantaneous rates of random clouds whose support radii vary by a factor of
+//! 8 between neighbours.
 
 mod common;
 

@@ -1,4 +1,4 @@
-//! Checkpoint, restart and blow-up stop (issue 6): a resumed run is bitwise identical to an
+//! Checkpoint, restart and blow-up stop: a resumed run is bitwise identical to an
 //! uninterrupted one, also after the process was killed; a blow-up writes the last good
 //! state and exits non-zero; a damaged or foreign checkpoint is refused with a clear message.
 

@@ -3,8 +3,10 @@
 //!
 //! * Conservation: the cohesion force joins the support/dual-support sweep through
 //!   `PairTerm`, so total linear and angular momentum stay at their initial values to
-//!   round-off over many steps for any h field (paper 001 §5); the same set-up with
-//!   SingleSupport drifts by orders of magnitude more (the check can fail).
+//!   round-off over many steps for any h field (§5 of Ren, Dai, Zhuang & Rabczuk,
+//!   *Dual-support Smoothed Particle Hydrodynamics*, preprint; RenDSSPH in
+//!   docs/references.md); the same set-up with SingleSupport drifts by orders of magnitude
+//!   more (the check can fail).
 //! * Physics: a 2:1 rectangular drop in zero gravity rounds up: within half the Rayleigh
 //!   period of the n = 2 capillary mode (`ω² = 6σ/(ρR³)`, T ≈ 0.65 s) its second-moment axis
 //!   ratio falls from 2 below 1.7 (measured 1.64 at Δx = 0.05 m here, 1.54 at Δx = 0.025 m),

@@ -1,6 +1,8 @@
-//! Dam break over a dry bed (paper 001 §7.4): the water front against Koshizuka & Oka's
-//! experiment, Case II (DualSupport, two resolutions) against Case III (uniform fine), total
-//! energy against time, and the particles coloured by four initial height bands.
+//! Dam break over a dry bed (§7.4 of Ren, Dai, Zhuang & Rabczuk, *Dual-support Smoothed
+//! Particle Hydrodynamics*, preprint; RenDSSPH in docs/references.md): the water front against
+//! Koshizuka & Oka's experiment, Case II (DualSupport, two resolutions) against Case III
+//! (uniform fine), total energy against time, and the particles coloured by four initial height
+//! bands.
 
 use super::failures;
 use super::{

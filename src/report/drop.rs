@@ -1,6 +1,7 @@
-//! The elliptical drop (paper 001 §7.3): semi-axes against the ODE of Eq. 7.6 and the
-//! conservation of linear momentum, angular momentum and energy, SingleSupport against
-//! DualSupport with a half-spacing quadrant.
+//! The elliptical drop (§7.3 of Ren, Dai, Zhuang & Rabczuk, *Dual-support Smoothed Particle
+//! Hydrodynamics*, preprint; RenDSSPH in docs/references.md): semi-axes against the ODE of
+//! Eq. 7.6 and the conservation of linear momentum, angular momentum and energy, SingleSupport
+//! against DualSupport with a half-spacing quadrant.
 
 use super::{
     COST_HEADERS, CaseRun, CaseSpec, ReportError, ReportOptions, Section, Table, cost_cells, image,

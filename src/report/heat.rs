@@ -1,5 +1,7 @@
-//! 1-D heat conduction (paper 001 §7.1, Tables 1–2), graded against the erf solution
-//! (Eq. 7.1) by ΔE/E, the relative L2 error (Eq. 7.2) and the largest relative error.
+//! 1-D heat conduction (§7.1 and Tables 1–2 of Ren, Dai, Zhuang & Rabczuk, *Dual-support
+//! Smoothed Particle Hydrodynamics*, preprint; RenDSSPH in docs/references.md), graded against
+//! the erf solution (Eq. 7.1) by ΔE/E, the relative L2 error (Eq. 7.2) and the largest relative
+//! error.
 
 use super::{
     COST_HEADERS, CaseRun, CaseSpec, ReportError, ReportOptions, Section, Table, cost_cells, image,

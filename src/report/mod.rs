@@ -1,5 +1,7 @@
-//! `dualsph report`: the paper's benchmarks (paper 001 §7) run case by case, graded against
-//! their references ([`dualsph_reference`]) and written up as `report.md` with PNG plots.
+//! `dualsph report`: the paper's benchmarks (§7 of Ren, Dai, Zhuang & Rabczuk, *Dual-support
+//! Smoothed Particle Hydrodynamics*, preprint; RenDSSPH in docs/references.md) run case by
+//! case, graded against their references ([`dualsph_reference`]) and written up as
+//! `report.md` with PNG plots.
 //!
 //! Each benchmark module builds its cases from the scene files, runs them ([`case`]),
 //! computes the error metrics, draws the plots and returns a markdown [`Section`] together

@@ -1,5 +1,7 @@
-//! Sod shock tube (paper 001 §7.2), graded against the exact Riemann solution by the L1
-//! error of density, velocity, pressure and internal energy over x ∈ [−0.5, 0.5].
+//! Sod shock tube (§7.2 of Ren, Dai, Zhuang & Rabczuk, *Dual-support Smoothed Particle
+//! Hydrodynamics*, preprint; RenDSSPH in docs/references.md), graded against the exact Riemann
+//! solution by the L1 error of density, velocity, pressure and internal energy over
+//! x ∈ [−0.5, 0.5].
 
 use super::{
     COST_HEADERS, CaseRun, CaseSpec, ReportError, ReportOptions, Section, Table, cost_cells, image,

@@ -7,7 +7,8 @@
 //! Koshizuka & Oka's experiment, and conservation: the drop's total linear and angular
 //! momentum, and for the dam break (walls and gravity change the totals) the balance of the
 //! pair forces `Σ m_i (a_i − g)` and their torque `Σ r_i × m_i (a_i − g)`, which the
-//! support/dual-support sweep makes zero to round-off (paper 001 §5).
+//! support/dual-support sweep makes zero to round-off (§5 of Ren, Dai, Zhuang & Rabczuk,
+//! *Dual-support Smoothed Particle Hydrodynamics*, preprint; RenDSSPH in docs/references.md).
 
 use super::case::process_cpu_seconds;
 use super::{ReportError, ReportOptions, Section, Table, image};

@@ -1,4 +1,6 @@
-//! The free elliptical drop (paper 001 §7.3, Eq. 7.6; Monaghan's "water bubble").
+//! The free elliptical drop (§7.3 and Eq. 7.6 of Ren, Dai, Zhuang & Rabczuk, *Dual-support
+//! Smoothed Particle Hydrodynamics*, preprint; RenDSSPH in docs/references.md), Monaghan's
+//! "water bubble".
 //!
 //! A circle of radius R with the velocity field `v = A(t)·(−x, y)` stays an ellipse with
 //! semi-axes `a` (along x) and `b = R²/a` (along y, area conserved). With `a` in units of R:

@@ -1,4 +1,5 @@
-//! 1-D heat conduction between two half-bars, paper 001 Eq. 7.1:
+//! 1-D heat conduction between two half-bars, Eq. 7.1 of Ren, Dai, Zhuang & Rabczuk,
+//! *Dual-support Smoothed Particle Hydrodynamics* (preprint; RenDSSPH in docs/references.md):
 //!
 //! `e(x, t) = (e_r + e_l)/2 + (e_r − e_l)/2 · erf((x − x_c) / √(4 α t))`
 //!

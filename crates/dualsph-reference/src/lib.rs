@@ -1,6 +1,7 @@
-//! Reference solutions the paper's benchmarks are graded against (paper 001 §7), written
-//! independently of the engine so that a test compares the simulation with something that
-//! is not itself:
+//! Reference solutions the paper's benchmarks (§7 of Ren, Dai, Zhuang & Rabczuk, *Dual-support
+//! Smoothed Particle Hydrodynamics*, preprint; RenDSSPH in docs/references.md) are graded
+//! against, written independently of the engine so that a test compares the simulation with
+//! something that is not itself:
 //!
 //! * [`riemann`]: the exact solution of the Riemann problem for an ideal gas (Sod tube, §7.2);
 //! * [`heat`]: the erf profile of 1-D heat conduction between two half-bars (Eq. 7.1);

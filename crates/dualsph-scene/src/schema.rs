@@ -9,7 +9,9 @@ use std::fmt;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Deserialize)]
 pub enum Formulation {
     /// Dual-support SPH: every pair interacts through the support of one particle and the
-    /// dual-support of the other, so momentum and energy are conserved exactly (paper 001).
+    /// dual-support of the other, so momentum and energy are conserved exactly (§5 of Ren, Dai,
+    /// Zhuang & Rabczuk, *Dual-support Smoothed Particle Hydrodynamics*, preprint; RenDSSPH in
+    /// docs/references.md).
     DualSupport,
     /// Variable-h SPH that uses only each particle's own support (not exactly conservative).
     SingleSupport,
