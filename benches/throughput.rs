@@ -116,9 +116,11 @@ fn bench_dim<V: Vector>(c: &mut Criterion, case: Case) {
         // neighbour rebuild (search + CSR + transpose) with each index; the grid line also
         // gives its CPU-time ratio to the kiddo line just before it (same run, same load)
         let (pos, h, skin) = {
-            let f = sim.world.resource::<Fields<V>>();
+            let d = ParticleData::<V>::of(&sim.world).expect("particles");
             let nb = sim.world.resource::<Neighbours<V>>();
-            (f.pos.clone(), f.h.clone(), nb.skin)
+            let pos: Vec<V> = d.pos.iter().map(|x| x.0).collect();
+            let h: Vec<Real> = d.h.iter().map(|x| x.0).collect();
+            (pos, h, nb.skin)
         };
         let mut kd_rate = 0.0;
         for (kind, index, label) in [

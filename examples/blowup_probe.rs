@@ -3,15 +3,37 @@
 //! dumps the offending particle and its support.
 use dualsph::core::diagnostics::Health;
 use dualsph::core::neighbours::Neighbours;
-use dualsph::core::sweep::Fields;
 use dualsph::prelude::*;
 use dualsph::{build_sim, default_registry, scene::Scene, with_dimension};
 
+/// The particles' positions, densities, h and pressures (0 without an equation of state).
+struct View<V: Vector> {
+    pos: Vec<V>,
+    vel: Vec<V>,
+    rho: Vec<Real>,
+    h: Vec<Real>,
+    mass: Vec<Real>,
+    pressure: Vec<Real>,
+}
+
+fn view<V: Vector>(sim: &Sim<V>) -> View<V> {
+    let d = ParticleData::<V>::of(&sim.world).expect("particles");
+    let p = d.column::<Pressure>();
+    View {
+        pos: d.pos.iter().map(|x| x.0).collect(),
+        vel: d.vel.iter().map(|x| x.0).collect(),
+        rho: d.rho.iter().map(|x| x.0).collect(),
+        h: d.h.iter().map(|x| x.0).collect(),
+        mass: d.mass.iter().map(|x| x.0).collect(),
+        pressure: (0..d.len()).map(|i| p.map_or(0.0, |p| p[i].0)).collect(),
+    }
+}
+
 fn summary<V: Vector>(sim: &Sim<V>) -> String {
-    let f = sim.world.resource::<Fields<V>>();
+    let f = view(sim);
     let nb = sim.world.resource::<Neighbours<V>>();
     let (mut qmin, mut qi, mut qj) = (Real::INFINITY, 0, 0);
-    for i in 0..f.len() {
+    for i in 0..f.pos.len() {
         for &j in nb.support.row(i) {
             let j = j as usize;
             let q = (f.pos[i] - f.pos[j]).length() / f.h[i];
@@ -21,8 +43,8 @@ fn summary<V: Vector>(sim: &Sim<V>) -> String {
         }
     }
     let (mut pmin, mut pi) = (Real::INFINITY, 0);
-    for i in 0..f.len() {
-        if !f.pressure.is_empty() && f.pressure[i] < pmin {
+    for i in 0..f.pos.len() {
+        if f.pressure[i] < pmin {
             (pmin, pi) = (f.pressure[i], i);
         }
     }
@@ -41,7 +63,7 @@ fn summary<V: Vector>(sim: &Sim<V>) -> String {
 }
 
 fn dump<V: Vector>(sim: &Sim<V>, i: usize) {
-    let f = sim.world.resource::<Fields<V>>();
+    let f = view(sim);
     let nb = sim.world.resource::<Neighbours<V>>();
     println!(
         "particle {i}: x {:?} v {:?} rho {:.3} p {:.3e} h {:.4} m {:.3e}",

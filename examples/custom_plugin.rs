@@ -34,18 +34,28 @@ struct PairDragTerm {
 }
 
 impl<V: Vector> PairTerm<V> for PairDragTerm {
+    /// The term reads only the core columns (positions, velocities, masses, h): it is its own
+    /// bound term.
+    type Bound<'w> = PairDragTerm;
+
     fn name(&self) -> &str {
         "pair drag (DPD dissipative force)"
     }
 
+    fn bind<'w>(&'w self, _: &ParticleData<'w, V>) -> Result<PairDragTerm, String> {
+        Ok(*self)
+    }
+}
+
+impl<V: Vector> BoundTerm<V> for PairDragTerm {
     fn interact(&self, p: &Pair<'_, V>, out: &mut PairOut<V>) {
         if p.r == 0.0 {
             return;
         }
-        let (f, e) = (p.fields, p.rij / p.r);
-        let w = 1.0 - p.r / f.h[p.i];
+        let (d, e) = (p.data, p.rij / p.r);
+        let w = 1.0 - p.r / d.h[p.i].0;
         let vij = p.vij();
-        let force = e * (-self.gamma * f.mass[p.i] * f.mass[p.j] * w * w * vij.dot(e));
+        let force = e * (-self.gamma * d.mass[p.i].0 * d.mass[p.j].0 * w * w * vij.dot(e));
         out.force += force;
         let heat = -0.5 * force.dot(vij); // ≥ 0: dissipated work, shared ½/½
         out.power_i += heat;

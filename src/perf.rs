@@ -173,16 +173,19 @@ impl Case {
 /// `|r_ij| < h_i` that the sweep evaluates (candidates inside the Verlet skin but outside
 /// `h_i` are skipped by the sweep and not counted).
 pub fn support_pairs<V: Vector>(sim: &Sim<V>) -> usize {
-    let f = sim.world.resource::<Fields<V>>();
+    let Some(d) = ParticleData::<V>::of(&sim.world) else {
+        return 0;
+    };
     let nb = sim
         .world
         .resource::<dualsph_core::neighbours::Neighbours<V>>();
-    (0..f.len())
+    (0..d.len())
         .map(|i| {
+            let (x, h) = (d.pos[i].0, d.h[i].0);
             nb.support
                 .row(i)
                 .iter()
-                .filter(|&&j| (f.pos[i] - f.pos[j as usize]).length_squared() < f.h[i] * f.h[i])
+                .filter(|&&j| (x - d.pos[j as usize].0).length_squared() < h * h)
                 .count()
         })
         .sum()
@@ -219,24 +222,29 @@ pub fn peak_rss_bytes() -> Option<u64> {
 /// The pair sweep of the simulation's current state, as the Forces set runs it
 /// (`sweep::evaluate` over the scene's pair terms), into `buf` — what the benches and the
 /// `perf` example time on their own.
+///
+/// # Panics
+/// When a term does not bind, which [`Sim::finish`] rules out for a built simulation.
 pub fn run_sweep<V: Vector>(sim: &Sim<V>, buf: &mut dualsph_core::sweep::SweepBuffers<V>) {
     use dualsph_core::sweep::{PairTerms, evaluate};
-    evaluate(
-        &sweep_ctx(sim),
-        &sim.world.resource::<PairTerms<V>>().terms,
-        buf,
-    );
+    let terms = &sim.world.resource::<PairTerms<V>>().terms;
+    if let Err(e) = evaluate(&sweep_ctx(sim), terms, buf) {
+        panic!("the pair terms bound when the simulation was built: {e}")
+    }
 }
 
-/// The sweep's view of `sim`'s current state (fields, lists, kernel, formulation).
+/// The sweep's view of `sim`'s current state (particles, lists, kernel, formulation).
+///
+/// # Panics
+/// When `sim` has no particles.
 pub fn sweep_ctx<V: Vector>(sim: &Sim<V>) -> dualsph_core::sweep::SweepCtx<'_, V> {
     let w = &sim.world;
-    dualsph_core::sweep::SweepCtx {
-        fields: w.resource::<Fields<V>>(),
-        neighbours: w.resource::<dualsph_core::neighbours::Neighbours<V>>(),
-        kernel: &w.resource::<dualsph_core::sim::KernelRes>().0,
-        formulation: *w.resource::<dualsph_core::sweep::Formulation>(),
-    }
+    dualsph_core::sweep::SweepCtx::new(
+        ParticleData::of(w).expect("a simulation with particles"),
+        w.resource::<dualsph_core::neighbours::Neighbours<V>>(),
+        &w.resource::<dualsph_core::sim::KernelRes>().0,
+        *w.resource::<dualsph_core::sweep::Formulation>(),
+    )
 }
 
 #[cfg(test)]

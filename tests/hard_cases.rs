@@ -219,15 +219,12 @@ mod drops {
 
 /// Dam breaks with a support-radius jump (scenes/hard/dam_break_support_jump_1to{4,8}.ron).
 mod dam_break_jumps {
-    use dualsph::core::diagnostics::Health;
+    use dualsph::core::diagnostics::{Health, PairBalance, track_pair_balance};
     use dualsph::core::glam::DVec2;
-    use dualsph::core::sweep::Fields;
     use dualsph::prelude::*;
     use dualsph::scene::{Block, Generator, Lattice, Scene};
     use dualsph::{build_sim, default_registry};
     use dualsph_reference::dam_break::KOSHIZUKA_OKA_FRONT;
-
-    const G: DVec2 = DVec2::new(0.0, -9.81);
 
     /// What one run gives.
     struct Run {
@@ -250,23 +247,15 @@ mod dam_break_jumps {
         Scene::load(&path, &default_registry()).unwrap()
     }
 
-    /// `(Σ f, Σ |f|, Σ r × f, Σ |r × f|)` of the pair forces.
-    fn balance(sim: &mut Sim<DVec2>) -> (f64, f64) {
-        let pos = sim.world.resource::<Fields<DVec2>>().pos.clone();
-        let mut q = sim
-            .world
-            .query::<(&ParticleId, &Mass, &Acceleration<DVec2>)>();
-        let (mut f, mut f_abs, mut t, mut t_abs) = (DVec2::ZERO, 0.0, 0.0, 0.0);
-        for (id, m, a) in q.iter(&sim.world) {
-            let fi = (a.0 - G) * m.0;
-            let ti = pos[id.0 as usize].perp_dot(fi);
-            (f, f_abs, t, t_abs) = (f + fi, f_abs + fi.length(), t + ti, t_abs + ti.abs());
-        }
-        (f.length() / f_abs, t.abs() / t_abs)
+    /// `|Σ f| / Σ |f|` and `|Σ r × f| / Σ |r × f|` of the last sweep's pair forces.
+    fn balance(sim: &Sim<DVec2>) -> (f64, f64) {
+        let b = sim.world.resource::<PairBalance>();
+        (b.force, b.torque)
     }
 
     fn run(scene: &Scene) -> Run {
         let mut sim = build_sim::<DVec2>(scene).unwrap();
+        track_pair_balance(&mut sim);
         sim.initialize().unwrap();
         let e0 = sim.diagnostics().e_tot;
         let largest_x = |sim: &mut Sim<DVec2>| {
@@ -295,7 +284,7 @@ mod dam_break_jumps {
                 out.energy = out.energy.max((sim.diagnostics().e_tot / e0 - 1.0).abs());
             }
             if step.is_multiple_of(500) {
-                let (f, t) = balance(&mut sim);
+                let (f, t) = balance(&sim);
                 (out.force, out.torque) = (out.force.max(f), out.torque.max(t));
             }
         }

@@ -13,10 +13,9 @@
 use super::case::process_cpu_seconds;
 use super::{ReportError, ReportOptions, Section, Table, image};
 use crate::build_sim;
-use dualsph_core::diagnostics::Diagnostics;
+use dualsph_core::diagnostics::{Diagnostics, PairBalance, track_pair_balance};
 use dualsph_core::glam::DVec3;
 use dualsph_core::prelude::*;
-use dualsph_gravity::GravityAccel;
 use dualsph_plot::{LinePlot, Series, SeriesStyle};
 use dualsph_reference::dam_break::KOSHIZUKA_OKA_FRONT;
 use dualsph_reference::drop::linear_drop_axes;
@@ -98,32 +97,10 @@ fn axes(sim: &mut Sim<DVec3>) -> [f64; 3] {
     (var * 5.0).to_array().map(f64::sqrt)
 }
 
-/// `(force, torque)` imbalance of the rates now: what the pair sweep gave, gravity removed,
-/// torques about the origin at the positions the sweep saw.
-pub fn pair_imbalance(sim: &mut Sim<DVec3>) -> (f64, f64) {
-    let g = sim
-        .world
-        .get_resource::<GravityAccel<DVec3>>()
-        .map_or(DVec3::ZERO, |g| g.0);
-    // The positions the sweep used (gathered before it): walls may have moved particles since.
-    let pos = sim.world.resource::<Fields<DVec3>>().pos.clone();
-    let mut q = sim
-        .world
-        .query::<(&ParticleId, &Mass, &Acceleration<DVec3>)>();
-    let mut rows: Vec<_> = q
-        .iter(&sim.world)
-        .map(|(id, m, a)| (id.0, pos[id.0 as usize], (a.0 - g) * m.0))
-        .collect();
-    rows.sort_by_key(|r| r.0);
-    let (mut f, mut fs, mut t, mut ts) = (DVec3::ZERO, 0.0, DVec3::ZERO, 0.0);
-    for (_, r, ma) in rows {
-        f += ma;
-        fs += ma.length();
-        let tq = r.cross(ma);
-        t += tq;
-        ts += tq.length();
-    }
-    (f.length() / fs.max(1e-300), t.length() / ts.max(1e-300))
+/// `(force, torque)` imbalance of the last pair sweep (see [`PairBalance`]).
+pub fn pair_imbalance(sim: &Sim<DVec3>) -> (f64, f64) {
+    let b = sim.world.resource::<PairBalance>();
+    (b.force, b.torque)
 }
 
 fn largest_x(sim: &mut Sim<DVec3>) -> f64 {
@@ -134,9 +111,10 @@ fn largest_x(sim: &mut Sim<DVec3>) -> f64 {
 /// Runs a 3-D scene to its end time (or `max_steps`), recording every `every` steps.
 pub fn run_scene(scene: &Scene, every: u64) -> Result<ThreeDRun, SimError> {
     let mut sim = build_sim::<DVec3>(scene)?;
+    track_pair_balance(&mut sim);
     sim.initialize()?;
     let a0 = axes(&mut sim);
-    let (fi, ti) = pair_imbalance(&mut sim);
+    let (fi, ti) = pair_imbalance(&sim);
     let mut run = ThreeDRun {
         particles: sim.particle_count() as u64,
         steps: 0,
@@ -156,7 +134,7 @@ pub fn run_scene(scene: &Scene, every: u64) -> Result<ThreeDRun, SimError> {
         if step.is_multiple_of(every.max(1)) {
             run.diagnostics.push(sim.diagnostics());
             run.front.push((sim.clock().t, largest_x(&mut sim)));
-            let (f, t) = pair_imbalance(&mut sim);
+            let (f, t) = pair_imbalance(&sim);
             run.force_imbalance = run.force_imbalance.max(f);
             run.torque_imbalance = run.torque_imbalance.max(t);
         }

@@ -10,12 +10,12 @@
 //! [`crate::chunks`]): each particle is updated from its own data, so the result does not
 //! depend on the number of threads.
 
-use crate::chunks::{DENSE, MIN_LEN, id_run};
+use crate::chunks::{DENSE, MIN_LEN};
 use crate::components::*;
 use crate::math::{Real, Vector};
 use crate::neighbours::Neighbours;
 use crate::sim::{InitialInternalEnergy, MaxViscosity, Sim, SimClock, StepSet, TimeStepping};
-use crate::sweep::Fields;
+use crate::store::single_table;
 use bevy_ecs::prelude::*;
 use rayon::prelude::*;
 
@@ -226,58 +226,21 @@ pub fn correct_density(clock: Res<SimClock>, mut q: Query<(&mut Density, &Densit
     }
 }
 
-/// Copies the state into the dense arrays (indexed by particle id).
-#[inline(never)] // a frame of its own in profiles
-pub fn gather_fields<V: Vector>(
-    mut fields: ResMut<Fields<V>>,
-    q: Query<(
-        &ParticleId,
-        &Position<V>,
-        &Velocity<V>,
-        &Mass,
-        &Density,
-        &SmoothingLength,
-    )>,
-    eps: Query<(&ParticleId, &InternalEnergy)>,
-) {
-    let f = &mut *fields;
-    for (ids, r, v, m, rho, h) in q.contiguous_iter().expect(DENSE) {
-        let Some(a) = id_run(ids) else {
-            for (k, id) in ids.iter().enumerate() {
-                let i = id.0 as usize;
-                (f.pos[i], f.vel[i], f.mass[i]) = (r[k].0, v[k].0, m[k].0);
-                (f.rho[i], f.h[i]) = (rho[k].0, h[k].0);
-            }
-            continue;
-        };
-        let at = a..a + ids.len();
-        let dense = (
-            &mut f.pos[at.clone()],
-            &mut f.vel[at.clone()],
-            &mut f.mass[at.clone()],
-            &mut f.rho[at.clone()],
-            &mut f.h[at],
-        );
-        let rows = (dense, (r, v, m, rho, h)).into_par_iter();
-        rows.with_min_len(MIN_LEN)
-            .for_each(|((fr, fv, fm, frho, fh), (r, v, m, rho, h))| {
-                (*fr, *fv, *fm, *frho, *fh) = (r.0, v.0, m.0, rho.0, h.0);
-            });
-    }
-    if !eps.is_empty() {
-        f.eps.resize(f.pos.len(), 0.0);
-        for (ids, e) in eps.contiguous_iter().expect(DENSE) {
-            for (id, e) in ids.iter().zip(e) {
-                f.eps[id.0 as usize] = e.0;
-            }
-        }
-    }
-}
-
 /// Rebuilds the neighbour lists when the skin rule requires it.
 #[inline(never)] // a frame of its own in profiles
-pub fn update_neighbours<V: Vector>(fields: Res<Fields<V>>, mut nb: ResMut<Neighbours<V>>) {
-    nb.update(&fields.pos, &fields.h);
+pub fn update_neighbours<V: Vector>(
+    mut nb: ResMut<Neighbours<V>>,
+    q: Query<(&Position<V>, &SmoothingLength)>,
+) {
+    let (pos, h) = single_table(q.contiguous_iter().expect(DENSE)).unwrap_or((&[], &[]));
+    nb.update_with(
+        pos.len(),
+        |i| pos[i].0,
+        |p, r| {
+            p.extend(pos.iter().map(|x| x.0));
+            r.extend(h.iter().map(|x| x.0));
+        },
+    );
 }
 
 /// Advances the clock after a completed step.
@@ -293,7 +256,6 @@ pub(crate) fn add_core_systems<V: Vector>(sim: &mut Sim<V>) {
         "predict_kinematics",
         predict_kinematics::<V>,
     );
-    sim.add_system(StepSet::Gather, "gather_fields", gather_fields::<V>);
     sim.add_system(
         StepSet::Neighbours,
         "update_neighbours (Verlet skin)",

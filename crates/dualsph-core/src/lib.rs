@@ -20,6 +20,7 @@ pub mod plugin;
 pub mod profile;
 pub mod sampling;
 pub mod sim;
+pub mod store;
 pub mod sweep;
 
 pub use bevy_ecs;
@@ -37,7 +38,8 @@ pub mod prelude {
     pub use crate::sim::{
         Domain, KernelRes, ParticleInit, Sim, SimClock, SimConfig, SimError, StepSet, TimeStepping,
     };
+    pub use crate::store::ParticleData;
     pub use crate::sweep::{
-        Fields, Formulation, OwnerKernel, Pair, PairOut, PairTerm, Row, SweepCtx,
+        BoundTerm, Formulation, OwnerKernel, Pair, PairOut, PairTerm, Row, SweepCtx,
     };
 }

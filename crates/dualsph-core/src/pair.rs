@@ -1,96 +1,15 @@
-//! The data a pair term sees: the dense per-particle [`Fields`], one pair ([`Pair`]) or one
-//! owner's whole support ([`Row`]), what a term returns ([`PairOut`]), the [`PairTerm`] trait
-//! and the owner's precomputed kernel ([`OwnerKernel`]). The sweep itself is in
-//! [`crate::sweep`], which re-exports everything here.
+//! The pair-term contract: what a term sees — the particles' core columns
+//! ([`ParticleData`]), one pair ([`Pair`]) or one owner's whole support ([`Row`]) — what it
+//! returns ([`PairOut`]), the [`PairTerm`] trait with its per-sweep binding to the columns it
+//! reads ([`BoundTerm`]), and the owner's precomputed kernel ([`OwnerKernel`]). The sweep
+//! itself is in [`crate::sweep`], which re-exports everything here.
 
 use crate::kernels::{Kernel, KernelKind};
 use crate::lanes::Lanes;
-use crate::math::{Matrix, Real, Vector};
+use crate::math::{Real, Vector};
+pub use crate::store::ParticleData;
 use bevy_ecs::prelude::*;
 use std::sync::Arc;
-
-/// Dense per-particle arrays, indexed by [`crate::components::ParticleId`], used by the hot loops. Optional
-/// arrays are empty when the scene has no plugin that fills them.
-#[derive(Resource, Clone, Debug)]
-pub struct Fields<V: Vector> {
-    /// Positions.
-    pub pos: Vec<V>,
-    /// Velocities.
-    pub vel: Vec<V>,
-    /// Masses.
-    pub mass: Vec<Real>,
-    /// Densities.
-    pub rho: Vec<Real>,
-    /// Support radii.
-    pub h: Vec<Real>,
-    /// Pressures (equation of state).
-    pub pressure: Vec<Real>,
-    /// Sound speeds (equation of state).
-    pub sound: Vec<Real>,
-    /// Specific internal energies (energy equation).
-    pub eps: Vec<Real>,
-    /// Thermal conductivities (heat conduction).
-    pub kappa: Vec<Real>,
-    /// Kernel-gradient corrections `L_i` (Eq. 2.10).
-    pub correction: Vec<V::Mat>,
-    /// Velocity gradients (Eq. 7.4).
-    pub vgrad: Vec<V::Mat>,
-}
-
-impl<V: Vector> Default for Fields<V> {
-    fn default() -> Self {
-        Fields {
-            pos: Vec::new(),
-            vel: Vec::new(),
-            mass: Vec::new(),
-            rho: Vec::new(),
-            h: Vec::new(),
-            pressure: Vec::new(),
-            sound: Vec::new(),
-            eps: Vec::new(),
-            kappa: Vec::new(),
-            correction: Vec::new(),
-            vgrad: Vec::new(),
-        }
-    }
-}
-
-impl<V: Vector> Fields<V> {
-    /// Sizes the always-present arrays for n particles.
-    pub fn resize(&mut self, n: usize) {
-        self.pos.resize(n, V::zero());
-        self.vel.resize(n, V::zero());
-        self.mass.resize(n, 0.0);
-        self.rho.resize(n, 0.0);
-        self.h.resize(n, 0.0);
-    }
-
-    /// Number of particles.
-    pub fn len(&self) -> usize {
-        self.pos.len()
-    }
-
-    /// True when there are no particles.
-    pub fn is_empty(&self) -> bool {
-        self.pos.is_empty()
-    }
-
-    /// `m_i / ρ_i`.
-    #[inline]
-    pub fn volume(&self, i: usize) -> Real {
-        self.mass[i] / self.rho[i]
-    }
-
-    /// Applies `L_owner` (Eq. 2.10) to a kernel gradient if the correction is active.
-    #[inline]
-    pub fn corrected(&self, owner: usize, g: V) -> V {
-        if self.correction.is_empty() {
-            g
-        } else {
-            self.correction[owner].mul_vec(g)
-        }
-    }
-}
 
 /// One evaluation of a pair: `owner` is the particle whose kernel and support are used.
 #[derive(Clone, Copy, Debug)]
@@ -109,15 +28,15 @@ pub struct Pair<'a, V: Vector> {
     pub grad_raw: V,
     /// `∇_i W_ij`, with the kernel-gradient correction `L_i` applied when it is active.
     pub grad: V,
-    /// All particle data.
-    pub fields: &'a Fields<V>,
+    /// The particles' core columns.
+    pub data: &'a ParticleData<'a, V>,
 }
 
 impl<V: Vector> Pair<'_, V> {
     /// `v_ij = v_i − v_j`.
     #[inline]
     pub fn vij(&self) -> V {
-        self.fields.vel[self.i] - self.fields.vel[self.j]
+        self.data.vij(self.i, self.j)
     }
 }
 
@@ -144,7 +63,7 @@ impl<V: Vector> Default for PairOut<V> {
     }
 }
 
-/// One owner's support `H_i` as the sweep hands it to [`PairTerm::interact_row`]: the
+/// One owner's support `H_i` as the sweep hands it to [`BoundTerm::interact_row`]: the
 /// neighbours `j` strictly inside `h_i`, ascending, with the pair geometry as parallel slices
 /// (`rij[k]`, `r[k]`, `grad_raw[k]`, `grad[k]` belong to `j[k]`).
 #[derive(Clone, Copy, Debug)]
@@ -166,8 +85,8 @@ pub struct Row<'a, V: Vector> {
     pub grad: &'a [V],
     /// The owner's kernel (for `W_ij`, computed on demand by [`Row::w`]).
     pub kernel: OwnerKernel,
-    /// All particle data.
-    pub fields: &'a Fields<V>,
+    /// The particles' core columns.
+    pub data: &'a ParticleData<'a, V>,
 }
 
 impl<'a, V: Vector> Row<'a, V> {
@@ -200,28 +119,43 @@ impl<'a, V: Vector> Row<'a, V> {
             w: self.w(k),
             grad_raw: self.grad_raw[k],
             grad: self.grad[k],
-            fields: self.fields,
+            data: self.data,
         }
     }
 }
 
-/// A physics term that joins the pair sweep. Implementations add their contribution to `out`
-/// for the pair (i owner, j ∈ H_i) and inherit the sweep's conservation and determinism.
+/// A physics term that joins the pair sweep: for the pair (i owner, j ∈ H_i) it adds the
+/// force on i and the energy rates of i and j to a [`PairOut`], and inherits the sweep's
+/// conservation (j receives the reaction through its dual-support) and determinism.
 ///
-/// Only [`PairTerm::interact`] must be written. The sweep calls [`PairTerm::interact_row`]
-/// once per owner and term; its default loops over the row calling `interact`, statically
-/// dispatched and inlined, so a term costs one dynamic call per particle, not per pair.
-/// Override it only to vectorise a term by hand; it must give the same `out` as the default.
+/// Once per sweep the term is **bound** ([`PairTerm::bind`]) to the columns it reads beyond
+/// the core ones of [`ParticleData`] — that is where it declares them, by type
+/// (`data.require::<Pressure>(name)`); a column no plugin adds is a build error naming the
+/// term. The bound term ([`BoundTerm`]) evaluates pairs. A term that reads no other column
+/// can be its own bound term (`type Bound<'w> = Self`, `bind` returns a copy).
 pub trait PairTerm<V: Vector>: Send + Sync + 'static {
+    /// The term bound to its columns for one sweep.
+    type Bound<'w>: BoundTerm<V> + 'w;
     /// Name shown by `plan`.
     fn name(&self) -> &str;
-    /// Adds this term's force and energy rates for the pair.
-    fn interact(&self, pair: &Pair<'_, V>, out: &mut PairOut<V>);
+    /// Binds the columns the term reads (once per sweep); the error names what is missing.
+    fn bind<'w>(&'w self, data: &ParticleData<'w, V>) -> Result<Self::Bound<'w>, String>;
     /// The built-in term this is, if any: the sweep then may evaluate it in its fused loop
     /// ([`crate::sweep::BuiltinTerm`]), which must give bitwise what `interact` gives.
     fn builtin(&self) -> Option<crate::sweep::BuiltinTerm> {
         None
     }
+}
+
+/// A [`PairTerm`] bound to its columns for one sweep.
+///
+/// Only [`BoundTerm::interact`] must be written. The sweep calls [`BoundTerm::interact_row`]
+/// once per owner and term; its default loops over the row calling `interact`, statically
+/// dispatched and inlined, so a term costs one dynamic call per particle, not per pair.
+/// Override it only to vectorise a term by hand; it must give the same `out` as the default.
+pub trait BoundTerm<V: Vector>: Sync {
+    /// Adds this term's force and energy rates for the pair.
+    fn interact(&self, pair: &Pair<'_, V>, out: &mut PairOut<V>);
     /// Adds this term to `out[k]` for every pair `k` of the row (`out.len() == row.len()`).
     #[inline]
     fn interact_row(&self, row: &Row<'_, V>, out: &mut [PairOut<V>]) {
@@ -231,16 +165,55 @@ pub trait PairTerm<V: Vector>: Send + Sync + 'static {
     }
 }
 
+/// A [`PairTerm`] with its type erased, as the sweep holds it.
+pub trait DynPairTerm<V: Vector>: Send + Sync {
+    /// See [`PairTerm::name`].
+    fn name(&self) -> &str;
+    /// See [`PairTerm::builtin`].
+    fn builtin(&self) -> Option<crate::sweep::BuiltinTerm>;
+    /// See [`PairTerm::bind`].
+    fn bind_dyn<'w>(
+        &'w self,
+        data: &ParticleData<'w, V>,
+    ) -> Result<Box<dyn BoundTerm<V> + 'w>, String>;
+}
+
+impl<V: Vector, T: PairTerm<V>> DynPairTerm<V> for T {
+    fn name(&self) -> &str {
+        PairTerm::name(self)
+    }
+    fn builtin(&self) -> Option<crate::sweep::BuiltinTerm> {
+        PairTerm::builtin(self)
+    }
+    fn bind_dyn<'w>(
+        &'w self,
+        data: &ParticleData<'w, V>,
+    ) -> Result<Box<dyn BoundTerm<V> + 'w>, String> {
+        Ok(Box::new(self.bind(data)?))
+    }
+}
+
 /// The terms fused into the sweep, in order.
 #[derive(Resource)]
 pub struct PairTerms<V: Vector> {
     /// Terms.
-    pub terms: Vec<Arc<dyn PairTerm<V>>>,
+    pub terms: Vec<Arc<dyn DynPairTerm<V>>>,
 }
 
 impl<V: Vector> Default for PairTerms<V> {
     fn default() -> Self {
         PairTerms { terms: Vec::new() }
+    }
+}
+
+impl<V: Vector> PairTerms<V> {
+    /// Every term bound to `data`'s columns, in order; the error names the term and the
+    /// column it misses.
+    pub fn bind<'w>(
+        &'w self,
+        data: &ParticleData<'w, V>,
+    ) -> Result<Vec<Box<dyn BoundTerm<V> + 'w>>, String> {
+        self.terms.iter().map(|t| t.bind_dyn(data)).collect()
     }
 }
 

@@ -1,173 +1,200 @@
 //! Own-support passes: per-particle sums over `H_i` that need no reaction (the paper keeps
 //! the continuity equation in its single-support form, §4). Each is a scheduled system that
-//! reads the dense [`Fields`] and writes both the dense array and the particle component.
+//! reads the particles' columns and writes its result column in place (see [`crate::store`]).
 
+use crate::chunks::{DENSE, MIN_LEN};
 use crate::components::*;
 use crate::kernels::Kernel;
 use crate::math::{Matrix, Real, Vector};
 use crate::neighbours::Neighbours;
 use crate::sim::{KernelRes, Sim, StepSet};
+use crate::store::{ParticleData, single_table};
 use crate::sweep::{
-    ContinuityInSweep, Fields, Formulation, OwnerKernel, PairTerms, SweepCtx, continuity_in_sweep,
+    ContinuityInSweep, Formulation, OwnerKernel, PairTerms, Support, SweepCtx, continuity_in_sweep,
 };
 use bevy_ecs::prelude::*;
 use rayon::prelude::*;
 
-macro_rules! ctx {
-    ($f:expr, $nb:expr, $k:expr, $form:expr) => {
-        SweepCtx {
-            fields: &$f,
-            neighbours: &$nb,
-            kernel: &$k.0,
-            formulation: *$form,
-        }
-    };
-}
+/// Fewest particles per rayon piece of a neighbour loop.
+const MIN_ROWS: usize = 64;
 
 /// Summation density, Eq. 4.8: `ρ_i = m_i W(0, h_i) + Σ_{j∈H_i} m_j W_ij`.
 #[inline(never)] // a frame of its own in profiles
 pub fn summation_density<V: Vector>(
-    mut fields: ResMut<Fields<V>>,
     nb: Res<Neighbours<V>>,
     kernel: Res<KernelRes>,
     form: Res<Formulation>,
-    mut q: Query<(&ParticleId, &mut Density)>,
+    mut q: Query<(&Position<V>, &SmoothingLength, &Mass, &mut Density)>,
 ) {
-    let rho: Vec<Real> = {
-        let ctx = ctx!(fields, nb, kernel, form);
-        (0..fields.len())
-            .into_par_iter()
-            .map(|i| {
-                let mut s = fields.mass[i] * kernel.0.w(0.0, fields.h[i]);
-                ctx.for_each_neighbour(i, |j, _, _, w, _| s += fields.mass[j] * w);
-                s
-            })
-            .collect()
+    let Some((pos, h, mass, mut rho)) = single_table(q.contiguous_iter_mut().expect(DENSE)) else {
+        return;
     };
-    for (id, mut d) in &mut q {
-        d.0 = rho[id.0 as usize];
+    let (kernel, formulation) = (&kernel.0, *form);
+    let support = Support {
+        pos,
+        h,
+        neighbours: &nb,
+        kernel,
+        formulation,
+    };
+    rho.par_iter_mut()
+        .enumerate()
+        .with_min_len(MIN_ROWS)
+        .for_each(|(i, rho)| {
+            let mut s = mass[i].0 * kernel.w(0.0, h[i].0);
+            support.for_each_neighbour(i, |j, _, _, w, _| s += mass[j].0 * w);
+            rho.0 = s;
+        });
+}
+
+/// The context of a pass over the particles' core columns (no other column readable).
+fn pass_ctx<'a, V: Vector>(
+    data: ParticleData<'a, V>,
+    correction: Option<&'a [GradientCorrection<V>]>,
+    nb: &'a Neighbours<V>,
+    kernel: &'a KernelRes,
+    form: Formulation,
+) -> SweepCtx<'a, V> {
+    SweepCtx {
+        data,
+        correction,
+        neighbours: nb,
+        kernel: &kernel.0,
+        formulation: form,
     }
-    fields.rho = rho;
 }
 
 /// Kernel-gradient correction, Eq. 2.10: `L_i = [Σ_{j∈H_i} V_j ∇_iW_ij ⊗ (r_j − r_i)]^{-1}`;
 /// the identity where the sum is singular (too few neighbours).
 #[inline(never)] // a frame of its own in profiles
 pub fn kernel_correction<V: Vector>(
-    mut fields: ResMut<Fields<V>>,
     nb: Res<Neighbours<V>>,
     kernel: Res<KernelRes>,
     form: Res<Formulation>,
-    mut q: Query<(&ParticleId, &mut GradientCorrection<V>)>,
+    mut q: Query<(
+        &Position<V>,
+        &Velocity<V>,
+        &Mass,
+        &Density,
+        &SmoothingLength,
+        &mut GradientCorrection<V>,
+    )>,
 ) {
-    let l: Vec<V::Mat> = {
-        let ctx = ctx!(fields, nb, kernel, form);
-        (0..fields.len())
-            .into_par_iter()
-            .map(|i| {
-                let mut a = V::Mat::zero();
-                ctx.for_each_neighbour(i, |j, rij, _, _, g| {
-                    a += V::outer(g, -rij) * fields.volume(j)
-                });
-                a.try_inverse(1e-6).unwrap_or_else(V::Mat::identity)
-            })
-            .collect()
+    let tables = q.contiguous_iter_mut().expect(DENSE);
+    let Some((pos, vel, mass, rho, h, mut l)) = single_table(tables) else {
+        return;
     };
-    for (id, mut c) in &mut q {
-        c.0 = l[id.0 as usize];
-    }
-    fields.correction = l;
+    let data = ParticleData::from_columns(pos, vel, mass, rho, h);
+    let ctx = pass_ctx(data, None, &nb, &kernel, *form);
+    l.par_iter_mut()
+        .enumerate()
+        .with_min_len(MIN_ROWS)
+        .for_each(|(i, l)| {
+            let mut a = V::Mat::zero();
+            ctx.for_each_neighbour(i, |j, rij, _, _, g| a += V::outer(g, -rij) * data.volume(j));
+            l.0 = a.try_inverse(1e-6).unwrap_or_else(V::Mat::identity);
+        });
 }
 
 /// Velocity gradient, Eq. 7.4: `(∇⊗v)_i = −Σ_{j∈H_i} V_j v_ij ⊗ ∇̃_iW_ij`, entries `∂v_k/∂x_l`
 /// (exact for linear fields when the correction is active).
 #[inline(never)] // a frame of its own in profiles
 pub fn velocity_gradient<V: Vector>(
-    mut fields: ResMut<Fields<V>>,
     nb: Res<Neighbours<V>>,
     kernel: Res<KernelRes>,
     form: Res<Formulation>,
-    mut q: Query<(&ParticleId, &mut VelocityGradient<V>)>,
+    mut q: Query<(
+        (
+            &Position<V>,
+            &Velocity<V>,
+            &Mass,
+            &Density,
+            &SmoothingLength,
+        ),
+        Option<&GradientCorrection<V>>,
+        &mut VelocityGradient<V>,
+    )>,
 ) {
-    let grads: Vec<V::Mat> = {
-        let ctx = ctx!(fields, nb, kernel, form);
-        (0..fields.len())
-            .into_par_iter()
-            .map(|i| {
-                let mut gsum = V::Mat::zero();
-                ctx.for_each_neighbour(i, |j, _, _, _, g| {
-                    let vij = fields.vel[i] - fields.vel[j];
-                    gsum += V::outer(vij, fields.corrected(i, g)) * (-fields.volume(j));
-                });
-                gsum
-            })
-            .collect()
+    let tables = q.contiguous_iter_mut().expect(DENSE);
+    let Some(((pos, vel, mass, rho, h), correction, mut grads)) = single_table(tables) else {
+        return;
     };
-    for (id, mut c) in &mut q {
-        c.0 = grads[id.0 as usize];
-    }
-    fields.vgrad = grads;
+    let data = ParticleData::from_columns(pos, vel, mass, rho, h);
+    let ctx = pass_ctx(data, correction, &nb, &kernel, *form);
+    grads
+        .par_iter_mut()
+        .enumerate()
+        .with_min_len(MIN_ROWS)
+        .for_each(|(i, grad)| {
+            let mut gsum = V::Mat::zero();
+            ctx.for_each_neighbour(i, |j, _, _, _, g| {
+                let vij = data.vij(i, j);
+                gsum += V::outer(vij, ctx.corrected(i, g)) * (-data.volume(j));
+            });
+            grad.0 = gsum;
+        });
 }
 
 /// Continuity, Eq. 4.9: `dρ_i/dt = Σ_{j∈H_i} m_j v_ij · ∇_iW_ij`.
 #[inline(never)] // a frame of its own in profiles
 pub fn continuity_pairwise<V: Vector>(
-    fields: Res<Fields<V>>,
     nb: Res<Neighbours<V>>,
     kernel: Res<KernelRes>,
     form: Res<Formulation>,
-    mut scratch: Local<Vec<Real>>,
     fused: Option<Res<ContinuityInSweep>>,
     terms: Option<Res<PairTerms<V>>>,
-    mut q: Query<(&ParticleId, &mut DensityRate)>,
+    mut q: Query<(
+        &Position<V>,
+        &Velocity<V>,
+        &Mass,
+        &Density,
+        &SmoothingLength,
+        &mut DensityRate,
+    )>,
 ) {
     let has_terms = terms.is_some_and(|t| !t.terms.is_empty());
     if continuity_in_sweep(fused.is_some(), has_terms, *form) {
         return; // the pair sweep forms the same sums (see `SweepBuffers::with_density_rate`)
     }
-    let ctx = ctx!(fields, nb, kernel, form);
-    let mut rates = std::mem::take(&mut *scratch);
-    rates.resize(fields.len(), 0.0);
-    let f = &*fields;
+    let tables = q.contiguous_iter_mut().expect(DENSE);
+    let Some((pos, vel, mass, rho, h, mut rates)) = single_table(tables) else {
+        return;
+    };
+    let data = ParticleData::from_columns(pos, vel, mass, rho, h);
+    let ctx = pass_ctx(data, None, &nb, &kernel, *form);
     rates
         .par_iter_mut()
         .enumerate()
-        .with_min_len(64)
+        .with_min_len(MIN_ROWS)
         .for_each(|(i, out)| {
-            *out = if *form == Formulation::AveragedKernel {
+            out.rate = if *form == Formulation::AveragedKernel {
                 let mut s = 0.0;
-                ctx.for_each_neighbour(i, |j, _, _, _, g| {
-                    s += f.mass[j] * (f.vel[i] - f.vel[j]).dot(g)
-                });
+                ctx.for_each_neighbour(i, |j, _, _, _, g| s += mass[j].0 * data.vij(i, j).dot(g));
                 s
             } else {
-                own_support_continuity(f, nb.support.row(i), i, &kernel.0)
+                own_support_continuity(&data, nb.support.row(i), i, &kernel.0)
             };
         });
-    for (id, mut r) in &mut q {
-        r.rate = rates[id.0 as usize];
-    }
-    *scratch = rates;
 }
 
 /// `Σ_{j∈H_i} m_j v_ij·∇_iW_ij` over a candidate row (Eq. 4.9), the same sum as through
 /// [`SweepCtx::for_each_neighbour`] without evaluating `W`.
 #[inline]
-pub(crate) fn own_support_continuity<V: Vector>(
-    f: &Fields<V>,
+pub fn own_support_continuity<V: Vector>(
+    data: &ParticleData<'_, V>,
     row: &[u32],
     i: usize,
     kernel: &Kernel,
 ) -> Real {
-    let (xi, vi, k) = (f.pos[i], f.vel[i], OwnerKernel::new(kernel, f.h[i]));
-    let (pos, vel, mass) = (&f.pos[..], &f.vel[..], &f.mass[..]);
+    let (pos, vel, mass) = (data.pos, data.vel, data.mass);
+    let (xi, vi, k) = (pos[i].0, vel[i].0, OwnerKernel::new(kernel, data.h[i].0));
     let mut s = 0.0;
     for &j in row {
         let j = j as usize;
-        let rij = xi - pos[j];
+        let rij = xi - pos[j].0;
         let r2 = rij.length_squared();
         if r2 < k.h2 {
-            s += mass[j] * (vi - vel[j]).dot(k.grad(rij, r2.sqrt()));
+            s += mass[j].0 * (vi - vel[j].0).dot(k.grad(rij, r2.sqrt()));
         }
     }
     s
@@ -187,12 +214,13 @@ pub fn add_continuity_pairwise<V: Vector>(sim: &mut Sim<V>) {
 /// Continuity from the velocity divergence (paper §7.3): `dρ_i/dt = −ρ_i tr(∇⊗v)_i`.
 #[inline(never)] // a frame of its own in profiles
 pub fn continuity_divergence<V: Vector>(
-    fields: Res<Fields<V>>,
-    mut q: Query<(&ParticleId, &mut DensityRate)>,
+    mut q: Query<(&Density, &VelocityGradient<V>, &mut DensityRate)>,
 ) {
-    for (id, mut r) in &mut q {
-        let i = id.0 as usize;
-        r.rate = -fields.rho[i] * fields.vgrad[i].trace();
+    for (rho, grad, mut rates) in q.contiguous_iter_mut().expect(DENSE) {
+        let rows = (rho, grad, &mut *rates)
+            .into_par_iter()
+            .with_min_len(MIN_LEN);
+        rows.for_each(|(rho, g, r)| r.rate = -rho.0 * g.0.trace());
     }
 }
 

@@ -8,7 +8,7 @@ use crate::components::*;
 use crate::kernels::{Kernel, KernelKind};
 use crate::math::{Real, Vector};
 use crate::neighbours::{Neighbours, SkinRule};
-use crate::sweep::{Fields, Formulation, PairTerm, PairTerms};
+use crate::sweep::{Formulation, PairTerm, PairTerms, ParticleData};
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::{ScheduleLabel, SingleThreadedExecutor};
 use bevy_ecs::system::ScheduleSystem;
@@ -35,8 +35,6 @@ pub enum StepSet {
     Predict,
     /// Smoothing-length update every m steps (Eq. 6.1).
     SmoothingLength,
-    /// Copy components into the dense arrays used by hot loops.
-    Gather,
     /// Neighbour-list rebuild (when the skin rule requires it).
     Neighbours,
     /// Own-support pass: summation density.
@@ -63,11 +61,10 @@ pub enum StepSet {
 
 impl StepSet {
     /// Every set in schedule order.
-    pub const ALL: [StepSet; 15] = [
+    pub const ALL: [StepSet; 14] = [
         StepSet::TimeStep,
         StepSet::Predict,
         StepSet::SmoothingLength,
-        StepSet::Gather,
         StepSet::Neighbours,
         StepSet::Density,
         StepSet::Correction,
@@ -263,7 +260,6 @@ impl<V: Vector> Sim<V> {
         world.insert_resource(config.domain);
         world.insert_resource(config.time_stepping);
         world.insert_resource(Neighbours::<V>::with_rule(config.skin, config.skin_rule));
-        world.insert_resource(Fields::<V>::default());
         world.insert_resource(PairTerms::<V>::default());
         world.insert_resource(MaxViscosity::default());
         world.insert_resource(InitialInternalEnergy::default());
@@ -316,8 +312,6 @@ impl<V: Vector> Sim<V> {
         ] {
             self.components.insert(short_type_name(name));
         }
-        let n = self.particle_count();
-        self.world.resource_mut::<Fields<V>>().resize(n);
     }
 
     /// Number of particles.
@@ -412,15 +406,39 @@ impl<V: Vector> Sim<V> {
         }
     }
 
-    /// Checks plugin requirements and builds the schedule (idempotent).
+    /// Checks plugin requirements, that the particles are one table of the store (see
+    /// [`crate::store`]) and that every pair term finds the columns it reads, and builds the
+    /// schedule (idempotent).
     pub fn finish(&mut self) -> Result<(), SimError> {
         for (feature, message) in &self.requirements {
             if !self.features.contains(feature) {
                 return Err(SimError::Build(message.clone()));
             }
         }
+        self.check_store()?;
         self.build_schedule();
         Ok(())
+    }
+
+    /// The store holds every particle in one table and every pair term binds to it.
+    fn check_store(&self) -> Result<(), SimError> {
+        let tables = crate::store::particle_tables(&self.world);
+        if tables > 1 {
+            return Err(SimError::Build(format!(
+                "the particles carry different sets of components ({tables} tables): a plugin \
+                 added a component to only some of them"
+            )));
+        }
+        if tables == 0 {
+            return Ok(());
+        }
+        let data = ParticleData::<V>::of(&self.world)
+            .ok_or_else(|| SimError::Build("the particles lack a core component".into()))?;
+        self.world
+            .resource::<PairTerms<V>>()
+            .bind(&data)
+            .map(drop)
+            .map_err(SimError::Build)
     }
 
     fn build_schedule(&mut self) {

@@ -24,13 +24,18 @@
 //! * `AveragedKernel` — the conventional reference, Eq. 2.13:
 //!   `W̄_ij = ½[W(r, h_i) + W(r, h_j)]` over `H_i ∪ H'_i`, classical symmetric sums.
 
-use crate::chunks::{DENSE, for_rows};
-use crate::components::{Acceleration, DensityRate, EnergyRate, ParticleId};
+use crate::chunks::{DENSE, MIN_LEN};
+use crate::components::{
+    Acceleration, DensityRate, EnergyRate, GradientCorrection, Mass, Position, SmoothingLength,
+};
 use crate::kernels::Kernel;
-use crate::math::{Real, Vector};
+use crate::math::{Matrix, Real, Vector};
 use crate::neighbours::Neighbours;
-pub use crate::pair::{Fields, OwnerKernel, Pair, PairOut, PairTerm, PairTerms, Row};
+pub use crate::pair::{
+    BoundTerm, DynPairTerm, OwnerKernel, Pair, PairOut, PairTerm, PairTerms, ParticleData, Row,
+};
 use crate::sim::{KernelRes, Sim, StepSet};
+use crate::store::single_table;
 use bevy_ecs::prelude::*;
 use rayon::prelude::*;
 use std::sync::Arc;
@@ -59,8 +64,10 @@ pub enum Formulation {
 /// Everything a pass over neighbours needs.
 #[derive(Clone, Copy)]
 pub struct SweepCtx<'a, V: Vector> {
-    /// Particle data.
-    pub fields: &'a Fields<V>,
+    /// The particles' core columns.
+    pub data: ParticleData<'a, V>,
+    /// The kernel-gradient corrections `L_i` (Eq. 2.10), when the scene computes them.
+    pub correction: Option<&'a [GradientCorrection<V>]>,
     /// Lists.
     pub neighbours: &'a Neighbours<V>,
     /// Kernel.
@@ -101,23 +108,96 @@ fn for_each_union(a: &[u32], b: &[u32], mut f: impl FnMut(usize)) {
     }
 }
 
-impl<V: Vector> SweepCtx<'_, V> {
+impl<'a, V: Vector> SweepCtx<'a, V> {
+    /// The context of `data`'s particles, with the correction matrices when they have them.
+    pub fn new(
+        data: ParticleData<'a, V>,
+        neighbours: &'a Neighbours<V>,
+        kernel: &'a Kernel,
+        formulation: Formulation,
+    ) -> Self {
+        SweepCtx {
+            data,
+            correction: data.column(),
+            neighbours,
+            kernel,
+            formulation,
+        }
+    }
+
+    /// Number of particles.
+    #[inline]
+    pub fn len(&self) -> usize {
+        self.data.len()
+    }
+
+    /// True without particles.
+    #[inline]
+    pub fn is_empty(&self) -> bool {
+        self.data.is_empty()
+    }
+
+    /// Applies `L_owner` (Eq. 2.10) to a kernel gradient if the correction is active.
+    #[inline]
+    pub fn corrected(&self, owner: usize, g: V) -> V {
+        match self.correction {
+            Some(l) => l[owner].0.mul_vec(g),
+            None => g,
+        }
+    }
+
+    /// The support lists and geometry of the particles.
+    #[inline]
+    pub fn support(&self) -> Support<'a, V> {
+        Support {
+            pos: self.data.pos,
+            h: self.data.h,
+            neighbours: self.neighbours,
+            kernel: self.kernel,
+            formulation: self.formulation,
+        }
+    }
+
+    /// See [`Support::for_each_neighbour`].
+    #[inline]
+    pub fn for_each_neighbour(&self, i: usize, f: impl FnMut(usize, V, Real, Real, V)) {
+        self.support().for_each_neighbour(i, f)
+    }
+}
+
+/// What a loop over supports needs: positions, support radii, lists, kernel, formulation
+/// (the own-support passes, which write other columns, borrow only these).
+#[derive(Clone, Copy)]
+pub struct Support<'a, V: Vector> {
+    /// Positions.
+    pub pos: &'a [Position<V>],
+    /// Support radii.
+    pub h: &'a [SmoothingLength],
+    /// Lists.
+    pub neighbours: &'a Neighbours<V>,
+    /// Kernel.
+    pub kernel: &'a Kernel,
+    /// Formulation.
+    pub formulation: Formulation,
+}
+
+impl<V: Vector> Support<'_, V> {
     /// Visits i's interpolation neighbourhood: `j ∈ H_i` with `W(r, h_i)` and its raw gradient,
     /// or for `AveragedKernel` the union `H_i ∪ H'_i` with the averaged kernel (Eq. 2.13).
     /// Callback: `(j, r_ij, r, W, ∇_iW)`. Used by own-support passes (density, correction,
     /// velocity gradient), which need no reaction.
     #[inline]
     pub fn for_each_neighbour(&self, i: usize, mut f: impl FnMut(usize, V, Real, Real, V)) {
-        let fl = self.fields;
-        let (xi, hi) = (fl.pos[i], fl.h[i]);
+        let (pos, h) = (self.pos, self.h);
+        let (xi, hi) = (pos[i].0, h[i].0);
         match self.formulation {
             Formulation::AveragedKernel => for_each_union(
                 self.neighbours.support.row(i),
                 self.neighbours.dual.row(i),
                 |j| {
-                    let rij = xi - fl.pos[j];
+                    let rij = xi - pos[j].0;
                     let r = rij.length();
-                    let hj = fl.h[j];
+                    let hj = h[j].0;
                     if r < hi.max(hj) {
                         let w = 0.5 * (self.kernel.w(r, hi) + self.kernel.w(r, hj));
                         let g = (self.kernel.grad(rij, r, hi) + self.kernel.grad(rij, r, hj)) * 0.5;
@@ -129,7 +209,7 @@ impl<V: Vector> SweepCtx<'_, V> {
                 let k = OwnerKernel::new(self.kernel, hi);
                 for &j in self.neighbours.support.row(i) {
                     let j = j as usize;
-                    let rij = xi - fl.pos[j];
+                    let rij = xi - pos[j].0;
                     let r2 = rij.length_squared();
                     if r2 < k.h2 {
                         let r = r2.sqrt();
@@ -187,8 +267,11 @@ fn dual_sum<V: Vector>(slots: &[u32], reactions: &[Reaction<V>], base: usize) ->
     (f, p)
 }
 
+/// Bound terms, as pass 1 evaluates them.
+type Bound<'w, V> = [Box<dyn BoundTerm<V> + 'w>];
+
 #[inline]
-fn eval_terms<V: Vector>(terms: &[Arc<dyn PairTerm<V>>], pair: &Pair<'_, V>) -> PairOut<V> {
+fn eval_terms<V: Vector>(terms: &Bound<'_, V>, pair: &Pair<'_, V>) -> PairOut<V> {
     let mut out = PairOut::default();
     for t in terms {
         t.interact(pair, &mut out);
@@ -237,7 +320,7 @@ pub fn continuity_in_sweep(requested: bool, has_terms: bool, formulation: Formul
 /// [`BuiltinTerm`]) rather than term by term.
 pub fn fused_loop_applies<V: Vector>(
     ctx: &SweepCtx<'_, V>,
-    terms: &[Arc<dyn PairTerm<V>>],
+    terms: &[Arc<dyn DynPairTerm<V>>],
 ) -> bool {
     matches!(
         ctx.formulation,
@@ -246,18 +329,30 @@ pub fn fused_loop_applies<V: Vector>(
 }
 
 /// Evaluates all pair terms: the total force and internal-energy power `m ε̇` per particle.
+/// The error names a term whose columns are missing (see [`PairTerm::bind`]).
 pub fn evaluate<V: Vector>(
     ctx: &SweepCtx<'_, V>,
-    terms: &[Arc<dyn PairTerm<V>>],
+    terms: &[Arc<dyn DynPairTerm<V>>],
     buf: &mut SweepBuffers<V>,
-) {
-    let n = ctx.fields.len();
+) -> Result<(), String> {
+    let n = ctx.len();
     buf.force.resize(n, V::zero());
     buf.power.resize(n, 0.0);
     match ctx.formulation {
         Formulation::DualSupport | Formulation::ConstantH => dual_support(ctx, terms, buf),
-        Formulation::SingleSupport | Formulation::AveragedKernel => classical(ctx, terms, buf),
+        Formulation::SingleSupport | Formulation::AveragedKernel => {
+            classical(ctx, &bind(terms, &ctx.data)?, buf);
+            Ok(())
+        }
     }
+}
+
+/// Every term bound to `data`'s columns, in order.
+fn bind<'w, V: Vector>(
+    terms: &'w [Arc<dyn DynPairTerm<V>>],
+    data: &ParticleData<'w, V>,
+) -> Result<Vec<Box<dyn BoundTerm<V> + 'w>>, String> {
+    terms.iter().map(|t| t.bind_dyn(data)).collect()
 }
 
 /// Pass 1 and pass 2 in blocks of consecutive particles (in parallel over blocks). Inside a
@@ -270,9 +365,9 @@ pub fn evaluate<V: Vector>(
 /// for any block length and thread count.
 fn dual_support<V: Vector>(
     ctx: &SweepCtx<'_, V>,
-    terms: &[Arc<dyn PairTerm<V>>],
+    terms: &[Arc<dyn DynPairTerm<V>>],
     buf: &mut SweepBuffers<V>,
-) {
+) -> Result<(), String> {
     let plan = if buf.general_only {
         None
     } else {
@@ -282,14 +377,21 @@ fn dual_support<V: Vector>(
     let blocks = Blocks { ctx, buf };
     match plan {
         Some(plan) => with_fused_rows(ctx, plan, with_drho, blocks),
-        None => blocks.call(&GeneralRows { ctx: *ctx, terms }),
+        None => {
+            let terms = bind(terms, &ctx.data)?;
+            blocks.call(&GeneralRows {
+                ctx: *ctx,
+                terms: &terms,
+            });
+        }
     }
+    Ok(())
 }
 
-/// Pass 1 by the general path: every [`PairTerm`] on the row in turn.
+/// Pass 1 by the general path: every bound term on the row in turn.
 struct GeneralRows<'a, V: Vector> {
     ctx: SweepCtx<'a, V>,
-    terms: &'a [Arc<dyn PairTerm<V>>],
+    terms: &'a Bound<'a, V>,
 }
 
 impl<V: Vector> RowEval<V> for GeneralRows<'_, V> {
@@ -322,7 +424,7 @@ fn blocks<V: Vector, E: RowEval<V>>(ctx: &SweepCtx<'_, V>, eval: &E, buf: &mut S
     let nb = ctx.neighbours;
     let offsets = &nb.support.offsets;
     let slots = nb.support.indices.len();
-    let n = ctx.fields.len();
+    let n = ctx.len();
     // every slot is written by pass 1: no clearing needed
     buf.reactions.resize(slots, Reaction::default());
     let block = block_len(n);
@@ -378,12 +480,8 @@ fn blocks<V: Vector, E: RowEval<V>>(ctx: &SweepCtx<'_, V>, eval: &E, buf: &mut S
     }
 }
 
-fn classical<V: Vector>(
-    ctx: &SweepCtx<'_, V>,
-    terms: &[Arc<dyn PairTerm<V>>],
-    buf: &mut SweepBuffers<V>,
-) {
-    let fl = ctx.fields;
+fn classical<V: Vector>(ctx: &SweepCtx<'_, V>, terms: &Bound<'_, V>, buf: &mut SweepBuffers<V>) {
+    let data = &ctx.data;
     buf.force
         .par_iter_mut()
         .zip(buf.power.par_iter_mut())
@@ -399,8 +497,8 @@ fn classical<V: Vector>(
                     r,
                     w,
                     grad_raw: g,
-                    grad: fl.corrected(i, g),
-                    fields: fl,
+                    grad: ctx.corrected(i, g),
+                    data,
                 };
                 let mirror = Pair {
                     i: j,
@@ -409,8 +507,8 @@ fn classical<V: Vector>(
                     r,
                     w,
                     grad_raw: -g,
-                    grad: fl.corrected(j, -g),
-                    fields: fl,
+                    grad: ctx.corrected(j, -g),
+                    data,
                 };
                 let a = eval_terms(terms, &own);
                 let b = eval_terms(terms, &mirror);
@@ -422,42 +520,64 @@ fn classical<V: Vector>(
         });
 }
 
-/// The sweep as a scheduled system: writes `Acceleration` and, if present, `EnergyRate.rate`.
+/// The sweep as a scheduled system (exclusive: the terms read any column of the store):
+/// writes `Acceleration = force / m` and, if present, `EnergyRate.rate = power / m` and
+/// (continuity in the sweep) `DensityRate.rate`.
 #[inline(never)] // a frame of its own in profiles
 pub fn pair_sweep_system<V: Vector>(
-    fields: Res<Fields<V>>,
-    neighbours: Res<Neighbours<V>>,
-    terms: Res<PairTerms<V>>,
-    kernel: Res<KernelRes>,
-    formulation: Res<Formulation>,
-    mut buf: ResMut<SweepBuffers<V>>,
-    continuity: Option<Res<ContinuityInSweep>>,
-    mut q: Query<(
-        &ParticleId,
+    world: &mut World,
+    rates: &mut QueryState<(
+        &Mass,
         &mut Acceleration<V>,
         Option<&mut EnergyRate>,
         Option<&mut DensityRate>,
     )>,
 ) {
-    let ctx = SweepCtx {
-        fields: &fields,
-        neighbours: &neighbours,
-        kernel: &kernel.0,
-        formulation: *formulation,
-    };
-    buf.with_density_rate =
-        continuity_in_sweep(continuity.is_some(), !terms.terms.is_empty(), *formulation);
-    evaluate(&ctx, &terms.terms, &mut buf);
-    let with_drho = buf.with_density_rate;
-    let (force, power, rate, mass) = (&buf.force, &buf.power, &buf.density_rate, &fields.mass);
-    for (ids, mut a, e, d) in q.contiguous_iter_mut().expect(DENSE) {
-        for_rows(ids, &mut a, |a, i| a.0 = force[i] / mass[i]);
+    world.resource_scope(|world, mut buf: Mut<SweepBuffers<V>>| {
+        let continuity = world.contains_resource::<ContinuityInSweep>();
+        sweep_into(world, &mut buf, continuity);
+        let with_drho = buf.with_density_rate;
+        let (force, power, rate) = (&buf.force, &buf.power, &buf.density_rate);
+        let tables = rates.contiguous_iter_mut(world).expect(DENSE);
+        let Some((mass, mut a, e, d)) = single_table(tables) else {
+            return;
+        };
+        a.par_iter_mut()
+            .enumerate()
+            .with_min_len(MIN_LEN)
+            .for_each(|(k, a)| a.0 = force[k] / mass[k].0);
         if let Some(mut e) = e {
-            for_rows(ids, &mut e, |e, i| e.rate = power[i] / mass[i]);
+            e.par_iter_mut()
+                .enumerate()
+                .with_min_len(MIN_LEN)
+                .for_each(|(k, e)| e.rate = power[k] / mass[k].0);
         }
         if with_drho && let Some(mut d) = d {
-            for_rows(ids, &mut d, |d, i| d.rate = rate[i]);
+            d.par_iter_mut()
+                .enumerate()
+                .with_min_len(MIN_LEN)
+                .for_each(|(k, d)| d.rate = rate[k]);
         }
+    });
+}
+
+/// Runs the sweep over `world`'s particles into `buf` (forces, powers and, with continuity in
+/// the sweep, `dρ/dt`).
+fn sweep_into<V: Vector>(world: &World, buf: &mut SweepBuffers<V>, continuity: bool) {
+    let terms = world.resource::<PairTerms<V>>();
+    let formulation = *world.resource::<Formulation>();
+    let Some(data) = ParticleData::of(world) else {
+        return;
+    };
+    let ctx = SweepCtx::new(
+        data,
+        world.resource::<Neighbours<V>>(),
+        &world.resource::<KernelRes>().0,
+        formulation,
+    );
+    buf.with_density_rate = continuity_in_sweep(continuity, !terms.terms.is_empty(), formulation);
+    if let Err(e) = evaluate(&ctx, &terms.terms, buf) {
+        unreachable!("pair terms were bound when the simulation was built: {e}")
     }
 }
 

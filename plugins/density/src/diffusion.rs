@@ -32,10 +32,11 @@
 //! ascending i (the same `D_ij` recomputed from the same inputs), so it is deterministic.
 
 use dualsph_core::bevy_ecs::prelude::*;
+use dualsph_core::chunks::DENSE;
 use dualsph_core::neighbours::Neighbours;
 use dualsph_core::prelude::*;
 use dualsph_core::sim::KernelRes;
-use dualsph_core::sweep::Fields;
+use dualsph_core::store::single_table;
 use rayon::prelude::*;
 use serde::Deserialize;
 
@@ -56,68 +57,92 @@ fn default_delta() -> Real {
 #[derive(Resource, Clone, Copy, Debug)]
 pub struct DiffusionDelta(pub Real);
 
+/// What the diffusion reads: the core columns and the sound speeds.
+#[derive(Clone, Copy, Debug)]
+pub struct DiffusionData<'a, V: Vector> {
+    /// Positions, masses, densities, support radii.
+    pub data: ParticleData<'a, V>,
+    /// Sound speeds `c_i`.
+    pub sound: &'a [SoundSpeed],
+}
+
 /// `D_ij` of the module docs for the owner i and `j ∈ H_i`; `None` outside `h_i` or at r = 0.
 #[inline]
 pub fn pair_coefficient<V: Vector>(
-    f: &Fields<V>,
+    f: &DiffusionData<'_, V>,
     k: &Kernel,
     delta: Real,
     i: usize,
     j: usize,
 ) -> Option<Real> {
-    let hi = f.h[i];
-    let r = (f.pos[i] - f.pos[j]).length();
+    let d = &f.data;
+    let hi = d.h[i].0;
+    let r = (d.pos[i].0 - d.pos[j].0).length();
     if !(r > 0.0 && r < hi) {
         return None;
     }
-    let c = 0.5 * (f.sound[i] + f.sound[j]);
+    let c = 0.5 * (f.sound[i].0 + f.sound[j].0);
     // the owner's half of ψ_ij = 2(ρ_j − ρ_i)
-    let half_psi = f.rho[j] - f.rho[i];
+    let half_psi = d.rho[j].0 - d.rho[i].0;
     Some(delta * 0.5 * hi * c * half_psi * (-k.dw_dr(r, hi)) / r)
 }
 
-/// The diffusion rates `dρ_i/dt` of every particle (owner sums plus reactions).
-pub fn diffusion_rates<V: Vector>(
-    f: &Fields<V>,
+/// The diffusion rate `dρ_i/dt` of particle i (its owner sum plus its reactions).
+pub fn diffusion_rate<V: Vector>(
+    f: &DiffusionData<'_, V>,
     nb: &Neighbours<V>,
     k: &Kernel,
     delta: Real,
-) -> Vec<Real> {
-    (0..f.len())
-        .into_par_iter()
-        .map(|i| {
-            let mut s = 0.0;
-            for &j in nb.support.row(i) {
-                let j = j as usize;
-                if let Some(d) = pair_coefficient(f, k, delta, i, j) {
-                    s += d * f.volume(j);
-                }
-            }
-            // reactions: i is the neighbour j of every owner o with i ∈ H_o
-            for &o in nb.dual.row(i) {
-                let o = o as usize;
-                if let Some(d) = pair_coefficient(f, k, delta, o, i) {
-                    s -= d * f.volume(o);
-                }
-            }
-            s
-        })
-        .collect()
+    i: usize,
+) -> Real {
+    let mut s = 0.0;
+    for &j in nb.support.row(i) {
+        let j = j as usize;
+        if let Some(d) = pair_coefficient(f, k, delta, i, j) {
+            s += d * f.data.volume(j);
+        }
+    }
+    // reactions: i is the neighbour j of every owner o with i ∈ H_o
+    for &o in nb.dual.row(i) {
+        let o = o as usize;
+        if let Some(d) = pair_coefficient(f, k, delta, o, i) {
+            s -= d * f.data.volume(o);
+        }
+    }
+    s
 }
 
 /// Adds the diffusion rates to `DensityRate.rate` (after the continuity equation has set it).
 #[inline(never)] // a frame of its own in profiles
 pub fn density_diffusion<V: Vector>(
-    fields: Res<Fields<V>>,
     nb: Res<Neighbours<V>>,
     kernel: Res<KernelRes>,
     delta: Res<DiffusionDelta>,
-    mut q: Query<(&ParticleId, &mut DensityRate)>,
+    mut q: Query<(
+        (
+            &Position<V>,
+            &Velocity<V>,
+            &Mass,
+            &Density,
+            &SmoothingLength,
+        ),
+        &SoundSpeed,
+        &mut DensityRate,
+    )>,
 ) {
-    let rates = diffusion_rates(&fields, &nb, &kernel.0, delta.0);
-    for (id, mut r) in &mut q {
-        r.rate += rates[id.0 as usize];
-    }
+    let tables = q.contiguous_iter_mut().expect(DENSE);
+    let Some(((pos, vel, mass, rho, h), sound, mut rates)) = single_table(tables) else {
+        return;
+    };
+    let f = DiffusionData {
+        data: ParticleData::from_columns(pos, vel, mass, rho, h),
+        sound,
+    };
+    rates
+        .par_iter_mut()
+        .enumerate()
+        .with_min_len(64)
+        .for_each(|(i, r)| r.rate += diffusion_rate(&f, &nb, &kernel.0, delta.0, i));
 }
 
 impl SimPlugin for DensityDiffusion {
@@ -162,6 +187,7 @@ impl SimPlugin for DensityDiffusion {
 mod tests {
     use super::*;
     use dualsph_core::glam::DVec2;
+    use dualsph_core::store::{Cloud, insert_column};
 
     /// A square lattice of `n × n` particles, spacing dx, h = 2.6 dx (support radius), with
     /// density `rho(x)` and sound speed `c`; h scaled by `h_scale(x)` (variable h).
@@ -170,45 +196,69 @@ mod tests {
         dx: Real,
         rho: impl Fn(DVec2) -> Real,
         h_scale: impl Fn(DVec2) -> Real,
-    ) -> (Fields<DVec2>, Neighbours<DVec2>) {
-        let mut f = Fields::<DVec2>::default();
-        f.resize(n * n);
-        f.sound = vec![0.0; n * n];
+    ) -> (World, Neighbours<DVec2>) {
+        let mut c = Cloud::<DVec2>::new(n * n);
+        let mut sound = vec![0.0; n * n];
         for a in 0..n {
             for b in 0..n {
                 let i = a * n + b;
                 let x = DVec2::new((a as Real + 0.5) * dx, (b as Real + 0.5) * dx);
-                f.pos[i] = x;
-                f.rho[i] = rho(x);
-                f.mass[i] = 1000.0 * dx * dx;
-                f.h[i] = 2.6 * dx * h_scale(x);
-                f.sound[i] = 100.0 + 10.0 * x.x;
+                c.pos[i] = x;
+                c.rho[i] = rho(x);
+                c.mass[i] = 1000.0 * dx * dx;
+                c.h[i] = 2.6 * dx * h_scale(x);
+                sound[i] = 100.0 + 10.0 * x.x;
             }
         }
         let mut nb = Neighbours::new(0.1);
-        nb.rebuild(&f.pos, &f.h);
-        (f, nb)
+        nb.rebuild(&c.pos, &c.h);
+        let mut world = c.spawn();
+        insert_column(&mut world, |i| SoundSpeed(sound[i]));
+        (world, nb)
+    }
+
+    /// The diffusion data of a cloud's world.
+    fn data_of(world: &World) -> DiffusionData<'_, DVec2> {
+        DiffusionData {
+            data: ParticleData::of(world).unwrap(),
+            sound: dualsph_core::store::column(world).unwrap(),
+        }
+    }
+
+    /// Every particle's diffusion rate.
+    fn diffusion_rates(
+        f: &DiffusionData<'_, DVec2>,
+        nb: &Neighbours<DVec2>,
+        k: &Kernel,
+        delta: Real,
+    ) -> Vec<Real> {
+        (0..f.data.len())
+            .map(|i| diffusion_rate(f, nb, k, delta, i))
+            .collect()
     }
 
     #[test]
     fn exchanges_mass_exactly_for_any_h_field() {
-        let (f, nb) = cloud(
+        let (world, nb) = cloud(
             20,
             0.05,
             |x| 1000.0 + 30.0 * (7.0 * x.x).sin() * (5.0 * x.y).cos(),
             |x| 1.0 + 0.8 * x.x, // h varies by 1.8 across the cloud: one-sided pairs
         );
         let k = Kernel::new(KernelKind::CubicSpline, 2);
+        let f = data_of(&world);
         let rates = diffusion_rates(&f, &nb, &k, 0.1);
-        let exchanged: Real = (0..f.len()).map(|i| f.volume(i) * rates[i]).sum();
-        let scale: Real = (0..f.len()).map(|i| (f.volume(i) * rates[i]).abs()).sum();
+        let d = f.data;
+        let exchanged: Real = (0..d.len()).map(|i| d.volume(i) * rates[i]).sum();
+        let scale: Real = (0..d.len()).map(|i| (d.volume(i) * rates[i]).abs()).sum();
         assert!(scale > 0.0);
         assert!(
             exchanged.abs() <= 1e-13 * scale,
             "Σ V dρ/dt = {exchanged:e} (scale {scale:e})"
         );
         // a uniform density is left alone
-        let (f, nb) = cloud(10, 0.05, |_| 1000.0, |x| 1.0 + x.x);
+        let (world, nb) = cloud(10, 0.05, |_| 1000.0, |x| 1.0 + x.x);
+        let f = data_of(&world);
         assert!(diffusion_rates(&f, &nb, &k, 0.1).iter().all(|&r| r == 0.0));
     }
 
@@ -218,17 +268,18 @@ mod tests {
         // (1985) form of ∇·(c∇ρ) = −κ² a cos(κx) c − 10 κ a sin(κx), so in the interior
         // dρ/dt = δ (h/2) ∇·(c∇ρ) to O(Δx²)
         let (n, dx, a, kappa) = (40, 0.025, 5.0, std::f64::consts::PI);
-        let (f, nb) = cloud(n, dx, |x| 1000.0 + a * (kappa * x.x).cos(), |_| 1.0);
+        let (world, nb) = cloud(n, dx, |x| 1000.0 + a * (kappa * x.x).cos(), |_| 1.0);
         let k = Kernel::new(KernelKind::CubicSpline, 2);
+        let f = data_of(&world);
         let rates = diffusion_rates(&f, &nb, &k, 0.1);
         let (mut err, mut norm) = (0.0, 0.0);
-        for i in 0..f.len() {
-            let x = f.pos[i];
+        for i in 0..f.data.len() {
+            let x = f.data.pos[i].0;
             let inside = (0.2..=0.8).contains(&x.x) && (0.2..=0.8).contains(&x.y);
             if inside {
-                let div = -kappa * kappa * a * (kappa * x.x).cos() * f.sound[i]
+                let div = -kappa * kappa * a * (kappa * x.x).cos() * f.sound[i].0
                     - 10.0 * kappa * a * (kappa * x.x).sin();
-                let exact = 0.1 * 0.5 * f.h[i] * div;
+                let exact = 0.1 * 0.5 * f.data.h[i].0 * div;
                 err += (rates[i] - exact).abs();
                 norm += exact.abs();
             }

@@ -4,7 +4,7 @@
 #![warn(missing_docs)]
 
 use dualsph_core::bevy_ecs::prelude::*;
-use dualsph_core::chunks::{DENSE, for_rows};
+use dualsph_core::chunks::DENSE;
 use dualsph_core::integrator::ensure_energy_equation;
 use dualsph_core::prelude::*;
 use rayon::prelude::*;
@@ -138,30 +138,30 @@ fn powi(mut x: Real, n: i32) -> Real {
     if n < 0 { 1.0 / r } else { r }
 }
 
-/// Evaluates the EOS for every particle.
+/// Evaluates the EOS for every particle, writing its pressure and sound speed in place.
 #[inline(never)] // a frame of its own in profiles
-pub fn apply_eos<V: Vector>(
+pub fn apply_eos(
     eos: Res<Eos>,
-    mut fields: ResMut<Fields<V>>,
-    mut q: Query<(&ParticleId, &mut Pressure, &mut SoundSpeed)>,
+    mut q: Query<(
+        &Density,
+        Option<&InternalEnergy>,
+        &mut Pressure,
+        &mut SoundSpeed,
+    )>,
 ) {
-    let n = fields.len();
-    let f = &mut *fields;
-    f.pressure.resize(n, 0.0);
-    f.sound.resize(n, 0.0);
-    let (rho, eps) = (&f.rho, &f.eps);
-    f.pressure
-        .par_iter_mut()
-        .zip(f.sound.par_iter_mut())
-        .enumerate()
-        .with_min_len(1024)
-        .for_each(|(i, (p, c))| {
-            (*p, *c) = eos.eval(rho[i], eps.get(i).copied().unwrap_or(0.0));
-        });
-    let (pressure, sound) = (&f.pressure, &f.sound);
-    for (ids, mut p, mut c) in q.contiguous_iter_mut().expect(DENSE) {
-        for_rows(ids, &mut p, |p, i| p.0 = pressure[i]);
-        for_rows(ids, &mut c, |c, i| c.0 = sound[i]);
+    let eos = *eos;
+    for (rho, eps, mut p, mut c) in q.contiguous_iter_mut().expect(DENSE) {
+        let (p, c) = (&mut *p, &mut *c);
+        match eps {
+            Some(eps) => (rho, eps, p, c)
+                .into_par_iter()
+                .with_min_len(1024)
+                .for_each(|(rho, eps, p, c)| (p.0, c.0) = eos.eval(rho.0, eps.0)),
+            None => (rho, p, c)
+                .into_par_iter()
+                .with_min_len(1024)
+                .for_each(|(rho, p, c)| (p.0, c.0) = eos.eval(rho.0, 0.0)),
+        }
     }
 }
 
@@ -174,7 +174,7 @@ fn install<V: Vector>(sim: &mut Sim<V>, eos: Eos, label: &str) -> Result<(), Sim
     sim.world.insert_resource(eos);
     sim.insert_particle_component(|_| Pressure(0.0));
     sim.insert_particle_component(|_| SoundSpeed(0.0));
-    sim.add_system(StepSet::Eos, label.to_string(), apply_eos::<V>);
+    sim.add_system(StepSet::Eos, label.to_string(), apply_eos);
     Ok(())
 }
 

@@ -31,18 +31,40 @@ pub struct HeatTerm {
     pub inv_cv: Real,
 }
 
+/// [`HeatTerm`] bound to the columns it reads: `ε` and `κ`.
+#[derive(Clone, Copy, Debug)]
+pub struct BoundHeat<'w> {
+    inv_cv: Real,
+    eps: &'w [InternalEnergy],
+    kappa: &'w [Conductivity],
+}
+
 impl<V: Vector> PairTerm<V> for HeatTerm {
+    type Bound<'w> = BoundHeat<'w>;
+
     fn name(&self) -> &str {
         "heat conduction (Eq. 3.13)"
     }
 
+    fn bind<'w>(&'w self, data: &ParticleData<'w, V>) -> Result<BoundHeat<'w>, String> {
+        let name = PairTerm::<V>::name(self);
+        Ok(BoundHeat {
+            inv_cv: self.inv_cv,
+            eps: data.require(name)?,
+            kappa: data.require(name)?,
+        })
+    }
+}
+
+impl<V: Vector> BoundTerm<V> for BoundHeat<'_> {
     #[inline(always)]
     fn interact(&self, p: &Pair<'_, V>, out: &mut PairOut<V>) {
-        let f = p.fields;
+        let d = p.data;
         let (i, j) = (p.i, p.j);
-        let eta = 0.1 * f.h[i];
-        let tij = (f.eps[i] - f.eps[j]) * self.inv_cv;
-        let q = f.mass[i] * f.mass[j] * f.kappa[i] / (f.rho[i] * f.rho[j]) * p.rij.dot(p.grad_raw)
+        let eta = 0.1 * d.h[i].0;
+        let tij = (self.eps[i].0 - self.eps[j].0) * self.inv_cv;
+        let q = d.mass[i].0 * d.mass[j].0 * self.kappa[i].0 / (d.rho[i].0 * d.rho[j].0)
+            * p.rij.dot(p.grad_raw)
             / (p.r * p.r + eta * eta)
             * tij;
         out.power_i += q;
@@ -74,8 +96,6 @@ impl SimPlugin for HeatConduction {
         ensure_energy_equation(sim);
         let kappa = self.conductivity;
         sim.insert_particle_component(|_| Conductivity(kappa));
-        let n = sim.particle_count();
-        sim.world.resource_mut::<Fields<V>>().kappa = vec![kappa; n];
         sim.add_pair_term(HeatTerm {
             inv_cv: 1.0 / self.heat_capacity,
         });

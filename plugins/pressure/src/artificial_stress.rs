@@ -18,7 +18,7 @@
 //! `L_i ∇_iW`). Monaghan, J. J. (2000), SPH without a tensile instability, J. Comput. Phys.
 //! 159, 290–311 (reference [13] of paper 001).
 
-use crate::{neighbour_factor, owner_factor};
+use crate::{is_corrected, neighbour_factor, owner_factor};
 use dualsph_core::integrator::ensure_energy_equation;
 use dualsph_core::prelude::*;
 use serde::Deserialize;
@@ -50,59 +50,81 @@ pub struct ArtificialStressTerm {
     pub epsilon: Real,
     /// n.
     pub exponent: i32,
-    /// The scene's kernel (for `W(Δp_i, h_i)` in [`PairTerm::interact`]).
+    /// The scene's kernel (for `W(Δp_i, h_i)` in [`BoundTerm::interact`]).
     pub kernel: Kernel,
 }
 
-impl ArtificialStressTerm {
+/// [`ArtificialStressTerm`] bound to the pressure column.
+#[derive(Clone, Copy, Debug)]
+pub struct BoundStress<'w> {
+    term: &'w ArtificialStressTerm,
+    pressure: &'w [Pressure],
+    corrected: bool,
+}
+
+impl BoundStress<'_> {
     /// `m_i R_i` in the pressure term's form ([`owner_factor`] with `s_i = ε max(−p_i, 0)`):
     /// zero unless particle i is under tension.
     #[inline(always)]
-    fn owner<V: Vector>(&self, f: &Fields<V>, i: usize) -> Real {
-        owner_factor(f, i, (-f.pressure[i]).max(0.0) * self.epsilon)
+    fn owner<V: Vector>(&self, d: &ParticleData<'_, V>, i: usize) -> Real {
+        let s_i = (-self.pressure[i].0).max(0.0) * self.term.epsilon;
+        owner_factor(d, self.corrected, i, s_i)
     }
 
     /// `W(Δp_i, h_i)` with `Δp_i = (m_i/ρ_i)^{1/d}`.
     #[inline(always)]
-    fn w_spacing<V: Vector>(f: &Fields<V>, i: usize, kernel: &OwnerKernel) -> Real {
-        let dp = f.volume(i).powf(1.0 / V::DIM as Real);
+    fn w_spacing<V: Vector>(d: &ParticleData<'_, V>, i: usize, kernel: &OwnerKernel) -> Real {
+        let dp = d.volume(i).powf(1.0 / V::DIM as Real);
         kernel.w(dp)
     }
 }
 
 impl<V: Vector> PairTerm<V> for ArtificialStressTerm {
+    type Bound<'w> = BoundStress<'w>;
+
     fn name(&self) -> &str {
         "artificial stress (Monaghan 2000)"
     }
 
+    fn bind<'w>(&'w self, data: &ParticleData<'w, V>) -> Result<BoundStress<'w>, String> {
+        Ok(BoundStress {
+            term: self,
+            pressure: data.require(PairTerm::<V>::name(self))?,
+            corrected: is_corrected(data),
+        })
+    }
+}
+
+impl<V: Vector> BoundTerm<V> for BoundStress<'_> {
     fn interact(&self, p: &Pair<'_, V>, out: &mut PairOut<V>) {
-        let f = p.fields;
-        let owner = self.owner(f, p.i);
+        let d = p.data;
+        let owner = self.owner(d, p.i);
         if owner == 0.0 {
             return;
         }
-        let kernel = OwnerKernel::new(&self.kernel, f.h[p.i]);
-        let ratio = p.w * (1.0 / Self::w_spacing(f, p.i, &kernel));
-        let coef = owner * neighbour_factor(f, p.j) * ratio.powi(self.exponent);
+        let kernel = OwnerKernel::new(&self.term.kernel, d.h[p.i].0);
+        let ratio = p.w * (1.0 / Self::w_spacing(d, p.i, &kernel));
+        let coef =
+            owner * neighbour_factor(d, self.corrected, p.j) * ratio.powi(self.term.exponent);
         out.force += p.grad * (-coef);
         out.power_i += coef * p.vij().dot(p.grad);
     }
 
     fn interact_row(&self, row: &Row<'_, V>, out: &mut [PairOut<V>]) {
-        let f = row.fields;
-        let owner = self.owner(f, row.i);
+        let d = row.data;
+        let owner = self.owner(d, row.i);
         if owner == 0.0 {
             return;
         }
-        let inv_w0 = 1.0 / Self::w_spacing(f, row.i, &row.kernel);
-        let vi = f.vel[row.i];
+        let inv_w0 = 1.0 / Self::w_spacing(d, row.i, &row.kernel);
         for (k, o) in out.iter_mut().enumerate() {
             let j = row.j[k] as usize;
             let ratio = row.w(k) * inv_w0;
-            let coef = owner * neighbour_factor(f, j) * ratio.powi(self.exponent);
+            let coef =
+                owner * neighbour_factor(d, self.corrected, j) * ratio.powi(self.term.exponent);
             let g = row.grad[k];
             o.force += g * (-coef);
-            o.power_i += coef * (vi - f.vel[j]).dot(g);
+            o.power_i += coef * d.vij(row.i, j).dot(g);
         }
     }
 }

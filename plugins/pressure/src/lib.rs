@@ -29,35 +29,51 @@ pub struct PressureTerm;
 /// `m_i s_i/ρ_i²`, or `m_i s_i/ρ_i` with the kernel correction (then the neighbour's factor,
 /// [`neighbour_factor`], is `m_j/ρ_j`, otherwise `m_j`; §5.2).
 #[inline(always)]
-pub(crate) fn owner_factor<V: Vector>(f: &Fields<V>, i: usize, s_i: Real) -> Real {
-    if f.correction.is_empty() {
-        f.mass[i] * s_i / (f.rho[i] * f.rho[i])
+pub(crate) fn owner_factor<V: Vector>(
+    d: &ParticleData<'_, V>,
+    corrected: bool,
+    i: usize,
+    s_i: Real,
+) -> Real {
+    let (m, rho) = (d.mass[i].0, d.rho[i].0);
+    if corrected {
+        m * s_i / rho
     } else {
-        f.mass[i] * s_i / f.rho[i]
+        m * s_i / (rho * rho)
     }
 }
 
 /// The neighbour's factor (see [`owner_factor`]).
 #[inline(always)]
-pub(crate) fn neighbour_factor<V: Vector>(f: &Fields<V>, j: usize) -> Real {
-    if f.correction.is_empty() {
-        f.mass[j]
+pub(crate) fn neighbour_factor<V: Vector>(
+    d: &ParticleData<'_, V>,
+    corrected: bool,
+    j: usize,
+) -> Real {
+    if corrected {
+        d.mass[j].0 / d.rho[j].0
     } else {
-        f.mass[j] / f.rho[j]
+        d.mass[j].0
     }
 }
 
-impl PressureTerm {
+/// True when the scene applies the kernel-gradient correction (Eq. 2.10).
+pub(crate) fn is_corrected<V: Vector>(data: &ParticleData<'_, V>) -> bool {
+    data.column::<GradientCorrection<V>>().is_some()
+}
+
+/// [`PressureTerm`] bound to the pressure column.
+#[derive(Clone, Copy, Debug)]
+pub struct BoundPressure<'w> {
+    pressure: &'w [Pressure],
+    corrected: bool,
+}
+
+impl BoundPressure<'_> {
     /// The owner's factor: [`owner_factor`] with `s_i = p_i`.
     #[inline(always)]
-    fn owner<V: Vector>(f: &Fields<V>, i: usize) -> Real {
-        owner_factor(f, i, f.pressure[i])
-    }
-
-    /// The neighbour's factor: [`neighbour_factor`].
-    #[inline(always)]
-    fn other<V: Vector>(f: &Fields<V>, j: usize) -> Real {
-        neighbour_factor(f, j)
+    fn owner<V: Vector>(&self, d: &ParticleData<'_, V>, i: usize) -> Real {
+        owner_factor(d, self.corrected, i, self.pressure[i].0)
     }
 
     /// `f_ij = −c ∇̃_iW_ij` on i and `c v_ij·∇̃_iW_ij` to `m_i ε̇_i`, `c = owner · other`.
@@ -69,34 +85,45 @@ impl PressureTerm {
 }
 
 impl<V: Vector> PairTerm<V> for PressureTerm {
+    type Bound<'w> = BoundPressure<'w>;
+
     fn name(&self) -> &str {
         "pressure (Eq. 4.19)"
+    }
+
+    fn bind<'w>(&'w self, data: &ParticleData<'w, V>) -> Result<BoundPressure<'w>, String> {
+        Ok(BoundPressure {
+            pressure: data.require(PairTerm::<V>::name(self))?,
+            corrected: is_corrected(data),
+        })
     }
 
     fn builtin(&self) -> Option<dualsph_core::sweep::BuiltinTerm> {
         Some(dualsph_core::sweep::BuiltinTerm::Pressure)
     }
+}
 
+impl<V: Vector> BoundTerm<V> for BoundPressure<'_> {
     #[inline(always)]
     fn interact(&self, p: &Pair<'_, V>, out: &mut PairOut<V>) {
-        let f = p.fields;
-        let coef = Self::owner(f, p.i) * Self::other(f, p.j);
+        let d = p.data;
+        let coef = self.owner(d, p.i) * neighbour_factor(d, self.corrected, p.j);
         Self::add(coef, p.vij(), p.grad, out);
     }
 
-    /// The same arithmetic as [`PairTerm::interact`] with the owner's values loaded once.
+    /// The same arithmetic as [`BoundTerm::interact`] with the owner's values loaded once.
     fn interact_row(&self, row: &Row<'_, V>, out: &mut [PairOut<V>]) {
-        let f = row.fields;
-        let owner = Self::owner(f, row.i);
-        let mass = &f.mass[..];
+        let d = row.data;
+        let owner = self.owner(d, row.i);
+        let mass = d.mass;
         let pairs = out.iter_mut().zip(row.j).zip(row.vij).zip(row.grad);
-        if f.correction.is_empty() {
+        if !self.corrected {
             for (((o, &j), &v), &g) in pairs {
-                Self::add(owner * mass[j as usize], v, g, o);
+                Self::add(owner * mass[j as usize].0, v, g, o);
             }
         } else {
             for (((o, &j), &v), &g) in pairs {
-                Self::add(owner * Self::other(f, j as usize), v, g, o);
+                Self::add(owner * neighbour_factor(d, true, j as usize), v, g, o);
             }
         }
     }

@@ -100,8 +100,15 @@ impl CohesionTerm {
 
     /// The force on the owner i from j (its reaction on j is the negative).
     #[inline]
-    pub fn force<V: Vector>(&self, f: &Fields<V>, i: usize, j: usize, rij: V, r: Real) -> V {
-        let h = f.h[i];
+    pub fn force<V: Vector>(
+        &self,
+        f: &ParticleData<'_, V>,
+        i: usize,
+        j: usize,
+        rij: V,
+        r: Real,
+    ) -> V {
+        let h = f.h[i].0;
         let c = cohesion_spline(r / h);
         if c == 0.0 || r == 0.0 {
             return V::zero();
@@ -112,13 +119,22 @@ impl CohesionTerm {
 }
 
 impl<V: Vector> PairTerm<V> for CohesionTerm {
+    type Bound<'w> = CohesionTerm;
+
     fn name(&self) -> &str {
         "surface tension: pairwise cohesion (Akinci et al. 2013)"
     }
 
+    /// Reads only the core columns.
+    fn bind<'w>(&'w self, _: &ParticleData<'w, V>) -> Result<CohesionTerm, String> {
+        Ok(*self)
+    }
+}
+
+impl<V: Vector> BoundTerm<V> for CohesionTerm {
     #[inline]
     fn interact(&self, p: &Pair<'_, V>, out: &mut PairOut<V>) {
-        let force = self.force(p.fields, p.i, p.j, p.rij, p.r);
+        let force = self.force(p.data, p.i, p.j, p.rij, p.r);
         out.force += force;
         // Conservative force: the kinetic energy it gives, f·v_ij, is taken from the
         // internal (cohesive binding) energy, half from each particle.

@@ -56,24 +56,29 @@ struct AvOwner {
     rho: Real,
 }
 
-impl AvOwner {
-    #[inline(always)]
-    fn of<V: Vector>(f: &Fields<V>, i: usize) -> Self {
-        AvOwner {
-            m: f.mass[i],
-            h: f.h[i],
-            c: f.sound[i],
-            rho: f.rho[i],
-        }
-    }
+/// [`ArtificialViscosityTerm`] bound to the sound-speed column.
+#[derive(Clone, Copy, Debug)]
+pub struct BoundAv<'w> {
+    term: ArtificialViscosityTerm,
+    sound: &'w [SoundSpeed],
 }
 
-impl ArtificialViscosityTerm {
+impl BoundAv<'_> {
+    #[inline(always)]
+    fn owner<V: Vector>(&self, d: &ParticleData<'_, V>, i: usize) -> AvOwner {
+        AvOwner {
+            m: d.mass[i].0,
+            h: d.h[i].0,
+            c: self.sound[i].0,
+            rho: d.rho[i].0,
+        }
+    }
+
     /// `Π_ij` of Eq. 4.17 (0 for receding pairs).
     #[inline]
     pub fn pi<V: Vector>(&self, p: &Pair<'_, V>) -> Real {
-        let a = AvOwner::of(p.fields, p.i);
-        self.pi_of(&a, p.fields, p.j, p.vij().dot(p.rij), p.r)
+        let a = self.owner(p.data, p.i);
+        self.pi_of(&a, p.data, p.j, p.vij().dot(p.rij), p.r)
     }
 
     /// `Π_ij` from the owner's values, j, `v_ij·r_ij` and `r_ij`: with `D = r² + η²` and
@@ -81,8 +86,15 @@ impl ArtificialViscosityTerm {
     /// `Π_ij = μ(−α c̄ + β μ)/ρ̄ = 2 x (β x − α c̄ D) / (D² (ρ_i + ρ_j))` — one division, and
     /// no branch: a receding pair has `x = 0`, hence `Π_ij = 0`.
     #[inline(always)]
-    fn pi_of<V: Vector>(&self, a: &AvOwner, f: &Fields<V>, j: usize, vr: Real, r: Real) -> Real {
-        let (num, den) = self.pi_parts(a, f, j, vr, r);
+    fn pi_of<V: Vector>(
+        &self,
+        a: &AvOwner,
+        d: &ParticleData<'_, V>,
+        j: usize,
+        vr: Real,
+        r: Real,
+    ) -> Real {
+        let (num, den) = self.pi_parts(a, d, j, vr, r);
         2.0 * num / den
     }
 
@@ -93,15 +105,16 @@ impl ArtificialViscosityTerm {
     fn pi_parts<V: Vector>(
         &self,
         a: &AvOwner,
-        f: &Fields<V>,
+        d: &ParticleData<'_, V>,
         j: usize,
         vr: Real,
         r: Real,
     ) -> (Real, Real) {
+        let t = &self.term;
         artificial_viscosity_parts(
-            (self.alpha, self.beta, self.eta_factor),
+            (t.alpha, t.beta, t.eta_factor),
             (a.h, a.c, a.rho),
-            (f.h[j], f.sound[j], f.rho[j]),
+            (d.h[j].0, self.sound[j].0, d.rho[j].0),
             vr,
             r,
         )
@@ -114,7 +127,7 @@ impl ArtificialViscosityTerm {
     fn add<V: Vector>(
         &self,
         a: &AvOwner,
-        f: &Fields<V>,
+        d: &ParticleData<'_, V>,
         j: usize,
         rij: V,
         r: Real,
@@ -122,9 +135,9 @@ impl ArtificialViscosityTerm {
         grad_raw: V,
         out: &mut PairOut<V>,
     ) {
-        let (num, den) = self.pi_parts(a, f, j, vij.dot(rij), r);
+        let (num, den) = self.pi_parts(a, d, j, vij.dot(rij), r);
         // m_i m_j Π/2 = m_i m_j num/den
-        let coef = a.m * f.mass[j] * num / den;
+        let coef = a.m * d.mass[j].0 * num / den;
         out.force += grad_raw * (-coef);
         let heat = 0.5 * coef * vij.dot(grad_raw);
         out.power_i += heat;
@@ -133,8 +146,17 @@ impl ArtificialViscosityTerm {
 }
 
 impl<V: Vector> PairTerm<V> for ArtificialViscosityTerm {
+    type Bound<'w> = BoundAv<'w>;
+
     fn name(&self) -> &str {
         "artificial viscosity (Eq. 4.17)"
+    }
+
+    fn bind<'w>(&'w self, data: &ParticleData<'w, V>) -> Result<BoundAv<'w>, String> {
+        Ok(BoundAv {
+            term: *self,
+            sound: data.require(PairTerm::<V>::name(self))?,
+        })
     }
 
     fn builtin(&self) -> Option<BuiltinTerm> {
@@ -144,16 +166,18 @@ impl<V: Vector> PairTerm<V> for ArtificialViscosityTerm {
             eta_factor: self.eta_factor,
         })
     }
+}
 
+impl<V: Vector> BoundTerm<V> for BoundAv<'_> {
     #[inline(always)]
     fn interact(&self, p: &Pair<'_, V>, out: &mut PairOut<V>) {
-        let a = AvOwner::of(p.fields, p.i);
-        self.add(&a, p.fields, p.j, p.rij, p.r, p.vij(), p.grad_raw, out);
+        let a = self.owner(p.data, p.i);
+        self.add(&a, p.data, p.j, p.rij, p.r, p.vij(), p.grad_raw, out);
     }
 
-    /// The same arithmetic as [`PairTerm::interact`] with the owner's values loaded once.
+    /// The same arithmetic as [`BoundTerm::interact`] with the owner's values loaded once.
     fn interact_row(&self, row: &Row<'_, V>, out: &mut [PairOut<V>]) {
-        let a = AvOwner::of(row.fields, row.i);
+        let a = self.owner(row.data, row.i);
         let geom = row
             .j
             .iter()
@@ -162,7 +186,7 @@ impl<V: Vector> PairTerm<V> for ArtificialViscosityTerm {
             .zip(row.vij)
             .zip(row.grad_raw);
         for (o, ((((&j, &rij), &r), &vij), &g)) in out.iter_mut().zip(geom) {
-            self.add(&a, row.fields, j as usize, rij, r, vij, g, o);
+            self.add(&a, row.data, j as usize, rij, r, vij, g, o);
         }
     }
 }
@@ -215,16 +239,26 @@ pub struct PhysicalViscosityTerm {
 }
 
 impl<V: Vector> PairTerm<V> for PhysicalViscosityTerm {
+    type Bound<'w> = PhysicalViscosityTerm;
+
     fn name(&self) -> &str {
         "physical viscosity (Eq. 4.23)"
     }
 
+    /// Reads only the core columns.
+    fn bind<'w>(&'w self, _: &ParticleData<'w, V>) -> Result<PhysicalViscosityTerm, String> {
+        Ok(*self)
+    }
+}
+
+impl<V: Vector> BoundTerm<V> for PhysicalViscosityTerm {
     #[inline(always)]
     fn interact(&self, p: &Pair<'_, V>, out: &mut PairOut<V>) {
-        let f = p.fields;
+        let d = p.data;
         let (i, j) = (p.i, p.j);
-        let eta = 0.1 * f.h[i];
-        let coef = f.mass[i] * f.mass[j] * self.mu / (f.rho[i] * f.rho[i]) * p.rij.dot(p.grad_raw)
+        let eta = 0.1 * d.h[i].0;
+        let rho_i = d.rho[i].0;
+        let coef = d.mass[i].0 * d.mass[j].0 * self.mu / (rho_i * rho_i) * p.rij.dot(p.grad_raw)
             / (p.r * p.r + eta * eta);
         let vij = p.vij();
         out.force += vij * coef;
@@ -273,18 +307,37 @@ pub struct ViscousStressTerm {
     pub lambda: Real,
 }
 
+/// [`ViscousStressTerm`] bound to the velocity-gradient column.
+#[derive(Clone, Copy, Debug)]
+pub struct BoundStress<'w, V: Vector> {
+    term: ViscousStressTerm,
+    grad: &'w [VelocityGradient<V>],
+}
+
 impl<V: Vector> PairTerm<V> for ViscousStressTerm {
+    type Bound<'w> = BoundStress<'w, V>;
+
     fn name(&self) -> &str {
         "Newtonian viscous stress (Eqs. 4.6, 4.13, 7.4)"
     }
 
+    fn bind<'w>(&'w self, data: &ParticleData<'w, V>) -> Result<BoundStress<'w, V>, String> {
+        Ok(BoundStress {
+            term: *self,
+            grad: data.require(PairTerm::<V>::name(self))?,
+        })
+    }
+}
+
+impl<V: Vector> BoundTerm<V> for BoundStress<'_, V> {
     #[inline(always)]
     fn interact(&self, p: &Pair<'_, V>, out: &mut PairOut<V>) {
-        let f = p.fields;
+        let d = p.data;
         let (i, j) = (p.i, p.j);
-        let g = f.vgrad[i];
-        let tau = (g + g.transpose()) * self.mu + V::Mat::identity() * (self.lambda * g.trace());
-        let coef = f.mass[i] * f.mass[j] / (f.rho[i] * f.rho[j]);
+        let (mu, lambda) = (self.term.mu, self.term.lambda);
+        let g = self.grad[i].0;
+        let tau = (g + g.transpose()) * mu + V::Mat::identity() * (lambda * g.trace());
+        let coef = d.mass[i].0 * d.mass[j].0 / (d.rho[i].0 * d.rho[j].0);
         let force = tau.mul_vec(p.grad) * coef;
         out.force += force;
         out.power_i -= force.dot(p.vij());
@@ -347,12 +400,11 @@ mod tests {
             beta: 2.0,
             eta_factor: 0.1,
         };
-        let mut f = Fields::<DVec2>::default();
-        f.resize(2);
-        (f.h[0], f.h[1], f.rho[0], f.rho[1]) = (0.05, 0.08, 1003.0, 991.0);
-        (f.mass[0], f.mass[1]) = (0.1, 0.2);
-        f.sound = vec![100.0, 103.0];
-        f.pos[1] = DVec2::new(0.03, -0.01);
+        use dualsph_core::store::{Cloud, insert_column};
+        let mut c = Cloud::<DVec2>::new(2);
+        (c.h[0], c.h[1], c.rho[0], c.rho[1]) = (0.05, 0.08, 1003.0, 991.0);
+        (c.mass[0], c.mass[1]) = (0.1, 0.2);
+        c.pos[1] = DVec2::new(0.03, -0.01);
         let mut checked = 0;
         for (vx, vy) in [
             (-2.0, 1.0),
@@ -361,7 +413,12 @@ mod tests {
             (-0.01, 0.2),
             (-40.0, 3.0),
         ] {
-            f.vel[1] = DVec2::new(vx, vy);
+            c.vel[1] = DVec2::new(vx, vy);
+            let mut world = c.spawn();
+            insert_column(&mut world, |i| SoundSpeed([100.0, 103.0][i]));
+            let data = ParticleData::<DVec2>::of(&world).unwrap();
+            let bound = PairTerm::<DVec2>::bind(&term, &data).unwrap();
+            let f = &c;
             let rij = f.pos[0] - f.pos[1];
             let r = rij.length();
             let pair = Pair {
@@ -372,7 +429,7 @@ mod tests {
                 w: 0.0,
                 grad_raw: rij,
                 grad: rij,
-                fields: &f,
+                data: &data,
             };
             let vr = (f.vel[0] - f.vel[1]).dot(rij);
             let hbar = 0.5 * (f.h[0] + f.h[1]);
@@ -384,7 +441,7 @@ mod tests {
             } else {
                 0.0
             };
-            let got = term.pi(&pair);
+            let got = bound.pi(&pair);
             assert!(
                 (got - expect).abs() <= 1e-14 * expect.abs(),
                 "v = ({vx}, {vy}): {got} vs {expect}"

@@ -288,22 +288,23 @@ impl<V: Vector> Neighbours<V> {
     }
 
     /// The largest displacement since the last build, when the lists were built for these
-    /// particles.
-    fn max_displacement(&self, positions: &[V]) -> Option<Real> {
-        if self.build_positions.is_empty() || self.build_positions.len() != positions.len() {
+    /// `n` particles (`at(i)` is i's position).
+    fn max_displacement(&self, n: usize, at: impl Fn(usize) -> V) -> Option<Real> {
+        if self.build_positions.is_empty() || self.build_positions.len() != n {
             return None;
         }
-        let max_d2 = positions
+        let max_d2 = self
+            .build_positions
             .iter()
-            .zip(&self.build_positions)
-            .map(|(a, b)| (*a - *b).length_squared())
+            .enumerate()
+            .map(|(i, b)| (at(i) - *b).length_squared())
             .fold(0.0, Real::max);
         Some(max_d2.sqrt())
     }
 
     /// True when the rebuild rule (module docs) requires new lists.
     pub fn needs_rebuild(&self, positions: &[V]) -> bool {
-        self.rule_fires(self.max_displacement(positions))
+        self.rule_fires(self.max_displacement(positions.len(), |i| positions[i]))
     }
 
     /// The rebuild rule for the largest displacement `d` since the last build (`None`: no
@@ -334,12 +335,31 @@ impl<V: Vector> Neighbours<V> {
 
     /// Called once per step: rebuilds if the rule says so, or, with [`SkinRule::Tuned`], when
     /// a rebuild with the optimal skin is cheaper than keeping the lists
-    /// ([`skin::retune_now`]); a tuned rebuild first sets the skin to
+    /// (`skin::retune_now`); a tuned rebuild first sets the skin to
     /// [`optimal_skin`] of the motion measured since the last build. Returns whether it
     /// rebuilt.
     pub fn update(&mut self, positions: &[V], h: &[Real]) -> bool {
+        self.update_with(
+            positions.len(),
+            |i| positions[i],
+            |p, r| {
+                p.extend_from_slice(positions);
+                r.extend_from_slice(h);
+            },
+        )
+    }
+
+    /// [`Neighbours::update`] for `n` particles whose positions are `at(i)`: `fill` puts the
+    /// positions and support radii into the two (empty) vectors, and is called only when the
+    /// lists are rebuilt (the rebuild reads them many times).
+    pub fn update_with(
+        &mut self,
+        n: usize,
+        at: impl Fn(usize) -> V,
+        fill: impl FnOnce(&mut Vec<V>, &mut Vec<Real>),
+    ) -> bool {
         self.steps_since_build += 1;
-        let d = self.max_displacement(positions);
+        let d = self.max_displacement(n, at);
         let rule = self.rule_fires(d);
         let steps = self.steps_since_build;
         let u = match (self.rule, d) {
@@ -353,7 +373,9 @@ impl<V: Vector> Neighbours<V> {
         if let Some(u) = u {
             self.skin = optimal_skin(u, V::DIM);
         }
-        self.rebuild(positions, h);
+        let (mut positions, mut h) = (Vec::with_capacity(n), Vec::with_capacity(n));
+        fill(&mut positions, &mut h);
+        self.rebuild(&positions, &h);
         true
     }
 }

@@ -61,7 +61,7 @@ pub fn cost_per_step(s: Real, u: Real, dim: usize) -> Real {
     (1.0 + s).powi(dim as i32) * (BUILD_OVER_STEP * u / s + 1.0)
 }
 
-/// The skin that minimises [`cost_per_step`] for motion rate `u` in `dim` dimensions: the
+/// The skin that minimises `cost_per_step` for motion rate `u` in `dim` dimensions: the
 /// positive root of `d s² + (d − 1) β u s − β u = 0`, written `2βu / (b + √(b² + 4dβu))`
 /// with `b = (d − 1)βu` (no cancellation for large `u`, where it tends to `1/(d − 1)`),
 /// clamped to [`MIN_SKIN`, `MAX_SKIN`].

@@ -12,10 +12,11 @@
 
 use super::SweepCtx;
 use super::row::{Reaction, RowScratch, compact_row_into};
+use crate::components::{Density, Mass, Pressure, SmoothingLength, SoundSpeed, Velocity};
 use crate::kernels::{KernelKind, with_kernel_kind};
 use crate::lanes::{LaneVec, Lanes};
 use crate::math::{Real, Vector};
-use crate::pair::{OwnerKernel, PairTerm};
+use crate::pair::{DynPairTerm, OwnerKernel};
 use std::sync::Arc;
 use wide::f64x2;
 
@@ -90,18 +91,27 @@ pub(super) enum FusedPlan {
     ViscosityThenPressure((Real, Real, Real)),
 }
 
+/// The pressure and sound-speed columns the fused loop reads.
+#[derive(Clone, Copy)]
+pub(super) struct EosColumns<'a> {
+    pressure: &'a [Pressure],
+    sound: &'a [SoundSpeed],
+}
+
 /// The fused plan for `terms` when they are one of the shapes of [`FusedPlan`] and the fused
 /// loop applies (no kernel correction; pressure and sound speed of every particle from an
-/// equation of state); else `None`.
-pub(super) fn fused_plan<V: Vector>(
-    ctx: &SweepCtx<'_, V>,
-    terms: &[Arc<dyn PairTerm<V>>],
-) -> Option<FusedPlan> {
-    let fl = ctx.fields;
-    let n = fl.len();
-    if !fl.correction.is_empty() || fl.pressure.len() != n || fl.sound.len() != n {
+/// equation of state), with those columns; else `None`.
+pub(super) fn fused_plan<'a, V: Vector>(
+    ctx: &SweepCtx<'a, V>,
+    terms: &[Arc<dyn DynPairTerm<V>>],
+) -> Option<(FusedPlan, EosColumns<'a>)> {
+    if ctx.correction.is_some() {
         return None;
     }
+    let eos = EosColumns {
+        pressure: ctx.data.column()?,
+        sound: ctx.data.column()?,
+    };
     let b: Option<Vec<BuiltinTerm>> = terms.iter().map(|t| t.builtin()).collect();
     let av = |t: &BuiltinTerm| match *t {
         BuiltinTerm::ArtificialViscosity {
@@ -112,13 +122,14 @@ pub(super) fn fused_plan<V: Vector>(
         BuiltinTerm::Pressure => None,
     };
     use BuiltinTerm::Pressure as P;
-    match b?.as_slice() {
+    let plan = match b?.as_slice() {
         [P] => Some(FusedPlan::Pressure),
         [v] => av(v).map(FusedPlan::Viscosity),
         [P, v] => av(v).map(FusedPlan::PressureThenViscosity),
         [v, P] => av(v).map(FusedPlan::ViscosityThenPressure),
         _ => None,
-    }
+    };
+    plan.map(|p| (p, eos))
 }
 
 /// Pass 1's evaluation of one owner row, fixed for a whole sweep so that the block loop is
@@ -147,7 +158,7 @@ pub(super) trait WithRowEval<V: Vector> {
 /// that nothing is dispatched per row.
 pub(super) fn with_fused_rows<V: Vector, W: WithRowEval<V>>(
     ctx: &SweepCtx<'_, V>,
-    plan: FusedPlan,
+    (plan, eos): (FusedPlan, EosColumns<'_>),
     drho: bool,
     w: W,
 ) {
@@ -156,9 +167,9 @@ pub(super) fn with_fused_rows<V: Vector, W: WithRowEval<V>>(
             const KIND: usize = $kind as usize;
             let (ctx, av) = (*ctx, $coefs);
             if drho {
-                w.call(&FusedRows::<V, KIND, $p, $av, $first, true> { ctx, av })
+                w.call(&FusedRows::<V, KIND, $p, $av, $first, true> { ctx, eos, av })
             } else {
-                w.call(&FusedRows::<V, KIND, $p, $av, $first, false> { ctx, av })
+                w.call(&FusedRows::<V, KIND, $p, $av, $first, false> { ctx, eos, av })
             }
         }};
     }
@@ -188,6 +199,7 @@ pub(super) struct FusedRows<
     const DRHO: bool,
 > {
     ctx: SweepCtx<'a, V>,
+    eos: EosColumns<'a>,
     av: (Real, Real, Real),
 }
 
@@ -212,8 +224,13 @@ impl<
         let (_, g_norm, inv_h) = k.factor_parts();
         let kernel = (KernelKind::ALL[KIND], g_norm, inv_h);
         let pairs = Pairs { i, n, s: &*s };
-        let (f, p, rate) =
-            fused_pairs::<V, P, AV, AV_FIRST, DRHO>(&self.ctx, pairs, kernel, self.av, reactions);
+        let (f, p, rate) = fused_pairs::<V, P, AV, AV_FIRST, DRHO>(
+            (&self.ctx, self.eos),
+            pairs,
+            kernel,
+            self.av,
+            reactions,
+        );
         if let Some(d) = drho {
             *d = rate;
         }
@@ -259,32 +276,32 @@ struct LaneOut<T: Lanes> {
 /// `Σ m_j v_ij·∇_iW_ij`, and writes the reactions.
 #[inline(always)]
 fn fused_pairs<V: Vector, const P: bool, const AV: bool, const AV_FIRST: bool, const DRHO: bool>(
-    ctx: &SweepCtx<'_, V>,
+    (ctx, eos): (&SweepCtx<'_, V>, EosColumns<'_>),
     Pairs { i, n, s }: Pairs<'_, V>,
     kernel: (KernelKind, Real, Real),
     av: (Real, Real, Real),
     reactions: &mut [Reaction<V>],
 ) -> (V, Real, Real) {
-    let fl = ctx.fields;
-    let rho_i = fl.rho[i];
+    let d = &ctx.data;
+    let rho_i = d.rho[i].0;
     let owner = Owner {
-        v: fl.vel[i],
-        m: fl.mass[i],
-        av: (fl.h[i], fl.sound[i], rho_i),
-        p_coef: fl.mass[i] * fl.pressure[i] / (rho_i * rho_i),
+        v: d.vel[i].0,
+        m: d.mass[i].0,
+        av: (d.h[i].0, eos.sound[i].0, rho_i),
+        p_coef: d.mass[i].0 * eos.pressure[i].0 / (rho_i * rho_i),
     };
     let (js, slots, rijs, r2s) = s.compacted(n);
-    let np = fl.pos.len();
+    let np = d.len();
     let row = RowPairs {
         owner,
         kernel,
         av,
         side: Side {
-            vel: &fl.vel[..np],
-            mass: &fl.mass[..np],
-            rho: &fl.rho[..np],
-            h: &fl.h[..np],
-            sound: &fl.sound[..np],
+            vel: &d.vel[..np],
+            mass: &d.mass[..np],
+            rho: &d.rho[..np],
+            h: &d.h[..np],
+            sound: &eos.sound[..np],
         },
     };
     let mut sums = (V::zero(), 0.0, 0.0);
@@ -343,11 +360,11 @@ struct RowPairs<'a, V: Vector> {
 /// one bounds check of j covers them all).
 #[derive(Clone, Copy)]
 struct Side<'a, V: Vector> {
-    vel: &'a [V],
-    mass: &'a [Real],
-    rho: &'a [Real],
-    h: &'a [Real],
-    sound: &'a [Real],
+    vel: &'a [Velocity<V>],
+    mass: &'a [Mass],
+    rho: &'a [Density],
+    h: &'a [SmoothingLength],
+    sound: &'a [SoundSpeed],
 }
 
 impl<T: Lanes> LaneOut<T> {
@@ -393,9 +410,9 @@ fn pair_lanes<V: Vector, T: Lanes, const P: bool, const AV: bool, const AV_FIRST
     let rij = LaneVec::<T>::from_fn(|l| rijs[l]);
     let r = T::from_fn(|l| r2s[l]).sqrt();
     let raw = rij.scale::<V>(OwnerKernel::factor_lanes(kind, g_norm, inv_h, r));
-    let vij = LaneVec::<T>::splat(o.v).minus::<V>(LaneVec::from_fn(|l| vel[j(l)]));
+    let vij = LaneVec::<T>::splat(o.v).minus::<V>(LaneVec::from_fn(|l| vel[j(l)].0));
     let vg = vij.dot::<V>(raw);
-    let m_j = T::from_fn(|l| mass[j(l)]);
+    let m_j = T::from_fn(|l| mass[j(l)].0);
     let mut out = LaneOut {
         force: LaneVec([c(0.0); 3]),
         power_i: c(0.0),
@@ -405,9 +422,9 @@ fn pair_lanes<V: Vector, T: Lanes, const P: bool, const AV: bool, const AV_FIRST
     let pair = PairLanes { raw, vg, m_j };
     if AV {
         let side_j = (
-            T::from_fn(|l| h[j(l)]),
-            T::from_fn(|l| sound[j(l)]),
-            T::from_fn(|l| rho[j(l)]),
+            T::from_fn(|l| h[j(l)].0),
+            T::from_fn(|l| sound[j(l)].0),
+            T::from_fn(|l| rho[j(l)].0),
         );
         let (num, den) = av_parts_lanes(av, splat3(o.av), side_j, vij.dot::<V>(rij), r);
         let coef = c(o.m) * m_j * num / den;

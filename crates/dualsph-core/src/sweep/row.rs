@@ -2,11 +2,11 @@
 //! compacted into per-thread SoA scratch, their kernel gradients evaluated in one dispatch-free
 //! loop, every [`PairTerm`] called once on the row, and i's sums and the reactions formed.
 
-use super::SweepCtx;
+use super::{Bound, SweepCtx};
+use crate::components::Position;
 use crate::kernels::with_kernel_kind;
 use crate::math::{Matrix, Real, Vector};
-use crate::pair::{OwnerKernel, PairOut, PairTerm, Row};
-use std::sync::Arc;
+use crate::pair::{OwnerKernel, PairOut, Row};
 
 /// What pass 1 stores for one support slot (i owner, j the slot's particle): the force on i,
 /// whose reaction `−force` j receives, and the power credited to j (`m_j ε̇_j`). Zero for a
@@ -75,7 +75,7 @@ impl<V: Vector> RowScratch<V> {
 #[inline(always)]
 fn compact_row<V: Vector>(
     cand: &[u32],
-    pos: &[V],
+    pos: &[Position<V>],
     xi: V,
     h2: Real,
     (js, slots, rijs, r2s): (&mut [u32], &mut [u32], &mut [V], &mut [Real]),
@@ -85,7 +85,7 @@ fn compact_row<V: Vector>(
     let (js, slots, rijs, r2s) = (&mut js[..m], &mut slots[..m], &mut rijs[..m], &mut r2s[..m]);
     let mut n = 0;
     for ((slot, &j), reaction) in cand.iter().enumerate().zip(&mut reactions[..m]) {
-        let rij = xi - pos[j as usize];
+        let rij = xi - pos[j as usize].0;
         let r2 = rij.length_squared();
         // n <= slot < m: the writes stay in bounds
         js[n] = j;
@@ -108,14 +108,14 @@ pub(super) fn compact_row_into<V: Vector>(
     s: &mut RowScratch<V>,
     reactions: &mut [Reaction<V>],
 ) -> (OwnerKernel, usize) {
-    let fl = ctx.fields;
-    let k = OwnerKernel::new(ctx.kernel, fl.h[i]);
+    let data = &ctx.data;
+    let k = OwnerKernel::new(ctx.kernel, data.h[i].0);
     let cand = ctx.neighbours.support.row(i);
     s.reserve(cand.len());
     let n = compact_row(
         cand,
-        &fl.pos,
-        fl.pos[i],
+        data.pos,
+        data.pos[i].0,
         k.h2,
         (&mut s.j, &mut s.slot, &mut s.rij, &mut s.r),
         reactions,
@@ -130,19 +130,19 @@ pub(super) fn compact_row_into<V: Vector>(
 /// `Σ_{j∈H_i} m_j v_ij·∇_iW_ij` (Eq. 4.9, summed in the row's order).
 #[inline(always)]
 fn prepare_pairs<V: Vector>(
-    fl: &crate::pair::Fields<V>,
+    ctx: &SweepCtx<'_, V>,
     i: usize,
     k: OwnerKernel,
-    corrected: bool,
     drho: bool,
     n: usize,
     s: &mut RowScratch<V>,
 ) -> Real {
-    let (vi, vel, mass) = (fl.vel[i], &fl.vel[..], &fl.mass[..]);
-    let l = if corrected {
-        fl.correction[i]
-    } else {
-        V::Mat::identity()
+    let (vel, mass) = (ctx.data.vel, ctx.data.mass);
+    let vi = vel[i].0;
+    let corrected = ctx.correction.is_some();
+    let l = match ctx.correction {
+        Some(l) => l[i].0,
+        None => V::Mat::identity(),
     };
     let (kind, g_norm, inv_h) = k.factor_parts();
     let mut sum = 0.0;
@@ -160,13 +160,13 @@ fn prepare_pairs<V: Vector>(
                 *r = r.sqrt();
                 let raw = rij * OwnerKernel::factor_of($kind, g_norm, inv_h, *r);
                 *g_raw = raw;
-                let vij = vi - vel[j as usize];
+                let vij = vi - vel[j as usize].0;
                 *v = vij;
                 if corrected {
                     *g = l.mul_vec(raw);
                 }
                 if drho {
-                    sum += mass[j as usize] * vij.dot(raw);
+                    sum += mass[j as usize].0 * vij.dot(raw);
                 }
                 *o = PairOut::default();
             }
@@ -183,16 +183,15 @@ fn prepare_pairs<V: Vector>(
 #[inline]
 pub(super) fn owner_row<V: Vector>(
     ctx: &SweepCtx<'_, V>,
-    terms: &[Arc<dyn PairTerm<V>>],
+    terms: &Bound<'_, V>,
     i: usize,
     s: &mut RowScratch<V>,
     reactions: &mut [Reaction<V>],
     drho: Option<&mut Real>,
 ) -> (V, Real) {
-    let fl = ctx.fields;
     let (k, n) = compact_row_into(ctx, i, s, reactions);
-    let corrected = !fl.correction.is_empty();
-    let drho_sum = prepare_pairs(fl, i, k, corrected, drho.is_some(), n, s);
+    let corrected = ctx.correction.is_some();
+    let drho_sum = prepare_pairs(ctx, i, k, drho.is_some(), n, s);
     let out = &mut s.out[..n];
     let row = Row {
         i,
@@ -207,7 +206,7 @@ pub(super) fn owner_row<V: Vector>(
             &s.grad_raw[..n]
         },
         kernel: k,
-        fields: fl,
+        data: &ctx.data,
     };
     for t in terms {
         t.interact_row(&row, out);
