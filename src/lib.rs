@@ -10,6 +10,7 @@
 #![warn(missing_docs)]
 
 pub mod checkpoint;
+pub mod cli;
 pub mod gridded;
 pub mod perf;
 pub mod report;
@@ -28,6 +29,7 @@ pub mod prelude {
     pub use dualsph_core::prelude::*;
 }
 
+use dualsph_core::bodies::{Bodies, Body, install_bodies};
 use dualsph_scene::Scene;
 
 /// The built-in plugins, by the names used in RON scenes.
@@ -134,6 +136,7 @@ pub fn build_sim<V: Vector>(scene: &Scene) -> Result<Sim<V>, SimError> {
             density: p.density,
             h: p.h,
             internal_energy: p.internal_energy,
+            body: p.body,
         })
         .collect();
     if formulation == Formulation::ConstantH
@@ -146,6 +149,14 @@ pub fn build_sim<V: Vector>(scene: &Scene) -> Result<Sim<V>, SimError> {
         )));
     }
     sim.spawn_particles(&particles);
+    let bodies = scene.body_list().into_iter().map(|b| Body {
+        name: b.name,
+        kind: match b.kind {
+            dualsph_scene::BodyKind::Fluid => BodyKind::Fluid,
+            dualsph_scene::BodyKind::Fixed => BodyKind::Fixed,
+        },
+    });
+    install_bodies(&mut sim, Bodies(bodies.collect()))?;
     sim.world
         .insert_resource(dualsph_core::diagnostics::HealthBounds {
             density: (scene.health.density_below, scene.health.density_above),

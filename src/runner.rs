@@ -7,11 +7,13 @@ pub use keeper::{DEFAULT_KEEP_EVERY, KEEP_CHECKPOINTS, RestartOptions};
 
 use crate::checkpoint::{self, Checkpoint, CheckpointError};
 use crate::{build_sim, with_dimension};
-use dualsph_core::diagnostics::{Diagnostics, Health, HealthBounds};
+use dualsph_core::bodies::Bodies;
+use dualsph_core::columns::{Column, Columns};
+use dualsph_core::diagnostics::{BodyTotals, Diagnostics, Health, HealthBounds};
 use dualsph_core::integrator::{CFL_LIMIT, TimeStepCheck};
 use dualsph_core::neighbours::Neighbours;
 use dualsph_core::prelude::*;
-use dualsph_io::{DiagnosticsRow, OutputDir, ParticleRecord};
+use dualsph_io::{DiagnosticsRow, OutputDir, ParticleRecord, ParticleTable, TableColumn};
 use dualsph_scene::Scene;
 use keeper::Keeper;
 use std::path::{Path, PathBuf};
@@ -94,6 +96,41 @@ pub enum RunError {
     },
 }
 
+/// The scene's output columns (see `dualsph_core::columns`) as a table, rows in id order:
+/// what snapshots and `final.csv` hold. Vectors are padded to three components.
+pub fn particle_table<V: Vector>(sim: &mut Sim<V>) -> ParticleTable {
+    let world = &mut sim.world;
+    let mut ids: Vec<u64> = world
+        .query::<&ParticleId>()
+        .iter(world)
+        .map(|id| u64::from(id.0))
+        .collect();
+    ids.sort_unstable();
+    let columns: Vec<Column> = world.resource::<Columns>().output().cloned().collect();
+    let columns = columns
+        .iter()
+        .map(|c| {
+            let values = c.values_by_id(world);
+            TableColumn {
+                name: c.spec.name.to_string(),
+                labels: c.labels(V::DIM),
+                values: match c.shape {
+                    Shape::Vector => values.chunks(V::DIM).flat_map(padded).collect(),
+                    _ => values,
+                },
+            }
+        })
+        .collect();
+    ParticleTable { ids, columns }
+}
+
+/// A vector's `d <= 3` components as x, y, z.
+fn padded(v: &[Real]) -> [Real; 3] {
+    let mut xyz = [0.0; 3];
+    xyz[..v.len()].copy_from_slice(v);
+    xyz
+}
+
 /// The particles as output records, in id order.
 pub fn particle_records<V: Vector>(sim: &mut Sim<V>) -> Vec<ParticleRecord> {
     let world = &mut sim.world;
@@ -137,12 +174,34 @@ fn diag_row(d: &Diagnostics) -> DiagnosticsRow {
         e_int: d.e_int,
         e_pot: d.e_pot,
         e_tot: d.e_tot,
-        extra: vec![
+        extra: [
             d.angular_momentum[0],
             d.angular_momentum[1],
             d.max_density_variation,
-        ],
+        ]
+        .into_iter()
+        .chain(per_body(d).flat_map(BodyTotals::values))
+        .collect(),
     }
+}
+
+/// The per-body totals written to `diagnostics.csv`: none for a scene of one body (they are
+/// the totals).
+fn per_body(d: &Diagnostics) -> impl Iterator<Item = &BodyTotals> {
+    let several = d.per_body.len() > 1;
+    d.per_body.iter().filter(move |_| several)
+}
+
+/// The extra columns of `diagnostics.csv`: [`EXTRA_COLUMNS`], then for a scene of several
+/// bodies each body's totals, `mass[name]`, `px[name]`, …, `e_pot[name]`.
+fn diagnostics_columns(bodies: &Bodies) -> Vec<String> {
+    let mut columns: Vec<String> = EXTRA_COLUMNS.iter().map(|s| s.to_string()).collect();
+    if bodies.0.len() > 1 {
+        for b in &bodies.0 {
+            columns.extend(BodyTotals::NAMES.iter().map(|q| format!("{q}[{}]", b.name)));
+        }
+    }
+    columns
 }
 
 /// The usual cause of an unphysical `quantity` (as named by [`Health`]).
@@ -220,7 +279,7 @@ pub fn run_dim_with<V: Vector>(
     if let Some(limit) = scene.max_steps {
         sim.world.insert_resource(StepLimit(limit));
     }
-    let extra: Vec<String> = EXTRA_COLUMNS.iter().map(|s| s.to_string()).collect();
+    let extra = diagnostics_columns(sim.world.resource::<Bodies>());
     let snap_every = scene.output.snapshot_every;
     let (mut out, initial, mut last_written) = match &restart.resume {
         None => {
@@ -230,7 +289,7 @@ pub fn run_dim_with<V: Vector>(
             let initial = sim.diagnostics();
             out.push_diagnostics(diag_row(&initial))?;
             if snap_every > 0 {
-                out.write_snapshot(0, 0.0, &particle_records(&mut sim))?;
+                out.write_snapshot(0, 0.0, &particle_table(&mut sim))?;
             }
             (out, initial, 0)
         }
@@ -284,7 +343,7 @@ pub fn run_dim_with<V: Vector>(
             last_written = c.step;
         }
         if snap_every > 0 && c.step % snap_every == 0 {
-            out.write_snapshot(c.step, c.t, &particle_records(&mut sim))?;
+            out.write_snapshot(c.step, c.t, &particle_table(&mut sim))?;
         }
         keeper.after_step(&mut sim, &initial, last_written)?;
         let frac = (c.t / end).clamp(0.0, 1.0);
@@ -318,7 +377,7 @@ pub fn run_dim_with<V: Vector>(
     if last.step != last_written {
         out.push_diagnostics(diag_row(&last))?;
     }
-    let records = particle_records(&mut sim);
+    let records = particle_table(&mut sim);
     if snap_every > 0 && last.step % snap_every != 0 {
         out.write_snapshot(last.step, last.t, &records)?;
     }

@@ -21,6 +21,7 @@ fn run_steps(threads: usize) -> Vec<(Real, DVec2, DVec2, DVec2, Real)> {
                 c0: Some(20.0),
                 p0: None,
                 min_pressure: None,
+                materials: Vec::new(),
             },
             PressureForce {},
             ArtificialViscosity {

@@ -331,7 +331,7 @@ mod dam_break_jumps {
             cut: Vec::new(),
             velocity: None,
             internal_energy: 0.0,
-            group: None,
+            body: None,
         })];
         s
     }

@@ -54,6 +54,7 @@ fn rectangle(
                     density: RHO,
                     h: h_factor * s,
                     internal_energy: 0.0,
+                    body: 0,
                 });
             }
         }
@@ -94,6 +95,7 @@ fn drop_sim(
             c0: Some(100.0),
             p0: None,
             min_pressure: None,
+            materials: Vec::new(),
         },
         &PressureForce {},
         &ArtificialViscosity {

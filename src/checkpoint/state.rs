@@ -1,200 +1,65 @@
 //! Capturing the state of a [`Sim`] into a [`Checkpoint`] and putting it back.
 
 use super::{Checkpoint, ComponentData, NeighbourData};
-use dualsph_core::bevy_ecs::component::Mutable;
 use dualsph_core::bevy_ecs::prelude::*;
-use dualsph_core::diagnostics::{Diagnostics, InitialDensity};
+use dualsph_core::columns::{Column, Columns, put_vector, take_vector};
+use dualsph_core::diagnostics::{BodyTotals, Diagnostics, InitialDensity};
 use dualsph_core::neighbours::{Csr, Neighbours};
 use dualsph_core::prelude::*;
 use dualsph_probes::ProbeState;
 
-/// A particle component stored as a fixed number of reals per particle.
-trait Stored<V: Vector>: Component<Mutability = Mutable> + Sized {
-    const NAME: &'static str;
-    fn width() -> usize;
-    fn put(&self, out: &mut Vec<f64>);
-    fn take(&mut self, values: &[f64]);
+/// The registered columns kept in checkpoints, in registration order.
+fn restart_columns(world: &World) -> Vec<Column> {
+    world.resource::<Columns>().restart().cloned().collect()
 }
 
-fn put_vec<V: Vector>(v: V, out: &mut Vec<f64>) {
-    out.extend((0..V::DIM).map(|k| v.get(k)));
+/// Every restart column's values, in id order.
+fn capture_columns(world: &mut World) -> Vec<ComponentData> {
+    restart_columns(world)
+        .into_iter()
+        .map(|col| ComponentData {
+            name: col.key.clone(),
+            width: col.width as u32,
+            values: col.values_by_id(world),
+        })
+        .collect()
 }
 
-fn take_vec<V: Vector>(values: &[f64]) -> V {
-    let mut v = V::zero();
-    for k in 0..V::DIM {
-        v.set(k, values[k]);
-    }
-    v
-}
-
-fn put_mat<V: Vector>(m: V::Mat, out: &mut Vec<f64>) {
-    for k in 0..V::DIM {
-        out.extend((0..V::DIM).map(|l| m.entry(k, l)));
-    }
-}
-
-fn take_mat<V: Vector>(m: &mut V::Mat, values: &[f64]) {
-    for k in 0..V::DIM {
-        for l in 0..V::DIM {
-            m.set_entry(k, l, values[k * V::DIM + l]);
-        }
-    }
-}
-
-macro_rules! stored_vector {
-    ($($t:ident),*) => {$(
-        impl<V: Vector> Stored<V> for $t<V> {
-            const NAME: &'static str = stringify!($t);
-            fn width() -> usize { V::DIM }
-            fn put(&self, out: &mut Vec<f64>) { put_vec(self.0, out) }
-            fn take(&mut self, values: &[f64]) { self.0 = take_vec(values) }
-        }
-    )*};
-}
-stored_vector!(Position, Velocity, Acceleration);
-
-macro_rules! stored_matrix {
-    ($($t:ident),*) => {$(
-        impl<V: Vector> Stored<V> for $t<V> {
-            const NAME: &'static str = stringify!($t);
-            fn width() -> usize { V::DIM * V::DIM }
-            fn put(&self, out: &mut Vec<f64>) { put_mat::<V>(self.0, out) }
-            fn take(&mut self, values: &[f64]) { take_mat::<V>(&mut self.0, values) }
-        }
-    )*};
-}
-stored_matrix!(GradientCorrection, VelocityGradient);
-
-macro_rules! stored_scalar {
-    ($($t:ident),*) => {$(
-        impl<V: Vector> Stored<V> for $t {
-            const NAME: &'static str = stringify!($t);
-            fn width() -> usize { 1 }
-            fn put(&self, out: &mut Vec<f64>) { out.push(self.0) }
-            fn take(&mut self, values: &[f64]) { self.0 = values[0] }
-        }
-    )*};
-}
-stored_scalar!(
-    Mass,
-    Density,
-    SmoothingLength,
-    Pressure,
-    SoundSpeed,
-    InternalEnergy,
-    Conductivity
-);
-
-impl<V: Vector> Stored<V> for Kinematics<V> {
-    const NAME: &'static str = "Kinematics";
-    fn width() -> usize {
-        2 * V::DIM
-    }
-    fn put(&self, out: &mut Vec<f64>) {
-        put_vec(self.v0, out);
-        put_vec(self.a0, out);
-    }
-    fn take(&mut self, values: &[f64]) {
-        self.v0 = take_vec(values);
-        self.a0 = take_vec(&values[V::DIM..]);
-    }
-}
-
-macro_rules! stored_rate {
-    ($t:ident, $x0:ident) => {
-        impl<V: Vector> Stored<V> for $t {
-            const NAME: &'static str = stringify!($t);
-            fn width() -> usize {
-                3
-            }
-            fn put(&self, out: &mut Vec<f64>) {
-                out.extend([self.rate, self.$x0, self.rate0]);
-            }
-            fn take(&mut self, values: &[f64]) {
-                (self.rate, self.$x0, self.rate0) = (values[0], values[1], values[2]);
-            }
-        }
-    };
-}
-stored_rate!(EnergyRate, e0);
-stored_rate!(DensityRate, rho0);
-
-fn capture_one<V: Vector, C: Stored<V>>(world: &mut World, out: &mut Vec<ComponentData>) {
-    let mut q = world.query::<(&ParticleId, &C)>();
-    let mut rows: Vec<(u32, &C)> = q.iter(world).map(|(id, c)| (id.0, c)).collect();
-    if rows.is_empty() {
-        return;
-    }
-    rows.sort_unstable_by_key(|r| r.0);
-    let mut values = Vec::with_capacity(rows.len() * C::width());
-    for (_, c) in rows {
-        c.put(&mut values);
-    }
-    out.push(ComponentData {
-        name: C::NAME.into(),
-        width: C::width() as u32,
-        values,
-    });
-}
-
-/// Puts one component back; an error when the checkpoint and the simulation disagree on
-/// whether the particles carry it or on its size.
-fn restore_one<V: Vector, C: Stored<V>>(
-    world: &mut World,
-    data: &[ComponentData],
-    n: usize,
-) -> Result<(), String> {
-    let mut q = world.query::<(&ParticleId, &mut C)>();
-    let present = q.iter(world).next().is_some();
-    let stored = data.iter().find(|c| c.name == C::NAME);
-    let stored = match (present, stored) {
-        (false, None) => return Ok(()),
-        (true, None) => return Err(format!("it has no {} data", C::NAME)),
-        (false, Some(_)) => {
-            return Err(format!(
-                "it has {} data, which this scene's particles do not carry",
-                C::NAME
-            ));
-        }
-        (true, Some(c)) => c,
-    };
-    let w = C::width();
-    if stored.width as usize != w || stored.values.len() != n * w {
+/// Puts the restart columns back, after checking that the checkpoint holds exactly the
+/// scene's restart columns, each with `n` values of its width.
+fn restore_columns(world: &mut World, data: &[ComponentData], n: usize) -> Result<(), String> {
+    let columns = restart_columns(world);
+    if let Some(extra) = data
+        .iter()
+        .find(|d| !columns.iter().any(|c| c.key == d.name))
+    {
         return Err(format!(
-            "its {} data has {} values of width {}, expected {} of width {w}",
-            C::NAME,
-            stored.values.len(),
-            stored.width,
-            n * w
+            "it has {} data, which this scene's particles do not carry",
+            extra.name
         ));
     }
-    for (id, mut c) in q.iter_mut(world) {
-        let i = id.0 as usize;
-        c.take(&stored.values[i * w..(i + 1) * w]);
+    let mut found = Vec::with_capacity(columns.len());
+    for col in &columns {
+        let Some(stored) = data.iter().find(|d| d.name == col.key) else {
+            return Err(format!("it has no {} data", col.key));
+        };
+        let w = col.width;
+        if stored.width as usize != w || stored.values.len() != n * w {
+            return Err(format!(
+                "its {} data has {} values of width {}, expected {} of width {w}",
+                col.key,
+                stored.values.len(),
+                stored.width,
+                n * w
+            ));
+        }
+        found.push(stored);
+    }
+    for (col, stored) in columns.iter().zip(found) {
+        col.set_by_id(world, &stored.values)
+            .map_err(|e| format!("its {} data: {e}", col.key))?;
     }
     Ok(())
-}
-
-/// Calls `$f::<V, C>(args)` for every stored component type `C` (each followed by `$q`, e.g. `?`).
-macro_rules! for_each_component {
-    ($f:ident, $v:ty, [$($args:expr),*] $($q:tt)?) => {{
-        $f::<$v, Position<$v>>($($args),*)$($q)?;
-        $f::<$v, Velocity<$v>>($($args),*)$($q)?;
-        $f::<$v, Acceleration<$v>>($($args),*)$($q)?;
-        $f::<$v, Kinematics<$v>>($($args),*)$($q)?;
-        $f::<$v, Mass>($($args),*)$($q)?;
-        $f::<$v, Density>($($args),*)$($q)?;
-        $f::<$v, SmoothingLength>($($args),*)$($q)?;
-        $f::<$v, Pressure>($($args),*)$($q)?;
-        $f::<$v, SoundSpeed>($($args),*)$($q)?;
-        $f::<$v, InternalEnergy>($($args),*)$($q)?;
-        $f::<$v, EnergyRate>($($args),*)$($q)?;
-        $f::<$v, DensityRate>($($args),*)$($q)?;
-        $f::<$v, Conductivity>($($args),*)$($q)?;
-        $f::<$v, GradientCorrection<$v>>($($args),*)$($q)?;
-        $f::<$v, VelocityGradient<$v>>($($args),*)$($q)?;
-    }};
 }
 
 fn diagnostics_values(d: &Diagnostics) -> Vec<f64> {
@@ -209,8 +74,12 @@ fn diagnostics_values(d: &Diagnostics) -> Vec<f64> {
         d.max_density_variation,
         d.momentum_scale,
     ]);
+    v.extend(d.per_body.iter().flat_map(BodyTotals::values));
     v
 }
+
+/// How many reals [`diagnostics_values`] stores before the per-body totals.
+const TOTALS: usize = 15;
 
 /// The diagnostics at t = 0 stored in a checkpoint (zeros where missing).
 pub(crate) fn initial_diagnostics(c: &Checkpoint) -> Diagnostics {
@@ -229,6 +98,13 @@ pub(crate) fn initial_diagnostics(c: &Checkpoint) -> Diagnostics {
         e_tot: v(12),
         max_density_variation: v(13),
         momentum_scale: v(14),
+        per_body: c
+            .initial_diagnostics
+            .get(TOTALS..)
+            .unwrap_or_default()
+            .chunks_exact(BodyTotals::NAMES.len())
+            .map(|b| BodyTotals::from_values(b.try_into().expect("chunks of 7")))
+            .collect(),
     }
 }
 
@@ -243,13 +119,12 @@ pub fn capture<V: Vector>(
 ) -> Checkpoint {
     let clock = sim.clock();
     let n = sim.particle_count();
-    let mut components = Vec::new();
     let world = &mut sim.world;
-    for_each_component!(capture_one, V, [world, &mut components]);
+    let components = capture_columns(world);
     let nb = world.resource::<Neighbours<V>>();
     let mut build_positions = Vec::with_capacity(nb.build_positions.len() * V::DIM);
     for p in &nb.build_positions {
-        put_vec(*p, &mut build_positions);
+        put_vector(*p, &mut build_positions);
     }
     let neighbours = NeighbourData {
         skin: nb.skin,
@@ -347,7 +222,7 @@ fn restore_neighbours<V: Vector>(
     nb.build_positions = d
         .build_positions
         .chunks(V::DIM)
-        .map(take_vec::<V>)
+        .map(take_vector::<V>)
         .collect();
     nb.h_min = d.h_min;
     nb.dirty = d.dirty;
@@ -384,7 +259,7 @@ pub fn restore<V: Vector>(sim: &mut Sim<V>, c: &Checkpoint) -> Result<(), String
         (Some(cols), Some(rows)) if rows.iter().all(|r| r.2.len() == cols) => {}
         _ => return Err("its probe samples do not match the scene's probes".into()),
     }
-    for_each_component!(restore_one, V, [world, &c.components, n]?);
+    restore_columns(world, &c.components, n)?;
     restore_neighbours(&mut world.resource_mut::<Neighbours<V>>(), &c.neighbours, n)?;
     world.resource_mut::<InitialDensity>().0 = c.initial_density.clone();
     if let (Some(mut p), Some(rows)) = (world.get_resource_mut::<ProbeState<V>>(), &c.probe_rows) {

@@ -2,7 +2,7 @@
 //! [`KEEP_CHECKPOINTS`] of them), and in memory the last good state, which is written out
 //! when the run blows up.
 
-use super::{RunError, particle_records};
+use super::{RunError, particle_table};
 use crate::checkpoint::{self, Checkpoint, LAST_GOOD_STEM, checkpoint_file_name, fingerprint};
 use dualsph_core::diagnostics::Diagnostics;
 use dualsph_core::prelude::*;
@@ -112,7 +112,7 @@ impl Keeper {
         };
         let path = out.dir().join(format!("{LAST_GOOD_STEM}.ckpt"));
         let written = checkpoint::restore(sim, &ck).and_then(|()| {
-            out.write_particles_as(LAST_GOOD_STEM, &particle_records(sim))
+            out.write_particles_as(LAST_GOOD_STEM, &particle_table(sim))
                 .map_err(|e| e.to_string())?;
             ck.write(&path).map_err(|e| e.to_string())
         });

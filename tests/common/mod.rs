@@ -14,6 +14,7 @@ pub fn tait() -> dualsph::plugins::TaitEos {
         c0: Some(20.0),
         p0: None,
         min_pressure: None,
+        materials: Vec::new(),
     }
 }
 
@@ -41,6 +42,7 @@ pub fn cloud<V: Vector>(side: usize, h_lo: Real, h_hi: Real, seed: u64) -> Vec<P
                 density: 1000.0 * rng.random_range(0.98..1.02),
                 h,
                 internal_energy: rng.random_range(1.0..3.0),
+                body: 0,
             }
         })
         .collect()

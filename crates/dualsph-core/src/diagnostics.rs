@@ -2,6 +2,7 @@
 //! potential / total energy, and the largest density variation, summed in particle-id order
 //! (deterministic).
 
+use crate::bodies::{Bodies, BodyId};
 use crate::chunks::{DENSE, MIN_LEN};
 use crate::components::*;
 use crate::math::{Real, Vector};
@@ -48,6 +49,45 @@ pub struct Diagnostics {
     pub max_density_variation: Real,
     /// Σ |m v| (scale for relative momentum errors).
     pub momentum_scale: Real,
+    /// The totals of each body, indexed by [`BodyId`].
+    pub per_body: Vec<BodyTotals>,
+}
+
+/// Mass, momentum and energies of one body's particles.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct BodyTotals {
+    /// Σ m.
+    pub mass: Real,
+    /// Σ m v (3-D embedding).
+    pub momentum: [Real; 3],
+    /// Σ ½ m v².
+    pub e_kin: Real,
+    /// Σ m ε.
+    pub e_int: Real,
+    /// Σ m φ(r).
+    pub e_pot: Real,
+}
+
+impl BodyTotals {
+    /// The names of [`BodyTotals::values`], in order.
+    pub const NAMES: [&'static str; 7] = ["mass", "px", "py", "pz", "e_kin", "e_int", "e_pot"];
+
+    /// The totals as a list, in the order of [`BodyTotals::NAMES`].
+    pub fn values(&self) -> [Real; 7] {
+        let [px, py, pz] = self.momentum;
+        [self.mass, px, py, pz, self.e_kin, self.e_int, self.e_pot]
+    }
+
+    /// The totals from a list in the order of [`BodyTotals::NAMES`].
+    pub fn from_values(v: &[Real; 7]) -> Self {
+        BodyTotals {
+            mass: v[0],
+            momentum: [v[1], v[2], v[3]],
+            e_kin: v[4],
+            e_int: v[5],
+            e_pot: v[6],
+        }
+    }
 }
 
 /// Steps between diagnostics evaluations (the scene's `output.diagnostics_every`; default 1).
@@ -77,6 +117,7 @@ type DiagQuery<'w, 's, V> = Query<
         &'static Mass,
         &'static Density,
         Option<&'static InternalEnergy>,
+        &'static BodyId,
     ),
 >;
 
@@ -85,12 +126,13 @@ pub fn compute_diagnostics<V: Vector>(
     every: Res<DiagnosticsEvery>,
     clock: Res<SimClock>,
     potentials: Res<ExternalPotentials>,
+    bodies: Res<Bodies>,
     init_rho: ResMut<InitialDensity>,
     diag: ResMut<Diagnostics>,
     q: DiagQuery<V>,
 ) {
     if clock.initializing || clock.step.is_multiple_of(every.0.max(1)) {
-        compute_diagnostics_now(clock, potentials, init_rho, diag, q);
+        compute_diagnostics_now(clock, potentials, bodies, init_rho, diag, q);
     }
 }
 
@@ -99,6 +141,7 @@ pub fn compute_diagnostics<V: Vector>(
 pub fn compute_diagnostics_now<V: Vector>(
     clock: Res<SimClock>,
     potentials: Res<ExternalPotentials>,
+    bodies: Res<Bodies>,
     mut init_rho: ResMut<InitialDensity>,
     mut diag: ResMut<Diagnostics>,
     q: DiagQuery<V>,
@@ -113,23 +156,35 @@ pub fn compute_diagnostics_now<V: Vector>(
         step: clock.step,
         dt: clock.dt,
         n: rows.len() as u64,
+        per_body: vec![BodyTotals::default(); bodies.0.len()],
         ..Default::default()
     };
     let mut p = DVec3::ZERO;
     let mut l = DVec3::ZERO;
-    for (id, r, v, m, rho, e) in rows {
+    for (id, r, v, m, rho, e, body) in rows {
         let (x, u) = (r.0.to_xyz(), v.0.to_xyz());
         let mv = DVec3::from_array(u) * m.0;
+        let e_kin = 0.5 * m.0 * v.0.length_squared();
+        let e_int = e.map_or(0.0, |e| m.0 * e.0);
+        let mut e_pot = 0.0;
+        for (phi, par) in potentials.terms.iter().zip(&potentials.params) {
+            e_pot += m.0 * phi(&x, par);
+        }
         d.mass += m.0;
         p += mv;
         d.momentum_scale += mv.length();
         l += V::cross3(r.0, v.0) * m.0;
-        d.e_kin += 0.5 * m.0 * v.0.length_squared();
-        if let Some(e) = e {
-            d.e_int += m.0 * e.0;
-        }
-        for (phi, par) in potentials.terms.iter().zip(&potentials.params) {
-            d.e_pot += m.0 * phi(&x, par);
+        d.e_kin += e_kin;
+        d.e_int += e_int;
+        d.e_pot += e_pot;
+        if let Some(b) = d.per_body.get_mut(body.0 as usize) {
+            b.mass += m.0;
+            for (k, x) in b.momentum.iter_mut().enumerate() {
+                *x += mv[k];
+            }
+            b.e_kin += e_kin;
+            b.e_int += e_int;
+            b.e_pot += e_pot;
         }
         let r0 = init_rho.0[id.0 as usize];
         d.max_density_variation = d.max_density_variation.max((rho.0 / r0 - 1.0).abs());
@@ -451,6 +506,7 @@ mod tests {
             density,
             h,
             internal_energy: 0.0,
+            body: 0,
         };
         sim.spawn_particles(&[p(0.2, 1000.0, 0.1), p(0.8, 1200.0, 0.2)]);
         sim.initialize().unwrap();

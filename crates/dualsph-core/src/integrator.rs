@@ -11,10 +11,13 @@
 //! depend on the number of threads.
 
 use crate::chunks::{DENSE, MIN_LEN};
+use crate::columns::ColumnSpec;
 use crate::components::*;
 use crate::math::{Real, Vector};
 use crate::neighbours::Neighbours;
-use crate::sim::{InitialInternalEnergy, MaxViscosity, Sim, SimClock, StepSet, TimeStepping};
+use crate::sim::{
+    InitialInternalEnergy, MaxViscosity, Sim, SimClock, SimError, StepSet, TimeStepping,
+};
 use crate::store::single_table;
 use bevy_ecs::prelude::*;
 use rayon::prelude::*;
@@ -278,31 +281,36 @@ pub(crate) fn add_core_systems<V: Vector>(sim: &mut Sim<V>) {
 
 /// Adds the internal-energy equation once: `InternalEnergy` and `EnergyRate` components on
 /// every particle (initial ε from the scene) and their predictor/corrector.
-pub fn ensure_energy_equation<V: Vector>(sim: &mut Sim<V>) {
+pub fn ensure_energy_equation<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimError> {
     if !sim.enable_feature("energy_equation") {
-        return;
+        return Ok(());
     }
     let eps = sim.world.resource::<InitialInternalEnergy>().0.clone();
-    sim.insert_particle_component(|id| InternalEnergy(eps[id as usize]));
-    sim.insert_particle_component(|_| EnergyRate {
+    let spec = ColumnSpec::state("internal_energy", "e");
+    sim.add_column(spec, |id| InternalEnergy(eps[id as usize]))?;
+    let rate = EnergyRate {
         rate: 0.0,
         e0: 0.0,
         rate0: 0.0,
-    });
+    };
+    sim.add_column(ColumnSpec::restart_only("energy_rate"), |_| rate)?;
     sim.add_system(StepSet::Predict, "predict_internal_energy", predict_energy);
     sim.add_system(StepSet::Correct, "correct_internal_energy", correct_energy);
+    Ok(())
 }
 
 /// Adds the integrated density (continuity) once: `DensityRate` and its predictor/corrector.
-pub fn ensure_density_integration<V: Vector>(sim: &mut Sim<V>) {
+pub fn ensure_density_integration<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimError> {
     if !sim.enable_feature("density_integration") {
-        return;
+        return Ok(());
     }
-    sim.insert_particle_component(|_| DensityRate {
+    let rate = DensityRate {
         rate: 0.0,
         rho0: 0.0,
         rate0: 0.0,
-    });
+    };
+    sim.add_column(ColumnSpec::restart_only("density_rate"), |_| rate)?;
     sim.add_system(StepSet::Predict, "predict_density", predict_density);
     sim.add_system(StepSet::Correct, "correct_density", correct_density);
+    Ok(())
 }

@@ -5,7 +5,9 @@
 //! `shared/papers`): `h_i` is the support radius of particle i, `H_i` its support and `H'_i`
 //! its dual-support.
 #![warn(missing_docs)]
+pub mod bodies;
 pub mod chunks;
+pub mod columns;
 pub mod components;
 pub mod diagnostics;
 pub mod integrator;
@@ -28,6 +30,8 @@ pub use glam;
 
 /// The most used items.
 pub mod prelude {
+    pub use crate::bodies::{BodyId, BodyKind};
+    pub use crate::columns::{ColumnSpec, ColumnValue, Shape};
     pub use crate::components::*;
     pub use crate::diagnostics::Diagnostics;
     pub use crate::kernels::{Kernel, KernelKind};

@@ -3,11 +3,12 @@
 //! reads the particles' columns and writes its result column in place (see [`crate::store`]).
 
 use crate::chunks::{DENSE, MIN_LEN};
+use crate::columns::ColumnSpec;
 use crate::components::*;
 use crate::kernels::Kernel;
 use crate::math::{Matrix, Real, Vector};
 use crate::neighbours::Neighbours;
-use crate::sim::{KernelRes, Sim, StepSet};
+use crate::sim::{KernelRes, Sim, SimError, StepSet};
 use crate::store::{ParticleData, single_table};
 use crate::sweep::{
     ContinuityInSweep, Formulation, OwnerKernel, PairTerms, Support, SweepCtx, continuity_in_sweep,
@@ -225,7 +226,7 @@ pub fn continuity_divergence<V: Vector>(
 }
 
 /// Adds summation density once.
-pub fn ensure_summation_density<V: Vector>(sim: &mut Sim<V>) {
+pub fn ensure_summation_density<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimError> {
     if sim.enable_feature("summation_density") {
         sim.add_system(
             StepSet::Density,
@@ -233,28 +234,33 @@ pub fn ensure_summation_density<V: Vector>(sim: &mut Sim<V>) {
             summation_density::<V>,
         );
     }
+    Ok(())
 }
 
 /// Adds the kernel-gradient correction once.
-pub fn ensure_kernel_correction<V: Vector>(sim: &mut Sim<V>) {
+pub fn ensure_kernel_correction<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimError> {
     if sim.enable_feature("kernel_correction") {
-        sim.insert_particle_component(|_| GradientCorrection::<V>(V::Mat::identity()));
+        let spec = ColumnSpec::restart_only("gradient_correction");
+        sim.add_column(spec, |_| GradientCorrection::<V>(V::Mat::identity()))?;
         sim.add_system(
             StepSet::Correction,
             "kernel_correction (Eq. 2.10)",
             kernel_correction::<V>,
         );
     }
+    Ok(())
 }
 
 /// Adds the velocity-gradient pass once.
-pub fn ensure_velocity_gradient<V: Vector>(sim: &mut Sim<V>) {
+pub fn ensure_velocity_gradient<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimError> {
     if sim.enable_feature("velocity_gradient") {
-        sim.insert_particle_component(|_| VelocityGradient::<V>(V::Mat::zero()));
+        let spec = ColumnSpec::restart_only("velocity_gradient");
+        sim.add_column(spec, |_| VelocityGradient::<V>(V::Mat::zero()))?;
         sim.add_system(
             StepSet::Gradients,
             "velocity_gradient (Eq. 7.4)",
             velocity_gradient::<V>,
         );
     }
+    Ok(())
 }

@@ -16,6 +16,18 @@ use std::fmt::Debug;
 pub struct SceneInfo {
     /// Spatial dimension of the scene (1, 2 or 3).
     pub dimension: usize,
+    /// The names of the scene's bodies, in order (see [`crate::bodies`]).
+    pub bodies: Vec<String>,
+}
+
+impl SceneInfo {
+    /// A scene of `dimension` with the one default body.
+    pub fn of_dimension(dimension: usize) -> Self {
+        SceneInfo {
+            dimension,
+            bodies: vec![crate::bodies::DEFAULT_BODY.to_string()],
+        }
+    }
 }
 
 /// A physics plugin: its settings (deserialized from the scene) and how it builds itself.

@@ -4,6 +4,8 @@
 //! the order below, systems within a set in the order they were added — so a run is
 //! deterministic and [`Sim::plan`] can print exactly what will execute.
 
+use crate::bodies::BodyId;
+use crate::columns::{ColumnSpec, ColumnValue, Columns};
 use crate::components::*;
 use crate::kernels::{Kernel, KernelKind};
 use crate::math::{Real, Vector};
@@ -169,6 +171,8 @@ pub struct ParticleInit<V: Vector> {
     pub h: Real,
     /// Specific internal energy (used only if an energy equation is added).
     pub internal_energy: Real,
+    /// The body it belongs to (an index into [`crate::bodies::Bodies`]).
+    pub body: u16,
 }
 
 /// Initial internal energies by particle id, kept until a plugin adds the energy equation.
@@ -205,7 +209,8 @@ struct SystemEntry {
 pub struct Plan {
     /// `(set, label)` in execution order.
     pub systems: Vec<(StepSet, String)>,
-    /// Component type names carried by the particles.
+    /// The particles' columns in registration order: type, name, output labels, whether
+    /// checkpointed.
     pub components: Vec<String>,
     /// Pair terms fused into the sweep, in order.
     pub pair_terms: Vec<String>,
@@ -218,7 +223,6 @@ pub struct Sim<V: Vector> {
     systems: Vec<SystemEntry>,
     features: BTreeSet<&'static str>,
     requirements: Vec<(&'static str, String)>,
-    components: BTreeSet<String>,
     schedule: Option<Schedule>,
     /// The systems' labels in schedule order (set when the schedule is built).
     labels: Vec<String>,
@@ -264,19 +268,40 @@ impl<V: Vector> Sim<V> {
         world.insert_resource(MaxViscosity::default());
         world.insert_resource(InitialInternalEnergy::default());
         world.insert_resource(crate::diagnostics::Diagnostics::default());
+        world.insert_resource(Columns::default());
+        world.insert_resource(crate::bodies::Bodies::default());
         let mut sim = Sim {
             world,
             systems: Vec::new(),
             features: BTreeSet::new(),
             requirements: Vec::new(),
-            components: BTreeSet::new(),
             schedule: None,
             labels: Vec::new(),
             pool: None,
             _v: PhantomData,
         };
         crate::integrator::add_core_systems(&mut sim);
+        sim.register_core_columns();
         sim
+    }
+
+    /// The columns every particle carries (see [`Sim::spawn_particles`]).
+    fn register_core_columns(&mut self) {
+        use crate::columns::ColumnSpec as S;
+        let cols = &mut *self.world.resource_mut::<Columns>();
+        let core = [
+            cols.register::<V, Position<V>>(S::state("position", "")),
+            cols.register::<V, Velocity<V>>(S::state("velocity", "v")),
+            cols.register::<V, Mass>(S::state("mass", "m")),
+            cols.register::<V, Density>(S::state("density", "rho")),
+            cols.register::<V, SmoothingLength>(S::state("smoothing_length", "h")),
+            cols.register::<V, Acceleration<V>>(S::restart_only("acceleration")),
+            cols.register::<V, Kinematics<V>>(S::restart_only("kinematics")),
+            cols.register::<V, BodyId>(S::state("body", "body")),
+        ];
+        for r in core {
+            r.expect("the core columns have distinct names");
+        }
     }
 
     /// Spawns particles with the core components; ids are `0..n` in the given order.
@@ -296,22 +321,11 @@ impl<V: Vector> Sim<V> {
                     v0: p.vel,
                     a0: V::zero(),
                 },
+                BodyId(p.body),
             ));
             eps.push(p.internal_energy);
         }
         self.world.resource_mut::<InitialInternalEnergy>().0 = eps;
-        for name in [
-            std::any::type_name::<ParticleId>(),
-            std::any::type_name::<Position<V>>(),
-            std::any::type_name::<Velocity<V>>(),
-            std::any::type_name::<Mass>(),
-            std::any::type_name::<Density>(),
-            std::any::type_name::<SmoothingLength>(),
-            std::any::type_name::<Acceleration<V>>(),
-            std::any::type_name::<Kinematics<V>>(),
-        ] {
-            self.components.insert(short_type_name(name));
-        }
     }
 
     /// Number of particles.
@@ -319,10 +333,19 @@ impl<V: Vector> Sim<V> {
         self.world.resource::<InitialInternalEnergy>().0.len()
     }
 
-    /// Adds a component to every particle, computed from its id.
-    pub fn insert_particle_component<C: Component>(&mut self, f: impl Fn(u32) -> C) {
-        self.components
-            .insert(short_type_name(std::any::type_name::<C>()));
+    /// Adds column `C` to every particle, with the value `init(id)`, and registers it (see
+    /// [`crate::columns`]): whether it is written to snapshots and kept in checkpoints. Adding
+    /// the same column again only sets the values again. The error names a column whose
+    /// name another column has already.
+    pub fn add_column<C: ColumnValue<V>>(
+        &mut self,
+        spec: ColumnSpec,
+        init: impl Fn(u32) -> C,
+    ) -> Result<(), SimError> {
+        self.world
+            .resource_mut::<Columns>()
+            .register::<V, C>(spec)
+            .map_err(SimError::Build)?;
         let entities: Vec<(Entity, u32)> = self
             .world
             .query::<(Entity, &ParticleId)>()
@@ -330,8 +353,9 @@ impl<V: Vector> Sim<V> {
             .map(|(e, id)| (e, id.0))
             .collect();
         for (e, id) in entities {
-            self.world.entity_mut(e).insert(f(id));
+            self.world.entity_mut(e).insert(init(id));
         }
+        Ok(())
     }
 
     /// Records a feature; returns true the first time (so shared systems are added once).
@@ -391,7 +415,21 @@ impl<V: Vector> Sim<V> {
             .into_iter()
             .map(|k| (self.systems[k].set, self.systems[k].label.clone()))
             .collect();
-        let components: Vec<String> = self.components.iter().cloned().collect();
+        let components = std::iter::once("ParticleId (id)".to_string())
+            .chain(self.world.resource::<Columns>().iter().map(|c| {
+                let output = if c.spec.output {
+                    format!("output {}", c.labels(V::DIM).join(","))
+                } else {
+                    "not output".into()
+                };
+                let restart = if c.spec.restart {
+                    "checkpointed"
+                } else {
+                    "scratch"
+                };
+                format!("{} ({}: {output}; {restart})", c.type_name, c.spec.name)
+            }))
+            .collect();
         let pair_terms = self
             .world
             .resource::<PairTerms<V>>()
@@ -422,6 +460,14 @@ impl<V: Vector> Sim<V> {
 
     /// The store holds every particle in one table and every pair term binds to it.
     fn check_store(&self) -> Result<(), SimError> {
+        let unregistered = self.world.resource::<Columns>().unregistered(&self.world);
+        if !unregistered.is_empty() {
+            return Err(SimError::Build(format!(
+                "the particles carry {}, which no plugin declared as a column (Sim::add_column): \
+                 it would be neither written nor kept in checkpoints",
+                unregistered.join(", ")
+            )));
+        }
         let tables = crate::store::particle_tables(&self.world);
         if tables > 1 {
             return Err(SimError::Build(format!(

@@ -153,6 +153,18 @@ impl<'w, V: Vector> ParticleData<'w, V> {
     }
 }
 
+/// Every particle's `C`, in id order (for set-up code that computes a new column from an
+/// existing one).
+pub fn by_id<C: Component + Copy>(world: &mut World) -> Vec<C> {
+    let mut rows: Vec<(u32, C)> = world
+        .query::<(&ParticleId, &C)>()
+        .iter(world)
+        .map(|(id, c)| (id.0, *c))
+        .collect();
+    rows.sort_unstable_by_key(|r| r.0);
+    rows.into_iter().map(|r| r.1).collect()
+}
+
 /// Inserts component `C` on every particle, computed from its row: rows keep their order
 /// (each particle moves to the new table in row order).
 pub fn insert_column<C: Component>(world: &mut World, f: impl Fn(usize) -> C) {

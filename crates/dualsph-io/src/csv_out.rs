@@ -7,12 +7,17 @@ use std::io::{self, Write};
 use std::path::Path;
 use std::str::FromStr;
 
-use crate::{DiagnosticsRow, OutputError, ParticleRecord, Real};
+use crate::{DiagnosticsRow, OutputError, ParticleRecord, ParticleTable, Real};
 
-/// Column names of every particle CSV (snapshots and `final.csv`), in order.
+/// The columns [`read_particles_csv`] reads: `id` and the core columns must be present, in
+/// any order; `p` and `e` are read as 0 when absent (a scene without an equation of state or
+/// an energy equation); other columns are ignored.
 pub const PARTICLE_COLUMNS: [&str; 12] = [
     "id", "x", "y", "z", "vx", "vy", "vz", "m", "rho", "p", "e", "h",
 ];
+
+/// The columns of [`PARTICLE_COLUMNS`] that may be absent.
+const OPTIONAL_COLUMNS: [&str; 2] = ["p", "e"];
 
 /// Fixed leading column names of `diagnostics.csv`; extra columns follow.
 pub const DIAGNOSTICS_FIXED_COLUMNS: [&str; 13] = [
@@ -44,20 +49,22 @@ pub(crate) fn fmt_real(x: Real) -> String {
     s
 }
 
-/// Write a particle table (header + one line per particle).
-pub(crate) fn write_particles(w: &mut dyn Write, particles: &[ParticleRecord]) -> io::Result<()> {
-    writeln!(w, "{}", PARTICLE_COLUMNS.join(","))?;
+/// Write a particle table: the header `id` and every column's labels, then one line per
+/// particle.
+pub(crate) fn write_particles(w: &mut dyn Write, table: &ParticleTable) -> io::Result<()> {
+    let labels = table
+        .columns
+        .iter()
+        .flat_map(|c| c.labels.iter().map(String::as_str));
+    let header: Vec<&str> = std::iter::once("id").chain(labels).collect();
+    writeln!(w, "{}", header.join(","))?;
     let mut line = String::with_capacity(256);
-    for p in particles {
+    for (k, id) in table.ids.iter().enumerate() {
         line.clear();
-        let _ = write!(line, "{}", p.id);
-        let reals = [
-            p.pos[0], p.pos[1], p.pos[2], p.vel[0], p.vel[1], p.vel[2], p.mass, p.rho, p.p, p.e,
-            p.h,
-        ];
-        for x in reals {
+        let _ = write!(line, "{id}");
+        for x in table.columns.iter().flat_map(|c| c.row(k)) {
             line.push(',');
-            push_real(&mut line, x);
+            push_real(&mut line, *x);
         }
         line.push('\n');
         w.write_all(line.as_bytes())?;
@@ -161,22 +168,31 @@ pub(crate) fn header_mismatch(path: &Path, found: &[String], expected: &[String]
 
 /// Read a particle CSV written by this crate (snapshot or `final.csv`).
 ///
-/// The header must be exactly `id,x,y,z,vx,vy,vz,m,rho,p,e,h`. Values are
+/// The header must hold the columns of [`PARTICLE_COLUMNS`] (see there). Values are
 /// bit-for-bit the ones that were written.
 pub fn read_particles_csv(path: &Path) -> Result<Vec<ParticleRecord>, OutputError> {
     let (header, rows) = read_table(path)?;
-    if header != PARTICLE_COLUMNS {
-        let expected: Vec<String> = PARTICLE_COLUMNS.iter().map(|s| s.to_string()).collect();
-        return Err(header_mismatch(path, &header, &expected));
+    let mut at = [None; 12];
+    for (k, name) in PARTICLE_COLUMNS.iter().enumerate() {
+        at[k] = header.iter().position(|h| h == name);
+        if at[k].is_none() && !OPTIONAL_COLUMNS.contains(name) {
+            return Err(OutputError::Parse {
+                path: path.to_path_buf(),
+                line: 1,
+                msg: format!("header `{}` has no column `{name}`", header.join(",")),
+            });
+        }
     }
     let mut out = Vec::with_capacity(rows.len());
     for (line, rec) in rows {
         let mut r = [0.0; 11];
         for (k, v) in r.iter_mut().enumerate() {
-            *v = parse_field(path, line, &rec, k + 1, PARTICLE_COLUMNS[k + 1])?;
+            if let Some(i) = at[k + 1] {
+                *v = parse_field(path, line, &rec, i, PARTICLE_COLUMNS[k + 1])?;
+            }
         }
         out.push(ParticleRecord {
-            id: parse_field(path, line, &rec, 0, "id")?,
+            id: parse_field(path, line, &rec, at[0].unwrap_or(0), "id")?,
             pos: [r[0], r[1], r[2]],
             vel: [r[3], r[4], r[5]],
             mass: r[6],

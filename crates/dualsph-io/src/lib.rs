@@ -17,8 +17,8 @@
 //! | file | content |
 //! |------|---------|
 //! | `diagnostics.csv` | `t,step,dt,n,mass,px,py,pz,lz,e_kin,e_int,e_pot,e_tot` + extra columns |
-//! | `particles_NNNNNN.csv` | particle table `id,x,y,z,vx,vy,vz,m,rho,p,e,h` at step `NNNNNN` |
-//! | `particles_NNNNNN.vtp` | the same particles as ASCII VTK XML PolyData |
+//! | `particles_NNNNNN.csv` | particle table at step `NNNNNN`: `id` and the labels of every column of the [`ParticleTable`] (the scene's output columns: `x,y,z,vx,vy,vz,m,rho,h`, then the plugins') |
+//! | `particles_NNNNNN.vtp` | the same particles as ASCII VTK XML PolyData (`position` as the points, every other column as point data) |
 //! | `snapshots.csv` | snapshot index `step,t,file` |
 //! | `particles.pvd` | ParaView collection of all `.vtp` files with their times |
 //! | `final.csv` | particle table at the end of the run |
@@ -30,6 +30,7 @@
 mod atomic;
 mod csv_out;
 mod output_dir;
+mod table;
 mod vtk;
 
 #[cfg(test)]
@@ -46,6 +47,7 @@ pub use csv_out::{
 pub use output_dir::{
     DIAGNOSTICS_FILE, FINAL_FILE, OutputDir, PVD_FILE, SNAPSHOT_INDEX_FILE, snapshot_stem,
 };
+pub use table::{POSITION, ParticleTable, TableColumn};
 
 /// Floating-point type of all written quantities.
 pub type Real = f64;

@@ -8,7 +8,7 @@ use crate::csv_out::{
     header_mismatch, parse_field, read_snapshot_index, read_table, write_particles,
     write_snapshot_index,
 };
-use crate::{DiagnosticsRow, OutputError, ParticleRecord, Real, vtk, write_atomic_with};
+use crate::{DiagnosticsRow, OutputError, ParticleTable, Real, vtk, write_atomic_with};
 
 /// File name of the diagnostics table.
 pub const DIAGNOSTICS_FILE: &str = "diagnostics.csv";
@@ -186,18 +186,19 @@ impl OutputDir {
     /// rewrite `DIR/snapshots.csv` (`step,t,file`, file = the CSV name) and
     /// `DIR/particles.pvd` (every `.vtp` with `timestep` = t) atomically.
     ///
-    /// The VTK file holds one point and one vertex per particle with point
-    /// data `id` (Int64), `velocity` (3 components), `mass`, `density`,
-    /// `pressure`, `internal_energy` and `smoothing_length`. Writing a step
-    /// that is already indexed replaces its entry.
+    /// The CSV holds `id` and every column of the table; the VTK file one
+    /// point and one vertex per particle with point data `id` (Int64) and
+    /// every column but `position` (the points). Writing a step that is
+    /// already indexed replaces its entry.
     pub fn write_snapshot(
         &mut self,
         step: u64,
         t: Real,
-        particles: &[ParticleRecord],
+        particles: &ParticleTable,
     ) -> Result<(), OutputError> {
         let stem = snapshot_stem(step);
         let csv_name = format!("{stem}.csv");
+        valid(&self.path(&csv_name), particles)?;
         write_atomic_with(&self.path(&csv_name), |w| write_particles(w, particles))?;
         write_atomic_with(&self.path(&format!("{stem}.vtp")), |w| {
             vtk::write_vtp(w, particles)
@@ -225,8 +226,9 @@ impl OutputDir {
     pub fn write_particles_as(
         &self,
         stem: &str,
-        particles: &[ParticleRecord],
+        particles: &ParticleTable,
     ) -> Result<(), OutputError> {
+        valid(&self.path(&format!("{stem}.csv")), particles)?;
         write_atomic_with(&self.path(&format!("{stem}.csv")), |w| {
             write_particles(w, particles)
         })?;
@@ -236,7 +238,8 @@ impl OutputDir {
     }
 
     /// Write `DIR/final.csv` with the same columns as the snapshot CSVs.
-    pub fn write_final(&self, particles: &[ParticleRecord]) -> Result<(), OutputError> {
+    pub fn write_final(&self, particles: &ParticleTable) -> Result<(), OutputError> {
+        valid(&self.path(FINAL_FILE), particles)?;
         write_atomic_with(&self.path(FINAL_FILE), |w| write_particles(w, particles))
     }
 
@@ -262,4 +265,12 @@ impl OutputDir {
         self.write_diagnostics()?;
         self.write_snapshot_indexes()
     }
+}
+
+/// The table's columns fit its rows, or an [`OutputError::Invalid`] for `path`.
+fn valid(path: &Path, table: &ParticleTable) -> Result<(), OutputError> {
+    table.check().map_err(|msg| OutputError::Invalid {
+        path: path.to_path_buf(),
+        msg,
+    })
 }

@@ -65,7 +65,7 @@ fn particles_round_trip_bitwise() {
     let tmp = tempfile::tempdir().unwrap();
     let out = OutputDir::create(tmp.path(), vec![]).unwrap();
     let ps = particles(40);
-    out.write_final(&ps).unwrap();
+    out.write_final(&ParticleTable::from_records(&ps)).unwrap();
     let path = tmp.path().join(FINAL_FILE);
     let text = std::fs::read_to_string(&path).unwrap();
     assert!(text.starts_with("id,x,y,z,vx,vy,vz,m,rho,p,e,h\n"));
@@ -79,7 +79,8 @@ fn particles_round_trip_bitwise() {
         rho: f64::NAN,
         ..ParticleRecord::default()
     };
-    out.write_final(&[nan]).unwrap();
+    out.write_final(&ParticleTable::from_records(&[nan]))
+        .unwrap();
     assert!(read_particles_csv(&path).unwrap()[0].rho.is_nan());
 }
 
@@ -87,7 +88,8 @@ fn particles_round_trip_bitwise() {
 fn empty_particle_set_round_trips() {
     let tmp = tempfile::tempdir().unwrap();
     let mut out = OutputDir::create(tmp.path(), vec![]).unwrap();
-    out.write_snapshot(0, 0.0, &[]).unwrap();
+    out.write_snapshot(0, 0.0, &ParticleTable::from_records(&[]))
+        .unwrap();
     let back = read_particles_csv(&tmp.path().join("particles_000000.csv")).unwrap();
     assert!(back.is_empty());
     check_vtp(&tmp.path().join("particles_000000.vtp"), 0);
@@ -202,10 +204,14 @@ fn snapshot_index_and_pvd() {
     let tmp = tempfile::tempdir().unwrap();
     let mut out = OutputDir::create(tmp.path(), vec![]).unwrap();
     let ps = particles(5);
-    out.write_snapshot(0, 0.0, &ps).unwrap();
-    out.write_snapshot(10, 0.25, &ps[..3]).unwrap();
-    out.write_snapshot(1_234_567, 1e-7, &ps[..1]).unwrap();
-    out.write_snapshot(10, 0.5, &ps[..4]).unwrap(); // replaces step 10
+    out.write_snapshot(0, 0.0, &ParticleTable::from_records(&ps))
+        .unwrap();
+    out.write_snapshot(10, 0.25, &ParticleTable::from_records(&ps[..3]))
+        .unwrap();
+    out.write_snapshot(1_234_567, 1e-7, &ParticleTable::from_records(&ps[..1]))
+        .unwrap();
+    out.write_snapshot(10, 0.5, &ParticleTable::from_records(&ps[..4]))
+        .unwrap(); // replaces step 10
 
     let index = std::fs::read_to_string(tmp.path().join(SNAPSHOT_INDEX_FILE)).unwrap();
     assert_eq!(
@@ -259,7 +265,8 @@ fn reopen_truncates_after_up_to_step() {
     for s in 0..10 {
         out.push_diagnostics(row(s, vec![s as f64])).unwrap();
         if s % 3 == 0 {
-            out.write_snapshot(s, s as f64 * 0.1, &ps).unwrap();
+            out.write_snapshot(s, s as f64 * 0.1, &ParticleTable::from_records(&ps))
+                .unwrap();
         }
     }
     drop(out);
@@ -280,7 +287,8 @@ fn reopen_truncates_after_up_to_step() {
 
     // Continue the run: new rows and snapshots append after the kept ones.
     out.push_diagnostics(row(5, vec![50.0])).unwrap();
-    out.write_snapshot(6, 0.6, &ps).unwrap();
+    out.write_snapshot(6, 0.6, &ParticleTable::from_records(&ps))
+        .unwrap();
     let (_, rows) = read_diagnostics_csv(&tmp.path().join(DIAGNOSTICS_FILE)).unwrap();
     assert_eq!(rows.len(), 6);
     assert_eq!(rows[5][13], 50.0);
@@ -323,8 +331,10 @@ fn output_files_leave_no_temporaries() {
     let tmp = tempfile::tempdir().unwrap();
     let mut out = OutputDir::create(tmp.path(), vec![]).unwrap();
     out.push_diagnostics(row(0, vec![])).unwrap();
-    out.write_snapshot(0, 0.0, &particles(2)).unwrap();
-    out.write_final(&particles(2)).unwrap();
+    out.write_snapshot(0, 0.0, &ParticleTable::from_records(&particles(2)))
+        .unwrap();
+    out.write_final(&ParticleTable::from_records(&particles(2)))
+        .unwrap();
     let mut names: Vec<String> = std::fs::read_dir(tmp.path())
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
@@ -341,4 +351,50 @@ fn output_files_leave_no_temporaries() {
             "snapshots.csv"
         ]
     );
+}
+
+#[test]
+fn a_table_of_any_columns_is_written_and_read_back_by_name() {
+    let tmp = tempfile::tempdir().unwrap();
+    let mut out = OutputDir::create(tmp.path(), vec![]).unwrap();
+    let ps = particles(5);
+    let mut table = ParticleTable::from_records(&ps);
+    // a scene without EOS or energy equation, and a plugin's 2×2 matrix column
+    table
+        .columns
+        .retain(|c| c.name != "pressure" && c.name != "internal_energy");
+    table.columns.push(TableColumn {
+        name: "stress".into(),
+        labels: ["s_xx", "s_xy", "s_yx", "s_yy"].map(String::from).into(),
+        values: (0..20).map(|k| k as f64 * 0.25).collect(),
+    });
+    out.write_snapshot(3, 0.5, &table).unwrap();
+    let csv = tmp.path().join("particles_000003.csv");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    assert!(
+        text.starts_with("id,x,y,z,vx,vy,vz,m,rho,h,s_xx,s_xy,s_yx,s_yy\n"),
+        "{text}"
+    );
+    let back = read_particles_csv(&csv).unwrap();
+    for (a, b) in ps.iter().zip(&back) {
+        assert_eq!(
+            (a.id, a.rho.to_bits(), b.p, b.e),
+            (b.id, b.rho.to_bits(), 0.0, 0.0)
+        );
+    }
+    let (header, rows) = read_diagnostics_csv(&csv).unwrap();
+    let s_yx = header.iter().position(|h| h == "s_yx").unwrap();
+    assert_eq!(rows[4][s_yx], 18.0 * 0.25);
+    let vtp = std::fs::read_to_string(tmp.path().join("particles_000003.vtp")).unwrap();
+    check_xml_balanced(&vtp);
+    assert!(
+        vtp.contains("Name=\"stress\" NumberOfComponents=\"4\""),
+        "{vtp}"
+    );
+    assert!(!vtp.contains("Name=\"pressure\""));
+    // a column whose values do not fit the rows is refused, and nothing is written
+    table.columns[0].values.pop();
+    let err = out.write_final(&table).unwrap_err();
+    assert!(matches!(err, OutputError::Invalid { .. }), "{err}");
+    assert!(!tmp.path().join(FINAL_FILE).exists());
 }

@@ -3,21 +3,20 @@
 
 use std::io::{self, Write};
 
-use crate::ParticleRecord;
 use crate::csv_out::{SnapshotEntry, push_real};
+use crate::table::{POSITION, ParticleTable};
 
 /// Values per line inside ASCII `DataArray`s (purely cosmetic).
 const PER_LINE: usize = 9;
 
-/// Write one `Float64` data array with `comps` components per point.
+/// Write one `Float64` data array of `comps` components per point (`values` holds them).
 fn real_array(
     w: &mut dyn Write,
     name: Option<&str>,
     comps: usize,
-    particles: &[ParticleRecord],
-    get: impl Fn(&ParticleRecord, &mut [f64]),
+    values: &[f64],
 ) -> io::Result<()> {
-    let name_attr = name.map_or(String::new(), |n| format!(" Name=\"{n}\""));
+    let name_attr = name.map_or(String::new(), |n| format!(" Name=\"{}\"", xml_attr(n)));
     let comp_attr = if comps > 1 {
         format!(" NumberOfComponents=\"{comps}\"")
     } else {
@@ -27,25 +26,19 @@ fn real_array(
         w,
         "        <DataArray type=\"Float64\"{name_attr}{comp_attr} format=\"ascii\">"
     )?;
-    let mut buf = [0.0; 3];
     let mut line = String::new();
-    let per_line = PER_LINE / comps * comps;
-    let mut count = 0;
-    for p in particles {
-        get(p, &mut buf[..comps]);
-        for &x in &buf[..comps] {
-            if count % per_line == 0 {
-                line.push_str("          ");
-            } else {
-                line.push(' ');
-            }
-            push_real(&mut line, x);
-            count += 1;
-            if count % per_line == 0 {
-                line.push('\n');
-                w.write_all(line.as_bytes())?;
-                line.clear();
-            }
+    let per_line = (PER_LINE / comps).max(1) * comps;
+    for (count, &x) in values.iter().enumerate() {
+        line.push_str(if count % per_line == 0 {
+            "          "
+        } else {
+            " "
+        });
+        push_real(&mut line, x);
+        if (count + 1) % per_line == 0 {
+            line.push('\n');
+            w.write_all(line.as_bytes())?;
+            line.clear();
         }
     }
     if !line.is_empty() {
@@ -78,13 +71,13 @@ fn int_array(w: &mut dyn Write, name: &str, values: impl Iterator<Item = u64>) -
     writeln!(w, "        </DataArray>")
 }
 
-/// Write an ASCII VTK XML PolyData file: one point and one vertex cell per
-/// particle, with point data `id` (Int64), `velocity` (3 components), `mass`,
-/// `density`, `pressure`, `internal_energy` and `smoothing_length`.
+/// Write an ASCII VTK XML PolyData file: one point and one vertex cell per particle, the
+/// [`POSITION`] column as the points, and point data `id` (Int64) and every other column of
+/// the table (as many components as it has labels).
 ///
 /// Particle ids are written as `Int64`; ids above `i64::MAX` are not expected.
-pub(crate) fn write_vtp(w: &mut dyn Write, particles: &[ParticleRecord]) -> io::Result<()> {
-    let n = particles.len();
+pub(crate) fn write_vtp(w: &mut dyn Write, table: &ParticleTable) -> io::Result<()> {
+    let n = table.len();
     writeln!(w, "<?xml version=\"1.0\"?>")?;
     writeln!(
         w,
@@ -95,27 +88,26 @@ pub(crate) fn write_vtp(w: &mut dyn Write, particles: &[ParticleRecord]) -> io::
         w,
         "    <Piece NumberOfPoints=\"{n}\" NumberOfVerts=\"{n}\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">"
     )?;
+    let active = |name: &str, attr: &str| match table.column(name) {
+        Some(_) => format!(" {attr}=\"{name}\""),
+        None => String::new(),
+    };
     writeln!(
         w,
-        "      <PointData Scalars=\"density\" Vectors=\"velocity\">"
+        "      <PointData{}{}>",
+        active("density", "Scalars"),
+        active("velocity", "Vectors")
     )?;
-    int_array(w, "id", particles.iter().map(|p| p.id))?;
-    real_array(w, Some("velocity"), 3, particles, |p, o| {
-        o.copy_from_slice(&p.vel)
-    })?;
-    let scalars: [(&str, fn(&ParticleRecord) -> f64); 5] = [
-        ("mass", |p| p.mass),
-        ("density", |p| p.rho),
-        ("pressure", |p| p.p),
-        ("internal_energy", |p| p.e),
-        ("smoothing_length", |p| p.h),
-    ];
-    for (name, get) in scalars {
-        real_array(w, Some(name), 1, particles, |p, o| o[0] = get(p))?;
+    int_array(w, "id", table.ids.iter().copied())?;
+    for c in table.columns.iter().filter(|c| c.name != POSITION) {
+        real_array(w, Some(&c.name), c.width(), &c.values)?;
     }
     writeln!(w, "      </PointData>")?;
     writeln!(w, "      <Points>")?;
-    real_array(w, None, 3, particles, |p, o| o.copy_from_slice(&p.pos))?;
+    match table.column(POSITION) {
+        Some(c) => real_array(w, None, c.width(), &c.values)?,
+        None => real_array(w, None, 3, &vec![0.0; 3 * n])?,
+    }
     writeln!(w, "      </Points>")?;
     writeln!(w, "      <Verts>")?;
     int_array(w, "connectivity", 0..n as u64)?;

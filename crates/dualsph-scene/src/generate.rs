@@ -1,6 +1,6 @@
 //! Particle generation: lattice points of each generator, in a deterministic order.
 
-use crate::schema::{Generator, Lattice, Velocity};
+use crate::schema::{BodySettings, Generator, Lattice, Velocity};
 
 /// The most particles a scene may generate (checked from an estimate before generating).
 pub const MAX_PARTICLES: usize = 50_000_000;
@@ -20,8 +20,10 @@ pub struct ParticleSpec {
     pub h: f64,
     /// Initial specific internal energy.
     pub internal_energy: f64,
-    /// Group tag (the generator's `group`, or its index in `particles`).
-    pub group: u32,
+    /// The index of its body in the scene's bodies (0 when the scene declares none).
+    pub body: u16,
+    /// The index of its generator in the scene's `particles`.
+    pub generator: u32,
 }
 
 /// Component `k` of `v`, NaN when missing (so malformed input never panics and never passes
@@ -180,11 +182,11 @@ fn velocity(v: Option<&Velocity>, p: &[f64; 3], d: usize) -> [f64; 3] {
 }
 
 /// The particles of generator number `index`.
-pub(crate) fn particles(g: &Generator, index: usize, d: usize) -> Vec<ParticleSpec> {
+/// `body` is the index of the generator's body.
+pub(crate) fn particles(g: &Generator, generator: u32, body: u16, d: usize) -> Vec<ParticleSpec> {
     let c = g.common();
     let dx = c.spacing;
     let mass = c.density * dx.powi(d as i32);
-    let group = c.group.unwrap_or(index as u32);
     positions(g, d)
         .into_iter()
         .map(|pos| ParticleSpec {
@@ -194,14 +196,20 @@ pub(crate) fn particles(g: &Generator, index: usize, d: usize) -> Vec<ParticleSp
             density: c.density,
             h: c.h_factor * dx,
             internal_energy: c.internal_energy,
-            group,
+            body,
+            generator,
         })
         .collect()
 }
 
-/// All particles of all generators, in order. Empty for an unusable dimension or when the
+/// All particles of all generators, in order, each with the index of its body in `bodies`
+/// (0 for a generator without a known body). Empty for an unusable dimension or when the
 /// estimated total exceeds [`MAX_PARTICLES`].
-pub(crate) fn generate_all(generators: &[Generator], d: usize) -> Vec<ParticleSpec> {
+pub(crate) fn generate_all(
+    generators: &[Generator],
+    bodies: &[BodySettings],
+    d: usize,
+) -> Vec<ParticleSpec> {
     if !(1..=3).contains(&d) {
         return Vec::new();
     }
@@ -212,6 +220,10 @@ pub(crate) fn generate_all(generators: &[Generator], d: usize) -> Vec<ParticleSp
     generators
         .iter()
         .enumerate()
-        .flat_map(|(i, g)| particles(g, i, d))
+        .flat_map(|(i, g)| {
+            let name = g.common().body;
+            let body = name.and_then(|n| bodies.iter().position(|b| b.name == n));
+            particles(g, i as u32, body.unwrap_or(0) as u16, d)
+        })
         .collect()
 }

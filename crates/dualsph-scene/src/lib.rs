@@ -24,7 +24,7 @@
 //! density_above: 10, h_below: 10, h_above: 300`: the run stops when a density or h leaves its
 //! initial range widened by those factors; each must be > 1, refused at its position), `integrator.max_dt` (None), and
 //! on every generator `clip`, `cut`, `velocity` (`Uniform([..])` or `Linear(G)`, `v = G·x`;
-//! zero when absent), `internal_energy` (0) and `group` (the generator's index).
+//! zero when absent), `internal_energy` (0) and `body` (the generator's body).
 //!
 //! Plugins are `Name(field: value, ...)` or `Name()` and are looked up in a [`Registry`] while
 //! parsing: the registry is installed in a thread-local for exactly the duration of the parse
@@ -40,7 +40,9 @@
 //! adaptive coefficients outside (0, 1]; negative skin; `diagnostics_every == 0`; a plugin's
 //! own `validate`; more than [`MAX_PARTICLES`] particles (estimated before generating); a
 //! generator that yields no particles; a particle outside the domain; two generators whose
-//! particles come closer than half the smaller spacing.
+//! particles come closer than half the smaller spacing; a body declared twice or with an
+//! empty name, a generator naming a body the scene does not declare, or a generator without
+//! a body in a scene of several.
 #![warn(missing_docs)]
 
 mod error;
@@ -54,8 +56,8 @@ pub use dualsph_core::plugin::{PluginConfig, Registry};
 pub use error::SceneError;
 pub use generate::{MAX_PARTICLES, ParticleSpec};
 pub use schema::{
-    Block, BoxRegion, Disk, Domain, Formulation, Generator, HealthSettings, IntegratorSettings,
-    Lattice, NeighbourSettings, OutputSettings, TimeStep, Velocity,
+    Block, BodyKind, BodySettings, BoxRegion, Disk, Domain, Formulation, Generator, HealthSettings,
+    IntegratorSettings, Lattice, NeighbourSettings, OutputSettings, TimeStep, Velocity,
 };
 
 use ron::extensions::Extensions;
@@ -81,6 +83,10 @@ pub struct Scene {
     /// Neighbour search settings (optional section).
     #[serde(default)]
     pub neighbours: NeighbourSettings,
+    /// The bodies (optional): named groups of particles with a kind; generators name theirs.
+    /// Without it, all particles are one fluid body named `fluid`.
+    #[serde(default)]
+    pub bodies: Vec<BodySettings>,
     /// Particle generators, in order.
     pub particles: Vec<Generator>,
     /// Plugins with their settings, in order (optional, default none).
@@ -162,7 +168,20 @@ impl Scene {
     /// index order (axis 0 slowest). Meant for validated scenes; on an invalid one it never
     /// panics, but generators it cannot use (or a total above [`MAX_PARTICLES`]) yield nothing.
     pub fn generate(&self) -> Vec<ParticleSpec> {
-        generate::generate_all(&self.particles, self.dimension)
+        generate::generate_all(&self.particles, &self.body_list(), self.dimension)
+    }
+
+    /// The scene's bodies: those it declares, or the one default body (a fluid named
+    /// `fluid`).
+    pub fn body_list(&self) -> Vec<BodySettings> {
+        if self.bodies.is_empty() {
+            vec![BodySettings {
+                name: dualsph_core::bodies::DEFAULT_BODY.into(),
+                kind: BodyKind::Fluid,
+            }]
+        } else {
+            self.bodies.clone()
+        }
     }
 }
 

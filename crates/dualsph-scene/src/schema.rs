@@ -101,9 +101,10 @@ pub struct Block {
     /// Initial specific internal energy.
     #[serde(default)]
     pub internal_energy: f64,
-    /// Group tag; defaults to the generator's index in `particles`.
-    #[serde(default, deserialize_with = "int::de_opt")]
-    pub group: Option<u32>,
+    /// The body the particles belong to (a name from the scene's `bodies`); may be left out
+    /// when the scene has one body.
+    #[serde(default)]
+    pub body: Option<String>,
 }
 
 /// A disk (2-D), ball (3-D) or segment (1-D): the points of the lattice of the bounding box
@@ -135,9 +136,31 @@ pub struct Disk {
     /// Initial specific internal energy.
     #[serde(default)]
     pub internal_energy: f64,
-    /// Group tag; defaults to the generator's index in `particles`.
-    #[serde(default, deserialize_with = "int::de_opt")]
-    pub group: Option<u32>,
+    /// The body the particles belong to (a name from the scene's `bodies`); may be left out
+    /// when the scene has one body.
+    #[serde(default)]
+    pub body: Option<String>,
+}
+
+/// What moves a body's particles.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default, Deserialize)]
+pub enum BodyKind {
+    /// Integrated in time by the forces on them (the default).
+    #[default]
+    Fluid,
+    /// Held at their initial positions with zero velocity: a wall or a fixed obstacle.
+    Fixed,
+}
+
+/// A named body: `Body(name: "water")`, `Body(name: "tank", kind: Fixed)`.
+#[derive(Clone, Debug, PartialEq, Eq, Deserialize)]
+#[serde(deny_unknown_fields, rename = "Body")]
+pub struct BodySettings {
+    /// The name generators and plugins refer to it by.
+    pub name: String,
+    /// What moves it (default `Fluid`).
+    #[serde(default)]
+    pub kind: BodyKind,
 }
 
 /// One entry of the scene's `particles` list.
@@ -160,7 +183,7 @@ pub(crate) struct Common<'a> {
     pub cut: &'a [BoxRegion],
     pub velocity: Option<&'a Velocity>,
     pub internal_energy: f64,
-    pub group: Option<u32>,
+    pub body: Option<&'a str>,
 }
 
 impl Generator {
@@ -188,7 +211,7 @@ impl Generator {
                 cut: &b.cut,
                 velocity: b.velocity.as_ref(),
                 internal_energy: b.internal_energy,
-                group: b.group,
+                body: b.body.as_deref(),
             },
             Generator::Disk(c) => Common {
                 spacing: c.spacing,
@@ -199,7 +222,7 @@ impl Generator {
                 cut: &c.cut,
                 velocity: c.velocity.as_ref(),
                 internal_energy: c.internal_energy,
-                group: c.group,
+                body: c.body.as_deref(),
             },
         }
     }

@@ -189,10 +189,70 @@ fn settings(s: &Scene) -> Check {
             "must be at least 1",
         ));
     }
-    let info = SceneInfo { dimension: d };
+    bodies(s)?;
+    let info = SceneInfo {
+        dimension: d,
+        bodies: s.body_list().into_iter().map(|b| b.name).collect(),
+    };
     for (i, p) in s.plugins.iter().enumerate() {
         p.validate(&info)
             .map_err(|m| Problem::new(format!("plugins[{i}] ({})", p.name()), m))?;
+    }
+    Ok(())
+}
+
+/// Body names are unique and not empty, at most `u16::MAX + 1` of them; every generator
+/// names a declared body, or leaves it out when there is one body.
+fn bodies(s: &Scene) -> Check {
+    let names: Vec<&str> = s.bodies.iter().map(|b| b.name.as_str()).collect();
+    if names.len() > usize::from(u16::MAX) + 1 {
+        return Err(Problem::new(
+            "bodies",
+            format!("{} bodies, at most 65536", names.len()),
+        ));
+    }
+    for (i, name) in names.iter().enumerate() {
+        if name.is_empty() {
+            return Err(Problem::new(
+                format!("bodies[{i}].name"),
+                "must not be empty",
+            ));
+        }
+        if names[..i].contains(name) {
+            return Err(Problem::new(
+                format!("bodies[{i}].name"),
+                format!("the body `{name}` is declared twice"),
+            ));
+        }
+    }
+    for (i, g) in s.particles.iter().enumerate() {
+        match g.common().body {
+            Some(b) if !names.is_empty() && !names.contains(&b) => {
+                return Err(Problem::new(
+                    format!("particles[{i}].body"),
+                    format!(
+                        "no body named `{b}`; the scene's bodies are {}",
+                        names.join(", ")
+                    ),
+                ));
+            }
+            Some(b) if names.is_empty() => {
+                return Err(Problem::new(
+                    format!("particles[{i}].body"),
+                    format!("`{b}` names a body, but the scene declares no `bodies`"),
+                ));
+            }
+            None if names.len() > 1 => {
+                return Err(Problem::new(
+                    format!("particles[{i}].body"),
+                    format!(
+                        "the scene has {} bodies: say which this generator's particles belong to",
+                        names.len()
+                    ),
+                ));
+            }
+            _ => {}
+        }
     }
     Ok(())
 }

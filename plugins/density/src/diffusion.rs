@@ -289,7 +289,7 @@ mod tests {
 
     #[test]
     fn refuses_a_meaningless_delta() {
-        let info = SceneInfo { dimension: 2 };
+        let info = SceneInfo::of_dimension(2);
         assert!(SimPlugin::validate(&DensityDiffusion { delta: 0.1 }, &info).is_ok());
         for bad in [0.0, -0.1, 2.0, Real::NAN] {
             assert!(SimPlugin::validate(&DensityDiffusion { delta: bad }, &info).is_err());

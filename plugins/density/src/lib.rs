@@ -26,7 +26,7 @@ impl SimPlugin for SummationDensity {
                 "SummationDensity and ContinuityDensity cannot both set the density".into(),
             ));
         }
-        passes::ensure_summation_density(sim);
+        passes::ensure_summation_density(sim)?;
         Ok(())
     }
 }
@@ -60,11 +60,11 @@ impl SimPlugin for ContinuityDensity {
                 "SummationDensity and ContinuityDensity cannot both set the density".into(),
             ));
         }
-        dualsph_core::integrator::ensure_density_integration(sim);
+        dualsph_core::integrator::ensure_density_integration(sim)?;
         match self.form {
             ContinuityForm::Pairwise => passes::add_continuity_pairwise(sim),
             ContinuityForm::VelocityDivergence => {
-                passes::ensure_velocity_gradient(sim);
+                passes::ensure_velocity_gradient(sim)?;
                 sim.add_system(
                     StepSet::Forces,
                     "continuity (-rho div v)",

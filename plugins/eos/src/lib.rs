@@ -4,6 +4,7 @@
 #![warn(missing_docs)]
 
 use dualsph_core::bevy_ecs::prelude::*;
+use dualsph_core::bodies::Bodies;
 use dualsph_core::chunks::DENSE;
 use dualsph_core::integrator::ensure_energy_equation;
 use dualsph_core::prelude::*;
@@ -33,7 +34,32 @@ pub struct TaitEos {
     /// energy equation uses the same `p`: conservation is unchanged.
     #[serde(default)]
     pub min_pressure: Option<Real>,
+    /// Other materials, by body: `materials: [(body: "oil", rho0: 800.0, c0: 40.0)]`. The
+    /// bodies not named here take `rho0` and `c0`/`p0` above; `gamma` and `min_pressure` are
+    /// shared.
+    #[serde(default)]
+    pub materials: Vec<TaitMaterial>,
 }
+
+/// A body's Tait parameters (see [`TaitEos::materials`]).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TaitMaterial {
+    /// The body's name.
+    pub body: String,
+    /// Reference density ρ0.
+    pub rho0: Real,
+    /// Reference sound speed c0.
+    #[serde(default)]
+    pub c0: Option<Real>,
+    /// Bulk modulus p0 (alternative to c0).
+    #[serde(default)]
+    pub p0: Option<Real>,
+}
+
+/// The equation of state of every body, indexed by [`BodyId`].
+#[derive(Resource, Clone, Debug, PartialEq)]
+pub struct Materials(pub Vec<Eos>);
 
 /// Ideal gas (Eq. 7.3): `p = (γ − 1) ρ ε`, `c = sqrt(γ p / ρ)`.
 #[derive(Debug, Clone, Deserialize)]
@@ -165,16 +191,57 @@ pub fn apply_eos(
     }
 }
 
-fn install<V: Vector>(sim: &mut Sim<V>, eos: Eos, label: &str) -> Result<(), SimError> {
+/// [`apply_eos`] with each particle's body's equation of state (scenes whose bodies differ).
+#[inline(never)] // a frame of its own in profiles
+pub fn apply_eos_by_body(
+    materials: Res<Materials>,
+    mut q: Query<(
+        &BodyId,
+        &Density,
+        Option<&InternalEnergy>,
+        &mut Pressure,
+        &mut SoundSpeed,
+    )>,
+) {
+    let eos = &materials.0;
+    for (body, rho, eps, mut p, mut c) in q.contiguous_iter_mut().expect(DENSE) {
+        let (p, c) = (&mut *p, &mut *c);
+        (body, rho, p, c)
+            .into_par_iter()
+            .enumerate()
+            .with_min_len(1024)
+            .for_each(|(k, (b, rho, p, c))| {
+                let e = eps.map_or(0.0, |e| e[k].0);
+                (p.0, c.0) = eos[b.0 as usize].eval(rho.0, e);
+            });
+    }
+}
+
+/// Adds the EOS: `materials` holds one per body (all equal to `eos` for a single material).
+fn install<V: Vector>(
+    sim: &mut Sim<V>,
+    eos: Eos,
+    materials: Vec<Eos>,
+    label: &str,
+) -> Result<(), SimError> {
     if !sim.enable_feature("eos") {
         return Err(SimError::Build(
             "only one equation of state may be used".into(),
         ));
     }
     sim.world.insert_resource(eos);
-    sim.insert_particle_component(|_| Pressure(0.0));
-    sim.insert_particle_component(|_| SoundSpeed(0.0));
-    sim.add_system(StepSet::Eos, label.to_string(), apply_eos);
+    sim.add_column(ColumnSpec::state("pressure", "p"), |_| Pressure(0.0))?;
+    sim.add_column(ColumnSpec::restart_only("sound_speed"), |_| SoundSpeed(0.0))?;
+    if materials.iter().all(|m| *m == eos) {
+        sim.add_system(StepSet::Eos, label.to_string(), apply_eos);
+    } else {
+        sim.add_system(
+            StepSet::Eos,
+            format!("{label}, per body"),
+            apply_eos_by_body,
+        );
+    }
+    sim.world.insert_resource(Materials(materials));
     Ok(())
 }
 
@@ -190,8 +257,23 @@ impl SimPlugin for TaitEos {
     const NAME: &'static str = "TaitEos";
     const SUMMARY: &'static str = "Tait equation of state p = p0((rho/rho0)^gamma - 1) (Eq. 7.5)";
 
-    fn validate(&self, _info: &SceneInfo) -> Result<(), String> {
+    fn validate(&self, info: &SceneInfo) -> Result<(), String> {
         positive("rho0", self.rho0)?;
+        for (k, m) in self.materials.iter().enumerate() {
+            let at = format!("materials[{k}]");
+            if !info.bodies.contains(&m.body) {
+                return Err(format!(
+                    "{at}.body: no body named `{}`; the scene's bodies are {}",
+                    m.body,
+                    info.bodies.join(", ")
+                ));
+            }
+            if self.materials[..k].iter().any(|o| o.body == m.body) {
+                return Err(format!("{at}.body: `{}` is given twice", m.body));
+            }
+            positive(&format!("{at}.rho0"), m.rho0)?;
+            reference_scale(&at, m.c0, m.p0)?;
+        }
         positive("gamma", self.gamma)?;
         if let Some(p) = self.min_pressure
             && !(p.is_finite() && p <= 0.0)
@@ -200,30 +282,53 @@ impl SimPlugin for TaitEos {
                 "min_pressure: must be finite and ≤ 0 (a floor on tension), got {p}"
             ));
         }
-        match (self.c0, self.p0) {
-            (Some(c), None) => positive("c0", c),
-            (None, Some(p)) => positive("p0", p),
-            _ => Err("c0, p0: give exactly one of them".into()),
-        }
+        reference_scale("", self.c0, self.p0)
     }
 
     fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
-        let (p0, c0) = match (self.c0, self.p0) {
-            (Some(c0), _) => (c0 * c0 * self.rho0 / self.gamma, c0),
-            (None, Some(p0)) => (p0, (self.gamma * p0 / self.rho0).sqrt()),
+        let eos = self.tait(self.rho0, self.c0, self.p0)?;
+        let bodies = sim.world.resource::<Bodies>().names();
+        let materials = bodies
+            .iter()
+            .map(
+                |name| match self.materials.iter().find(|m| &m.body == name) {
+                    Some(m) => self.tait(m.rho0, m.c0, m.p0),
+                    None => Ok(eos),
+                },
+            )
+            .collect::<Result<Vec<Eos>, SimError>>()?;
+        install(sim, eos, materials, "tait_eos (Eq. 7.5)")
+    }
+}
+
+impl TaitEos {
+    /// The Tait EOS of reference density `rho0` and sound speed `c0` or bulk modulus `p0`
+    /// (`p0 = c0² ρ0/γ`), with this plugin's γ and pressure floor.
+    fn tait(&self, rho0: Real, c0: Option<Real>, p0: Option<Real>) -> Result<Eos, SimError> {
+        let (p0, c0) = match (c0, p0) {
+            (Some(c0), _) => (c0 * c0 * rho0 / self.gamma, c0),
+            (None, Some(p0)) => (p0, (self.gamma * p0 / rho0).sqrt()),
             (None, None) => return Err(SimError::Build("TaitEos needs c0 or p0".into())),
         };
-        install(
-            sim,
-            Eos::Tait {
-                rho0: self.rho0,
-                gamma: self.gamma,
-                p0,
-                c0,
-                p_min: self.min_pressure.unwrap_or(Real::NEG_INFINITY),
-            },
-            "tait_eos (Eq. 7.5)",
-        )
+        Ok(Eos::Tait {
+            rho0,
+            gamma: self.gamma,
+            p0,
+            c0,
+            p_min: self.min_pressure.unwrap_or(Real::NEG_INFINITY),
+        })
+    }
+}
+
+/// Exactly one of `c0` and `p0`, positive; `at` prefixes the field names.
+fn reference_scale(at: &str, c0: Option<Real>, p0: Option<Real>) -> Result<(), String> {
+    let dot = if at.is_empty() { "" } else { "." };
+    match (c0, p0) {
+        (Some(c), None) => positive(&format!("{at}{dot}c0"), c),
+        (None, Some(p)) => positive(&format!("{at}{dot}p0"), p),
+        _ => Err(format!(
+            "{at}{dot}c0, {at}{dot}p0: give exactly one of them"
+        )),
     }
 }
 
@@ -239,12 +344,10 @@ impl SimPlugin for IdealGas {
     }
 
     fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
-        ensure_energy_equation(sim);
-        install(
-            sim,
-            Eos::Ideal { gamma: self.gamma },
-            "ideal_gas_eos (Eq. 7.3)",
-        )
+        ensure_energy_equation(sim)?;
+        let eos = Eos::Ideal { gamma: self.gamma };
+        let n = sim.world.resource::<Bodies>().0.len();
+        install(sim, eos, vec![eos; n], "ideal_gas_eos (Eq. 7.3)")
     }
 }
 
@@ -337,5 +440,48 @@ mod tests {
         let e = Eos::Ideal { gamma: 5.0 / 3.0 };
         assert!((e.eval(1.0, 1.5).0 - 1.0).abs() < 1e-15);
         assert!((e.eval(0.125, 1.2).0 - 0.1).abs() < 1e-15);
+    }
+
+    #[test]
+    fn materials_name_declared_bodies_once_with_one_scale() {
+        let info = SceneInfo {
+            dimension: 2,
+            bodies: vec!["water".into(), "light".into()],
+        };
+        let material = |body: &str, c0: Option<Real>, p0: Option<Real>| TaitMaterial {
+            body: body.into(),
+            rho0: 500.0,
+            c0,
+            p0,
+        };
+        let eos = |materials| TaitEos {
+            rho0: 1000.0,
+            gamma: 7.0,
+            c0: Some(20.0),
+            p0: None,
+            min_pressure: None,
+            materials,
+        };
+        let check = |m| SimPlugin::validate(&eos(m), &info);
+        assert!(check(vec![material("light", Some(20.0), None)]).is_ok());
+        let e = check(vec![material("oil", Some(20.0), None)]).unwrap_err();
+        assert!(
+            e.starts_with("materials[0].body: no body named `oil`"),
+            "{e}"
+        );
+        let twice = vec![
+            material("light", Some(20.0), None),
+            material("light", None, Some(1.0)),
+        ];
+        assert!(
+            check(twice)
+                .unwrap_err()
+                .contains("materials[1].body: `light` is given twice")
+        );
+        let e = check(vec![material("light", Some(20.0), Some(1.0))]).unwrap_err();
+        assert!(
+            e.contains("materials[0].c0, materials[0].p0: give exactly one"),
+            "{e}"
+        );
     }
 }

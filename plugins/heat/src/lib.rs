@@ -93,9 +93,10 @@ impl SimPlugin for HeatConduction {
     }
 
     fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
-        ensure_energy_equation(sim);
+        ensure_energy_equation(sim)?;
         let kappa = self.conductivity;
-        sim.insert_particle_component(|_| Conductivity(kappa));
+        let spec = ColumnSpec::restart_only("conductivity");
+        sim.add_column(spec, |_| Conductivity(kappa))?;
         sim.add_pair_term(HeatTerm {
             inv_cv: 1.0 / self.heat_capacity,
         });

@@ -18,7 +18,7 @@ impl SimPlugin for KernelCorrection {
     const SUMMARY: &'static str = "kernel-gradient correction L_i (Eq. 2.10)";
 
     fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
-        passes::ensure_kernel_correction(sim);
+        passes::ensure_kernel_correction(sim)?;
         Ok(())
     }
 }

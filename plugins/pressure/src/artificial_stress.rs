@@ -152,7 +152,7 @@ impl SimPlugin for ArtificialStress {
             "eos",
             "ArtificialStress needs an equation of state (TaitEos or IdealGas)",
         );
-        ensure_energy_equation(sim);
+        ensure_energy_equation(sim)?;
         let kernel = sim.world.resource::<KernelRes>().0;
         sim.add_pair_term(ArtificialStressTerm {
             epsilon: self.epsilon,

@@ -139,7 +139,7 @@ impl SimPlugin for PressureForce {
             "eos",
             "PressureForce needs an equation of state (TaitEos or IdealGas)",
         );
-        ensure_energy_equation(sim);
+        ensure_energy_equation(sim)?;
         sim.add_pair_term(PressureTerm);
         Ok(())
     }

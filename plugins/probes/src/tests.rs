@@ -11,7 +11,7 @@ fn parse(text: &str) -> Result<Probes, String> {
 }
 
 fn info(d: usize) -> SceneInfo {
-    SceneInfo { dimension: d }
+    SceneInfo::of_dimension(d)
 }
 
 /// A resting 2-D water block [0, 1] × [0, depth] with spacing dx, h = 2 dx, velocity (0.3, −0.1).
@@ -36,6 +36,7 @@ fn block_sim(depth: Real, dx: Real) -> Sim<DVec2> {
             density: 1000.0,
             h: 2.0 * dx,
             internal_energy: 0.0,
+            body: 0,
         })
         .collect();
     sim.spawn_particles(&parts);

@@ -166,7 +166,7 @@ impl SimPlugin for SurfaceTension {
     }
 
     fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
-        SimPlugin::validate(self, &SceneInfo { dimension: V::DIM })
+        SimPlugin::validate(self, &SceneInfo::of_dimension(V::DIM))
             .map_err(|e| SimError::Build(format!("SurfaceTension.{e}")))?;
         let term = CohesionTerm::new(self.sigma, V::DIM).ok_or_else(|| {
             SimError::Build(format!("SurfaceTension: unsupported dimension {}", V::DIM))
@@ -217,15 +217,15 @@ mod tests {
 
     #[test]
     fn negative_or_nan_sigma_and_1d_are_rejected_naming_the_field() {
-        let two = SceneInfo { dimension: 2 };
+        let two = SceneInfo::of_dimension(2);
         for bad in [-1.0, Real::NAN, Real::INFINITY] {
             let e = SimPlugin::validate(&SurfaceTension { sigma: bad }, &two).unwrap_err();
             assert!(e.starts_with("sigma:"), "{e}");
         }
-        let e = SimPlugin::validate(&SurfaceTension { sigma: 1.0 }, &SceneInfo { dimension: 1 })
+        let e = SimPlugin::validate(&SurfaceTension { sigma: 1.0 }, &SceneInfo::of_dimension(1))
             .unwrap_err();
         assert!(e.contains("2-D or 3-D"), "{e}");
-        let three = SceneInfo { dimension: 3 };
+        let three = SceneInfo::of_dimension(3);
         assert!(SimPlugin::validate(&SurfaceTension { sigma: 0.5 }, &three).is_ok());
     }
 }

@@ -213,7 +213,7 @@ impl SimPlugin for ArtificialViscosity {
             "eos",
             "ArtificialViscosity needs an equation of state for the sound speed",
         );
-        ensure_energy_equation(sim);
+        ensure_energy_equation(sim)?;
         sim.add_pair_term(ArtificialViscosityTerm {
             alpha: self.alpha,
             beta: self.beta,
@@ -280,7 +280,7 @@ impl SimPlugin for PhysicalViscosity {
     }
 
     fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
-        ensure_energy_equation(sim);
+        ensure_energy_equation(sim)?;
         raise_viscosity(sim, self.mu);
         sim.add_pair_term(PhysicalViscosityTerm { mu: self.mu });
         Ok(())
@@ -360,8 +360,8 @@ impl SimPlugin for NewtonianViscosity {
     }
 
     fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
-        ensure_energy_equation(sim);
-        ensure_velocity_gradient(sim);
+        ensure_energy_equation(sim)?;
+        ensure_velocity_gradient(sim)?;
         raise_viscosity(sim, self.mu + self.lambda.abs());
         sim.add_pair_term(ViscousStressTerm {
             mu: self.mu,

@@ -10,7 +10,7 @@ fn close(a: f64, b: f64) -> bool {
 }
 
 fn of_group(ps: &[ParticleSpec], g: u32) -> Vec<ParticleSpec> {
-    ps.iter().filter(|p| p.group == g).copied().collect()
+    ps.iter().filter(|p| p.generator == g).copied().collect()
 }
 
 #[test]
@@ -20,7 +20,7 @@ fn staggered_block_count_mass_h_and_offsets() {
     let block = of_group(&ps, 0);
     assert_eq!(block.len(), 20 * 10);
     assert!(
-        ps[..200].iter().all(|p| p.group == 0),
+        ps[..200].iter().all(|p| p.generator == 0),
         "generators come in order"
     );
     let dx = 0.05;
@@ -97,20 +97,27 @@ fn linear_and_uniform_velocity() {
 }
 
 #[test]
-fn groups_energy_clip_and_cut() {
+fn bodies_energy_clip_and_cut() {
     let text = edit(&[
         (
+            "    particles: [",
+            "    bodies: [Body(name: \"wall\", kind: Fixed), Body(name: \"water\")],\n    particles: [",
+        ),
+        (
             "h_factor: 2.0)",
-            "h_factor: 2.0, group: 5, internal_energy: 3.0, cut: [(min: [0.0, 0.0], max: [0.5, 0.5])])",
+            "h_factor: 2.0, body: \"water\", internal_energy: 3.0, cut: [(min: [0.0, 0.0], max: [0.5, 0.5])])",
         ),
         (
             "h_factor: 1.5)",
-            "h_factor: 1.5, clip: Some((min: [2.5, 1.5], max: [3.0, 2.5])))",
+            "h_factor: 1.5, body: \"wall\", clip: Some((min: [2.5, 1.5], max: [3.0, 2.5])))",
         ),
     ]);
     let s = load(&text).unwrap();
     let ps = s.generate();
-    let block = of_group(&ps, 5);
+    let block = of_group(&ps, 0);
+    assert!(block.iter().all(|p| p.body == 1));
+    assert!(of_group(&ps, 1).iter().all(|p| p.body == 0));
+    assert_eq!(s.body_list()[0].kind, crate::BodyKind::Fixed);
     assert_eq!(block.len(), 100, "the cut removes the left half");
     assert!(
         block

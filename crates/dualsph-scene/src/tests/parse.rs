@@ -15,7 +15,7 @@ fn base_scene_parses_with_defaults() {
     assert!(s.neighbours.tune_skin);
     assert_eq!(s.particles.len(), 2);
     assert!(
-        matches!(&s.particles[0], Generator::Block(b) if b.lattice == Lattice::Staggered && b.clip.is_none() && b.cut.is_empty() && b.velocity.is_none() && b.group.is_none())
+        matches!(&s.particles[0], Generator::Block(b) if b.lattice == Lattice::Staggered && b.clip.is_none() && b.cut.is_empty() && b.velocity.is_none() && b.body.is_none())
     );
     assert!(matches!(&s.particles[1], Generator::Disk(d) if d.radius == 0.5));
     let names: Vec<_> = s.plugins.iter().map(|p| p.name()).collect();
@@ -46,13 +46,13 @@ fn every_optional_field_parses() {
     let text = edit(&[
         (
             "formulation: DualSupport,",
-            "formulation: AveragedKernel, neighbours: (skin: 0.3, tune_skin: false),",
+            "formulation: AveragedKernel, neighbours: (skin: 0.3, tune_skin: false),\n    bodies: [Body(name: \"seven\")],",
         ),
         (
             "lattice: Staggered, density: 1000.0, h_factor: 2.0)",
             "lattice: Staggered, density: 1000.0, h_factor: 2.0, clip: Some((min: [0.0, 0.0], max: [0.5, 0.5])), \
              cut: [(min: [0.0, 0.0], max: [0.1, 0.1])], velocity: Linear([[1.0, 0.0], [0.0, -1.0]]), \
-             internal_energy: 2.5, group: 7)",
+             internal_energy: 2.5, body: \"seven\")",
         ),
         (
             "h_factor: 1.5)",
@@ -80,7 +80,7 @@ fn every_optional_field_parses() {
         b.velocity,
         Some(Velocity::Linear(vec![vec![1.0, 0.0], vec![0.0, -1.0]]))
     );
-    assert_eq!((b.internal_energy, b.group), (2.5, Some(7)));
+    assert_eq!((b.internal_energy, b.body.as_deref()), (2.5, Some("seven")));
     let Generator::Disk(d) = &s.particles[1] else {
         panic!()
     };
@@ -225,8 +225,7 @@ fn wrong_type_is_a_parse_error() {
             "end_time: 1.0,",
             "end_time: 1.0, output: (snapshot_every: \"often\"),",
         ),
-        ("h_factor: 2.0)", "h_factor: 2.0, group: 5000000000)"),
-        ("h_factor: 2.0)", "h_factor: 2.0, group: 1.5)"),
+        ("end_time: 1.0,", "end_time: 1.0, max_steps: 1.5,"),
     ] {
         let text = edit(&[(from, to)]);
         let (line, _, msg) = parse_error(&text);

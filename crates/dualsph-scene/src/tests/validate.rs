@@ -413,8 +413,8 @@ fn overlap_check_agrees_with_brute_force() {
         let ps = s.generate();
         let (coarse, fine): (Vec<&crate::ParticleSpec>, Vec<_>) = ps
             .iter()
-            .filter(|p| p.group < 2)
-            .partition(|p| p.group == 0);
+            .filter(|p| p.generator < 2)
+            .partition(|p| p.generator == 0);
         let brute = fine.iter().any(|a| {
             coarse
                 .iter()
@@ -459,4 +459,52 @@ fn many_side_by_side_generators_overlap_check() {
     let (field, m) = invalid(&bad);
     assert_eq!(field, "particles[150]", "{m}");
     assert!(m.contains("overlaps particles[148]"), "{m}");
+}
+
+#[test]
+fn bodies() {
+    let two =
+        "    bodies: [Body(name: \"water\"), Body(name: \"wall\", kind: Fixed)],\n    particles: [";
+    rejects(
+        &[
+            ("    particles: [", two),
+            (BLOCK_H, "h_factor: 2.0, body: \"water\")"),
+        ],
+        "particles[1].body",
+        "the scene has 2 bodies: say which",
+    );
+    rejects(
+        &[
+            ("    particles: [", two),
+            (BLOCK_H, "h_factor: 2.0, body: \"watr\")"),
+            (DISK_H, "h_factor: 1.5, body: \"wall\")"),
+        ],
+        "particles[0].body",
+        "no body named `watr`; the scene's bodies are water, wall",
+    );
+    rejects(
+        &[(BLOCK_H, "h_factor: 2.0, body: \"water\")")],
+        "particles[0].body",
+        "the scene declares no `bodies`",
+    );
+    let twice = "    bodies: [Body(name: \"a\"), Body(name: \"a\")],\n    particles: [";
+    rejects(
+        &[("    particles: [", twice)],
+        "bodies[1].name",
+        "the body `a` is declared twice",
+    );
+    let empty = "    bodies: [Body(name: \"\")],\n    particles: [";
+    rejects(
+        &[("    particles: [", empty)],
+        "bodies[0].name",
+        "must not be empty",
+    );
+    let ok = edit(&[
+        ("    particles: [", two),
+        (BLOCK_H, "h_factor: 2.0, body: \"water\")"),
+        (DISK_H, "h_factor: 1.5, body: \"wall\")"),
+    ]);
+    let s = load(&ok).unwrap();
+    let bodies: Vec<u16> = s.generate().iter().map(|p| p.body).collect();
+    assert!(bodies.contains(&0) && bodies.contains(&1));
 }

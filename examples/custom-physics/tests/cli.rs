@@ -1,0 +1,144 @@
+//! The user's binary — the whole dualsph CLI plus this crate's plugin — checks, plans, runs
+//! and resumes a scene that uses the plugin; its columns reach the CSV and VTK snapshots and
+//! a resumed run is bitwise the uninterrupted one (which needs `path_length`, integrated in
+//! time, to be checkpointed).
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn scene() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("shear.ron")
+}
+
+/// Runs the user's binary; panics with its output unless it succeeds.
+fn cli(args: &[&str]) -> String {
+    let out = Command::new(env!("CARGO_BIN_EXE_custom-physics"))
+        .args(args)
+        .env("RAYON_NUM_THREADS", "2")
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout).to_string();
+    assert!(
+        out.status.success(),
+        "{args:?}: {text}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    text
+}
+
+fn csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let header = lines.next().unwrap().split(',').map(String::from).collect();
+    let rows = lines
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect();
+    (header, rows)
+}
+
+#[test]
+fn check_plan_and_plugins_know_the_users_plugin() {
+    let s = scene();
+    cli(&["check", s.to_str().unwrap()]);
+    assert!(cli(&["plugins"]).contains("PairDrag"));
+    let plan = cli(&["plan", s.to_str().unwrap()]);
+    for want in [
+        "pair drag (DPD dissipative force, per-particle γ)",
+        "integrate_path_length (PairDrag)",
+        "DragGamma (drag_gamma: output gamma; checkpointed)",
+        "PathLength (path_length: output s; checkpointed)",
+    ] {
+        assert!(plan.contains(want), "plan lacks {want:?}:\n{plan}");
+    }
+}
+
+#[test]
+fn its_columns_are_written_and_a_resumed_run_is_bitwise_the_same() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (a, b) = (tmp.path().join("a"), tmp.path().join("b"));
+    let s = scene();
+    let s = s.to_str().unwrap();
+    cli(&[
+        "run",
+        s,
+        "--quiet",
+        "--out",
+        a.to_str().unwrap(),
+        "--checkpoint-every",
+        "50",
+    ]);
+
+    // the columns in the CSV: γ_i as set, and a path no shorter than the chord
+    // |r_i(T) − r_i(0)| (to the time discretisation)
+    let (h0, first) = csv(&a.join("particles_000000.csv"));
+    let (h1, last) = csv(&a.join("final.csv"));
+    assert_eq!(h0, h1);
+    let col = |name: &str| h1.iter().position(|h| h == name).unwrap();
+    let (x, y, gamma, path) = (col("x"), col("y"), col("gamma"), col("s"));
+    for (p0, p1) in first.iter().zip(&last) {
+        assert_eq!(
+            p0[gamma],
+            20000.0 + 20000.0 * p0[x],
+            "γ_i = γ + ∂γ/∂x x_i(0)"
+        );
+        assert_eq!(p1[gamma], p0[gamma]);
+        assert_eq!(p0[path], 0.0);
+        let chord = (p1[x] - p0[x]).hypot(p1[y] - p0[y]);
+        assert!(
+            p1[path] >= chord * (1.0 - 1e-3),
+            "path {} < chord {chord}",
+            p1[path]
+        );
+    }
+    let moved = last.iter().map(|p| p[path]).fold(0.0, f64::max);
+    assert!(moved > 0.02, "largest path length {moved}");
+    // the drag conserves momentum (the dual-support reaction) and dissipates kinetic energy
+    let (h, rows) = csv(&a.join("diagnostics.csv"));
+    let (px, py, ek) = (h.iter().position(|c| c == "px").unwrap(), 6, 9);
+    assert_eq!((&h[py][..], &h[ek][..]), ("py", "e_kin"));
+    for r in &rows {
+        assert!(r[px].abs() < 1e-15 && r[py].abs() < 1e-15, "momentum {r:?}");
+    }
+    assert!(rows.windows(2).all(|w| w[1][ek] < w[0][ek]));
+    // and in the VTK file as point data
+    let vtp = std::fs::read_to_string(a.join("particles_000100.vtp")).unwrap();
+    for name in ["drag_gamma", "path_length"] {
+        assert!(
+            vtp.contains(&format!("Name=\"{name}\"")),
+            "{name} not in the VTK file"
+        );
+    }
+
+    // resume a copy from step 50: every file is byte-identical at the end
+    std::fs::create_dir(&b).unwrap();
+    for f in std::fs::read_dir(&a).unwrap() {
+        let f = f.unwrap();
+        std::fs::copy(f.path(), b.join(f.file_name())).unwrap();
+    }
+    for f in [
+        "checkpoint_000100.ckpt",
+        "final.csv",
+        "particles_000100.csv",
+    ] {
+        std::fs::remove_file(b.join(f)).unwrap();
+    }
+    let ck = b.join("checkpoint_000050.ckpt");
+    let args = [
+        "run",
+        s,
+        "--quiet",
+        "--out",
+        b.to_str().unwrap(),
+        "--checkpoint-every",
+        "50",
+    ];
+    cli(&[&args[..], &["--resume", ck.to_str().unwrap()]].concat());
+    for f in std::fs::read_dir(&a).unwrap() {
+        let name = f.unwrap().file_name();
+        let (x, y) = (std::fs::read(a.join(&name)), std::fs::read(b.join(&name)));
+        assert!(
+            x.unwrap() == y.unwrap(),
+            "{name:?} differs after the resume"
+        );
+    }
+}

@@ -1,0 +1,322 @@
+//! The `dualsph` command line as a library function: [`main`] takes the plugin registry, so
+//! a user's binary is the whole CLI (`run`, `check`, `plan`, `--resume`, …) with their own
+//! plugins registered beside the built-in ones:
+//!
+//! ```no_run
+//! fn main() -> std::process::ExitCode {
+//!     let mut registry = dualsph::default_registry();
+//!     registry.register::<dualsph::plugins::Gravity>(); // your plugin here
+//!     dualsph::cli::main(registry)
+//! }
+//! ```
+
+use crate::report::{Benchmark, ReportOptions};
+use crate::runner::{self, Progress, RestartOptions, RunOptions};
+use crate::scene::{Formulation, Scene};
+use clap::{Parser, Subcommand};
+use dualsph_core::plugin::Registry;
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+/// `println!` that ends the process quietly when standard output is a closed pipe
+/// (`dualsph plan scene.ron | head`) instead of panicking; output files are written
+/// atomically, so nothing is left half written.
+macro_rules! say {
+    ($($t:tt)*) => {{
+        use std::io::Write as _;
+        if let Err(e) = writeln!(std::io::stdout(), $($t)*) {
+            if e.kind() == std::io::ErrorKind::BrokenPipe {
+                std::process::exit(0);
+            }
+        }
+    }};
+}
+
+#[derive(Parser)]
+#[command(
+    name = "dualsph",
+    version,
+    about = "Dual-support SPH: run, check and plan RON scenes; grid and plot their output"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+/// Formulations selectable on the command line.
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum FormulationArg {
+    DualSupport,
+    SingleSupport,
+    ConstantH,
+    AveragedKernel,
+}
+
+impl From<FormulationArg> for Formulation {
+    fn from(f: FormulationArg) -> Self {
+        match f {
+            FormulationArg::DualSupport => Formulation::DualSupport,
+            FormulationArg::SingleSupport => Formulation::SingleSupport,
+            FormulationArg::ConstantH => Formulation::ConstantH,
+            FormulationArg::AveragedKernel => Formulation::AveragedKernel,
+        }
+    }
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run a scene headless and write diagnostics and snapshots.
+    Run {
+        /// The scene file (.ron).
+        scene: PathBuf,
+        /// Output directory (default: out/<scene name>).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// No progress output.
+        #[arg(long)]
+        quiet: bool,
+        /// Replace the scene's formulation (e.g. SingleSupport to rerun a paper's Case I).
+        #[arg(long, value_enum)]
+        formulation: Option<FormulationArg>,
+        /// Write the complete state to OUT/checkpoint_NNNNNN.ckpt every N steps (atomically;
+        /// the last three are kept).
+        #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
+        checkpoint_every: Option<u64>,
+        /// Continue from a checkpoint of the same scene; the result is bitwise identical to an
+        /// uninterrupted run.
+        #[arg(long, value_name = "CHECKPOINT")]
+        resume: Option<PathBuf>,
+        /// Stop at this simulated time instead of the scene's end_time (e.g. to time the
+        /// first 0.3 s of a dam break).
+        #[arg(long, value_name = "T")]
+        end_time: Option<f64>,
+        /// Print the wall time of every system of the step at the end (where the time goes).
+        #[arg(long)]
+        profile: bool,
+    },
+    /// Run the paper's benchmarks, grade them against their references, write report.md + PNGs.
+    Report {
+        /// Benchmarks to run (default: all four).
+        #[arg(value_enum)]
+        benchmarks: Vec<Benchmark>,
+        /// Folder holding the scene files.
+        #[arg(long, default_value = "scenes")]
+        scenes: PathBuf,
+        /// Output folder for report.md and the plots.
+        #[arg(long, default_value = "docs/validation")]
+        out: PathBuf,
+        /// Multiply every particle spacing by this factor (1 = the paper's resolution).
+        #[arg(long, default_value_t = 1.0)]
+        coarsen: f64,
+        /// Replace the dam break's end time (s).
+        #[arg(long)]
+        end_time: Option<f64>,
+    },
+    /// Parse and validate a scene and build its simulation (plugin requirements), without running it.
+    Check {
+        /// The scene file (.ron).
+        scene: PathBuf,
+    },
+    /// Print the systems (in order), pair terms and particle components a scene produces.
+    Plan {
+        /// The scene file (.ron).
+        scene: PathBuf,
+    },
+    /// List the registered plugins.
+    Plugins,
+    /// Sample a field of a run's particle file on a regular grid: DIR/<field>_grid.vti
+    /// (ParaView) and DIR/<field>_grid.png (filled contours, white outside the fluid).
+    Grid {
+        /// The scene file the run used (for its dimension, kernel and domain).
+        scene: PathBuf,
+        /// The run's output directory (default: out/<scene name>).
+        #[arg(long)]
+        dir: Option<PathBuf>,
+        /// Particle file in DIR (final.csv or a particles_NNNNNN.csv snapshot).
+        #[arg(long, default_value = "final.csv")]
+        file: String,
+        /// Density | Pressure | VelocityX | VelocityY | VelocityZ | Speed | InternalEnergy | ShepardSum
+        #[arg(long, default_value = "Density")]
+        field: String,
+        /// Grid spacing (m).
+        #[arg(long)]
+        dx: f64,
+    },
+    /// Plot DIR/probes.csv (written by the Probes plugin) into PNGs next to it.
+    PlotProbes {
+        /// The run's output directory.
+        dir: PathBuf,
+    },
+}
+
+fn grid_command(
+    scene_path: &std::path::Path,
+    s: &Scene,
+    dir: Option<PathBuf>,
+    file: &str,
+    field: &str,
+    dx: f64,
+) -> Result<(), String> {
+    let dir = dir.unwrap_or_else(|| runner::default_out_dir(scene_path));
+    let q: crate::probes::Quantity = ron::from_str(field).map_err(|_| {
+        format!("--field {field:?}: expected Density, Pressure, VelocityX, VelocityY, VelocityZ, Speed, InternalEnergy or ShepardSum")
+    })?;
+    let path = dir.join(file);
+    let records = crate::io::read_particles_csv(&path).map_err(|e| e.to_string())?;
+    let mut lo = [0.0; 3];
+    let mut hi = [0.0; 3];
+    lo[..s.dimension].copy_from_slice(&s.domain.min);
+    hi[..s.dimension].copy_from_slice(&s.domain.max);
+    let f = crate::gridded::sample_records(&records, s.dimension, s.kernel, q, dx, Some((lo, hi)))
+        .map_err(|e| e.to_string())?;
+    let stem = format!("{}_grid", field.to_lowercase());
+    let title = format!("{} — {field} from {file}", s.name);
+    let (vti, png) =
+        crate::gridded::write_field(&f, &dir, &stem, &title).map_err(|e| e.to_string())?;
+    say!("wrote {}", vti.display());
+    if s.dimension >= 2 {
+        say!("wrote {}", png.display());
+    }
+    Ok(())
+}
+
+/// Reads, parses and validates a scene; the particle cap is also what fits in the machine's
+/// memory, checked from the estimate before any particle is generated.
+fn load(path: &std::path::Path, registry: &Registry) -> Result<Scene, String> {
+    let text = std::fs::read_to_string(path).map_err(|source| {
+        crate::scene::SceneError::Io {
+            path: path.to_path_buf(),
+            source,
+        }
+        .to_string()
+    })?;
+    let s = Scene::parse_only(&text, path, registry).map_err(|e| e.to_string())?;
+    let (limit, why) =
+        runner::memory::particle_limit(s.dimension, runner::memory::memory_available());
+    s.validate_with_limit(path, limit, &why)
+        .map_err(|e| e.to_string())?;
+    Ok(s)
+}
+
+/// Runs the command line given to the process with the plugins of `registry`; the exit code
+/// is failure with the message on standard error when the command fails.
+pub fn main(registry: Registry) -> ExitCode {
+    let cli = Cli::parse();
+    let result: Result<(), String> = match cli.command {
+        Command::Report { benchmarks, scenes, out, coarsen, end_time } => {
+            let list = if benchmarks.is_empty() { Benchmark::ALL.to_vec() } else { benchmarks };
+            let opts = ReportOptions { scenes, out, coarsen, end_time, log: true };
+            let command: Vec<String> = std::env::args().skip(1).collect();
+            let command = format!("cargo run --release -- {}", command.join(" "));
+            crate::report::write_report(&list, &opts, &command)
+                .map(|path| say!("report written: {}", path.display()))
+                .map_err(|e| e.to_string())
+        }
+        Command::Run { scene, out, quiet, formulation, checkpoint_every, resume, end_time, profile } => load(&scene, &registry).and_then(|mut s| {
+            if let Some(f) = formulation {
+                s.formulation = f.into();
+            }
+            if let Some(t) = end_time {
+                if !(t.is_finite() && t > 0.0) {
+                    return Err(format!("--end-time {t}: must be a positive number of seconds"));
+                }
+                s.end_time = t;
+            }
+            let progress = if quiet {
+                Progress::Silent
+            } else if std::io::stderr().is_terminal() {
+                Progress::Bar
+            } else {
+                Progress::Log
+            };
+            let out = out.unwrap_or_else(|| runner::default_out_dir(&scene));
+            eprintln!("dualsph: running {} ({}-D, {} particles generated) → {}", scene.display(), s.dimension, s.generate().len(), out.display());
+            if let Some(ck) = &resume {
+                eprintln!("dualsph: resuming from {}", ck.display());
+            }
+            let restart = RestartOptions { checkpoint_every, resume };
+            let summary = runner::run_with(&s, &RunOptions { out: out.clone(), progress, profile }, &restart)
+                .map_err(|e| format!("{}: {e}", scene.display()))?;
+            say!(
+                "done: {} particles, {} steps to t = {:.6} s in {:.2} s wall, {:.2} CPU-s ({:.3e} particle-steps per wall-s, {:.3e} per CPU-s, {} threads; {} neighbour-list builds, last skin {:.3}); output in {}",
+                summary.particles,
+                summary.steps,
+                summary.t,
+                summary.wall_seconds,
+                summary.cpu_seconds,
+                summary.particle_steps_per_second,
+                summary.particle_steps_per_cpu_second,
+                rayon::current_num_threads(),
+                summary.list_builds,
+                summary.skin,
+                out.display()
+            );
+            let (a, b) = (&summary.initial, &summary.last);
+            say!(
+                "conservation: mass {:.3e} → {:.3e}, momentum [{:.3e}, {:.3e}, {:.3e}], E_tot {:.6e} → {:.6e}",
+                a.mass, b.mass, b.momentum[0], b.momentum[1], b.momentum[2], a.e_tot, b.e_tot
+            );
+            if let Some(p) = &summary.profile {
+                say!("\nwall time per system over {} steps ({} threads):\n{}", p.steps, rayon::current_num_threads(), p.table(summary.particles));
+                say!(
+                    "steps {:.3} s of the run loop's {:.3} s; the rest is output, checkpoints and progress",
+                    p.total(),
+                    summary.wall_seconds
+                );
+            }
+            if out.join(crate::probes::PROBES_FILE).exists() {
+                let pngs = crate::probes::plot_probes(&out)?;
+                say!("probes: {} plots in {}", pngs.len(), out.display());
+            }
+            Ok(())
+        }),
+        Command::Check { scene } => load(&scene, &registry).and_then(|s| {
+            // building the simulation also checks what plugins require of each other
+            runner::plan(&s).map_err(|e| format!("{}: {e}", scene.display()))?;
+            say!("{}: ok ({}-D, {} particles, {} plugins)", scene.display(), s.dimension, s.generate().len(), s.plugins.len());
+            Ok(())
+        }),
+        Command::Plan { scene } => load(&scene, &registry).and_then(|s| {
+            let plan = runner::plan(&s).map_err(|e| format!("{}: {e}", scene.display()))?;
+            say!("scene {} ({}-D, formulation {:?}, kernel {:?})", s.name, s.dimension, s.formulation, s.kernel);
+            say!("\nschedule (in order):");
+            for (k, (set, label)) in plan.systems.iter().enumerate() {
+                say!("  {:>2}. {:<16} {}", k + 1, format!("{set:?}"), label);
+            }
+            say!("\npair terms fused into the sweep:");
+            if plan.pair_terms.is_empty() {
+                say!("  (none)");
+            }
+            for t in &plan.pair_terms {
+                say!("  - {t}");
+            }
+            say!("\nparticle components:");
+            for c in &plan.components {
+                say!("  - {c}");
+            }
+            Ok(())
+        }),
+        Command::Grid { scene, dir, file, field, dx } => {
+            load(&scene, &registry).and_then(|s| grid_command(&scene, &s, dir, &file, &field, dx))
+        }
+        Command::PlotProbes { dir } => crate::probes::plot_probes(&dir).map(|pngs| {
+            for p in pngs {
+                say!("wrote {}", p.display());
+            }
+        }),
+        Command::Plugins => {
+            for e in registry.entries() {
+                say!("{:<22} {}", e.name, e.summary);
+            }
+            Ok(())
+        }
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(msg) => {
+            eprintln!("error: {msg}");
+            ExitCode::FAILURE
+        }
+    }
+}
