@@ -123,7 +123,7 @@ pub fn install_bodies<V: Vector>(sim: &mut Sim<V>, bodies: Bodies) -> Result<(),
     if fixed.iter().any(|&f| f) {
         let positions = crate::store::by_id::<Position<V>>(&mut sim.world);
         let spec = ColumnSpec::restart_only("anchor");
-        sim.add_column(spec, |id| Anchor(positions[id as usize].0))?;
+        sim.add_column(spec, move |id| Anchor(positions[id as usize].0))?;
         sim.world.insert_resource(FixedBodies(fixed));
         sim.add_system(
             StepSet::Predict,

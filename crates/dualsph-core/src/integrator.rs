@@ -287,13 +287,13 @@ pub fn ensure_energy_equation<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimErro
     }
     let eps = sim.world.resource::<InitialInternalEnergy>().0.clone();
     let spec = ColumnSpec::state("internal_energy", "e");
-    sim.add_column(spec, |id| InternalEnergy(eps[id as usize]))?;
+    sim.add_column(spec, move |id| InternalEnergy(eps[id as usize]))?;
     let rate = EnergyRate {
         rate: 0.0,
         e0: 0.0,
         rate0: 0.0,
     };
-    sim.add_column(ColumnSpec::restart_only("energy_rate"), |_| rate)?;
+    sim.add_column(ColumnSpec::restart_only("energy_rate"), move |_| rate)?;
     sim.add_system(StepSet::Predict, "predict_internal_energy", predict_energy);
     sim.add_system(StepSet::Correct, "correct_internal_energy", correct_energy);
     Ok(())
@@ -309,7 +309,7 @@ pub fn ensure_density_integration<V: Vector>(sim: &mut Sim<V>) -> Result<(), Sim
         rho0: 0.0,
         rate0: 0.0,
     };
-    sim.add_column(ColumnSpec::restart_only("density_rate"), |_| rate)?;
+    sim.add_column(ColumnSpec::restart_only("density_rate"), move |_| rate)?;
     sim.add_system(StepSet::Predict, "predict_density", predict_density);
     sim.add_system(StepSet::Correct, "correct_density", correct_density);
     Ok(())

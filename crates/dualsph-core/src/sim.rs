@@ -216,6 +216,9 @@ pub struct Plan {
     pub pair_terms: Vec<String>,
 }
 
+/// Puts one column's value on a particle (given its id).
+type PendingColumn = Box<dyn Fn(&mut EntityWorldMut<'_>, u32) + Send + Sync>;
+
 /// A simulation: world, schedule under construction or built, and its features.
 pub struct Sim<V: Vector> {
     /// The ECS world: particles are entities, shared state is resources.
@@ -223,6 +226,8 @@ pub struct Sim<V: Vector> {
     systems: Vec<SystemEntry>,
     features: BTreeSet<&'static str>,
     requirements: Vec<(&'static str, String)>,
+    /// Column values not yet on the particles (see [`Sim::add_column`]).
+    pending: Vec<PendingColumn>,
     schedule: Option<Schedule>,
     /// The systems' labels in schedule order (set when the schedule is built).
     labels: Vec<String>,
@@ -275,6 +280,7 @@ impl<V: Vector> Sim<V> {
             systems: Vec::new(),
             features: BTreeSet::new(),
             requirements: Vec::new(),
+            pending: Vec::new(),
             schedule: None,
             labels: Vec::new(),
             pool: None,
@@ -337,15 +343,34 @@ impl<V: Vector> Sim<V> {
     /// [`crate::columns`]): whether it is written to snapshots and kept in checkpoints. Adding
     /// the same column again only sets the values again. The error names a column whose
     /// name another column has already.
+    ///
+    /// The values are put on the particles by [`Sim::finish`], every column of a particle at
+    /// once: a particle then passes through the intermediate archetypes alone, so their
+    /// tables never hold more than one row, and the memory peak of set-up is the core table
+    /// and the final one (inserting column by column over all particles left a table of n
+    /// rows behind in every intermediate archetype).
     pub fn add_column<C: ColumnValue<V>>(
         &mut self,
         spec: ColumnSpec,
-        init: impl Fn(u32) -> C,
+        init: impl Fn(u32) -> C + Send + Sync + 'static,
     ) -> Result<(), SimError> {
         self.world
             .resource_mut::<Columns>()
             .register::<V, C>(spec)
             .map_err(SimError::Build)?;
+        self.pending.push(Box::new(move |e, id| {
+            e.insert(init(id));
+        }));
+        Ok(())
+    }
+
+    /// Puts the values of the columns added since the last call on the particles, particle
+    /// by particle (see [`Sim::add_column`]).
+    fn insert_pending_columns(&mut self) {
+        if self.pending.is_empty() {
+            return;
+        }
+        let pending = std::mem::take(&mut self.pending);
         let entities: Vec<(Entity, u32)> = self
             .world
             .query::<(Entity, &ParticleId)>()
@@ -353,9 +378,11 @@ impl<V: Vector> Sim<V> {
             .map(|(e, id)| (e, id.0))
             .collect();
         for (e, id) in entities {
-            self.world.entity_mut(e).insert(init(id));
+            let mut particle = self.world.entity_mut(e);
+            for insert in &pending {
+                insert(&mut particle, id);
+            }
         }
-        Ok(())
     }
 
     /// Records a feature; returns true the first time (so shared systems are added once).
@@ -453,6 +480,7 @@ impl<V: Vector> Sim<V> {
                 return Err(SimError::Build(message.clone()));
             }
         }
+        self.insert_pending_columns();
         self.check_store()?;
         self.build_schedule();
         Ok(())

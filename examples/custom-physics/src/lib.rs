@@ -114,14 +114,18 @@ impl SimPlugin for PairDrag {
     fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
         let positions = dualsph::core::store::by_id::<Position<V>>(&mut sim.world);
         let grad = V::from_slice(&self.gamma_gradient).unwrap_or_else(V::zero);
-        let gamma = |id: u32| DragGamma(self.gamma + grad.dot(positions[id as usize].0));
-        if let Some(i) = (0..positions.len() as u32).find(|&i| gamma(i).0 < 0.0) {
+        let gamma: Vec<Real> = positions
+            .iter()
+            .map(|r| self.gamma + grad.dot(r.0))
+            .collect();
+        if let Some(i) = gamma.iter().position(|&g| g < 0.0) {
             return Err(SimError::Build(format!(
                 "PairDrag.gamma_gradient: γ = {} < 0 at particle {i}",
-                gamma(i).0
+                gamma[i]
             )));
         }
-        sim.add_column(ColumnSpec::state("drag_gamma", "gamma"), gamma)?;
+        let spec = ColumnSpec::state("drag_gamma", "gamma");
+        sim.add_column(spec, move |id| DragGamma(gamma[id as usize]))?;
         sim.add_column(ColumnSpec::state("path_length", "s"), |_| PathLength(0.0))?;
         sim.add_pair_term(PairDragTerm);
         sim.add_system(

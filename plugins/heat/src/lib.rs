@@ -96,7 +96,7 @@ impl SimPlugin for HeatConduction {
         ensure_energy_equation(sim)?;
         let kappa = self.conductivity;
         let spec = ColumnSpec::restart_only("conductivity");
-        sim.add_column(spec, |_| Conductivity(kappa))?;
+        sim.add_column(spec, move |_| Conductivity(kappa))?;
         sim.add_pair_term(HeatTerm {
             inv_cv: 1.0 / self.heat_capacity,
         });
