@@ -173,7 +173,7 @@ pub fn build_sim<V: Vector>(scene: &Scene) -> Result<Sim<V>, SimError> {
         clock.t_end = scene.end_time;
     }
     for p in &scene.plugins {
-        p.build_into(&mut sim).map_err(|e| {
+        sim.build_plugin(p.as_ref()).map_err(|e| {
             let why = match e {
                 SimError::Build(m) | SimError::BlowUp(m) => m,
             };

@@ -1,9 +1,9 @@
 //! dualsph core: dimensions, kernels, neighbour lists, the support/dual-support pair sweep,
 //! the integrator, diagnostics, and the `Sim`/`SimPlugin` machinery.
 //!
-//! Notation follows Ren, Dai, Zhuang & Rabczuk, *Dual-support SPH* (paper 001 in
-//! `shared/papers`): `h_i` is the support radius of particle i, `H_i` its support and `H'_i`
-//! its dual-support.
+//! Notation follows Ren, Dai, Zhuang & Rabczuk, *Dual-support Smoothed Particle
+//! Hydrodynamics* (RenDSSPH in the project's `docs/references.md`): `h_i` is the support radius
+//! of particle i, `H_i` its support and `H'_i` its dual-support.
 #![warn(missing_docs)]
 pub mod bodies;
 pub mod chunks;
@@ -15,6 +15,7 @@ pub mod kernels;
 pub mod lanes;
 pub mod math;
 pub mod neighbours;
+pub mod order;
 pub mod output;
 pub mod pair;
 pub mod passes;

@@ -4,17 +4,19 @@
 //! the order below, systems within a set in the order they were added — so a run is
 //! deterministic and [`Sim::plan`] can print exactly what will execute.
 
-use crate::bodies::BodyId;
-use crate::columns::{ColumnSpec, ColumnValue, Columns};
-use crate::components::*;
+use crate::columns::Columns;
 use crate::kernels::{Kernel, KernelKind};
 use crate::math::{Real, Vector};
 use crate::neighbours::{Neighbours, SkinRule};
+use crate::order::Placement;
+use crate::plugin::PluginConfig;
 use crate::sweep::{Formulation, PairTerm, PairTerms, ParticleData};
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::{ScheduleLabel, SingleThreadedExecutor};
 use bevy_ecs::system::ScheduleSystem;
 use std::collections::BTreeSet;
+
+mod particles;
 use std::marker::PhantomData;
 
 /// Errors from building or running a simulation.
@@ -200,8 +202,29 @@ type Adder = Box<dyn FnOnce(&mut Schedule, Slot) + Send + Sync>;
 
 struct SystemEntry {
     set: StepSet,
-    label: String,
+    place: Placement,
     add: Option<Adder>,
+}
+
+/// The system just added, to constrain its place in its set (see [`crate::order`]):
+/// `sim.add_system(StepSet::Forces, "density_diffusion", f).after("pair_sweep")`.
+pub struct SystemOrder<'a> {
+    place: &'a mut Placement,
+}
+
+impl SystemOrder<'_> {
+    /// Runs after the systems `name` names (a system name, a prefix of one ending at `_`, or
+    /// a plugin); nothing when none is in the scene.
+    pub fn after(self, name: &str) -> Self {
+        self.place.after.push(name.to_string());
+        self
+    }
+
+    /// Runs before the systems `name` names (see [`SystemOrder::after`]).
+    pub fn before(self, name: &str) -> Self {
+        self.place.before.push(name.to_string());
+        self
+    }
 }
 
 /// What a scene will run: the systems in order and the particle components.
@@ -228,6 +251,8 @@ pub struct Sim<V: Vector> {
     requirements: Vec<(&'static str, String)>,
     /// Column values not yet on the particles (see [`Sim::add_column`]).
     pending: Vec<PendingColumn>,
+    /// The plugin being built (systems added now are its own), `core` otherwise.
+    building: &'static str,
     schedule: Option<Schedule>,
     /// The systems' labels in schedule order (set when the schedule is built).
     labels: Vec<String>,
@@ -281,6 +306,7 @@ impl<V: Vector> Sim<V> {
             features: BTreeSet::new(),
             requirements: Vec::new(),
             pending: Vec::new(),
+            building: "core",
             schedule: None,
             labels: Vec::new(),
             pool: None,
@@ -289,100 +315,6 @@ impl<V: Vector> Sim<V> {
         crate::integrator::add_core_systems(&mut sim);
         sim.register_core_columns();
         sim
-    }
-
-    /// The columns every particle carries (see [`Sim::spawn_particles`]).
-    fn register_core_columns(&mut self) {
-        use crate::columns::ColumnSpec as S;
-        let cols = &mut *self.world.resource_mut::<Columns>();
-        let core = [
-            cols.register::<V, Position<V>>(S::state("position", "")),
-            cols.register::<V, Velocity<V>>(S::state("velocity", "v")),
-            cols.register::<V, Mass>(S::state("mass", "m")),
-            cols.register::<V, Density>(S::state("density", "rho")),
-            cols.register::<V, SmoothingLength>(S::state("smoothing_length", "h")),
-            cols.register::<V, Acceleration<V>>(S::restart_only("acceleration")),
-            cols.register::<V, Kinematics<V>>(S::restart_only("kinematics")),
-            cols.register::<V, BodyId>(S::state("body", "body")),
-        ];
-        for r in core {
-            r.expect("the core columns have distinct names");
-        }
-    }
-
-    /// Spawns particles with the core components; ids are `0..n` in the given order.
-    pub fn spawn_particles(&mut self, particles: &[ParticleInit<V>]) {
-        let start = self.particle_count() as u32;
-        let mut eps = std::mem::take(&mut self.world.resource_mut::<InitialInternalEnergy>().0);
-        for (k, p) in particles.iter().enumerate() {
-            self.world.spawn((
-                ParticleId(start + k as u32),
-                Position(p.pos),
-                Velocity(p.vel),
-                Mass(p.mass),
-                Density(p.density),
-                SmoothingLength(p.h),
-                Acceleration(V::zero()),
-                Kinematics {
-                    v0: p.vel,
-                    a0: V::zero(),
-                },
-                BodyId(p.body),
-            ));
-            eps.push(p.internal_energy);
-        }
-        self.world.resource_mut::<InitialInternalEnergy>().0 = eps;
-    }
-
-    /// Number of particles.
-    pub fn particle_count(&self) -> usize {
-        self.world.resource::<InitialInternalEnergy>().0.len()
-    }
-
-    /// Adds column `C` to every particle, with the value `init(id)`, and registers it (see
-    /// [`crate::columns`]): whether it is written to snapshots and kept in checkpoints. Adding
-    /// the same column again only sets the values again. The error names a column whose
-    /// name another column has already.
-    ///
-    /// The values are put on the particles by [`Sim::finish`], every column of a particle at
-    /// once: a particle then passes through the intermediate archetypes alone, so their
-    /// tables never hold more than one row, and the memory peak of set-up is the core table
-    /// and the final one (inserting column by column over all particles left a table of n
-    /// rows behind in every intermediate archetype).
-    pub fn add_column<C: ColumnValue<V>>(
-        &mut self,
-        spec: ColumnSpec,
-        init: impl Fn(u32) -> C + Send + Sync + 'static,
-    ) -> Result<(), SimError> {
-        self.world
-            .resource_mut::<Columns>()
-            .register::<V, C>(spec)
-            .map_err(SimError::Build)?;
-        self.pending.push(Box::new(move |e, id| {
-            e.insert(init(id));
-        }));
-        Ok(())
-    }
-
-    /// Puts the values of the columns added since the last call on the particles, particle
-    /// by particle (see [`Sim::add_column`]).
-    fn insert_pending_columns(&mut self) {
-        if self.pending.is_empty() {
-            return;
-        }
-        let pending = std::mem::take(&mut self.pending);
-        let entities: Vec<(Entity, u32)> = self
-            .world
-            .query::<(Entity, &ParticleId)>()
-            .iter(&self.world)
-            .map(|(e, id)| (e, id.0))
-            .collect();
-        for (e, id) in entities {
-            let mut particle = self.world.entity_mut(e);
-            for insert in &pending {
-                insert(&mut particle, id);
-            }
-        }
     }
 
     /// Records a feature; returns true the first time (so shared systems are added once).
@@ -401,21 +333,40 @@ impl<V: Vector> Sim<V> {
         self.requirements.push((feature, message.into()));
     }
 
-    /// Adds a system to a set, after every system already in that set.
+    /// Adds a system to a set, after every system already in that set unless the returned
+    /// [`SystemOrder`] constrains it otherwise (see [`crate::order`]). The label's first word
+    /// is the system's name in constraints.
     pub fn add_system<M: 'static>(
         &mut self,
         set: StepSet,
         label: impl Into<String>,
         system: impl IntoScheduleConfigs<ScheduleSystem, M> + Send + Sync + 'static,
-    ) {
+    ) -> SystemOrder<'_> {
         let adder: Adder = Box::new(move |schedule: &mut Schedule, slot: Slot| {
             schedule.add_systems(system.in_set(slot));
         });
         self.systems.push(SystemEntry {
             set,
-            label: label.into(),
+            place: Placement {
+                label: label.into(),
+                plugin: self.building.to_string(),
+                ..Placement::default()
+            },
             add: Some(adder),
         });
+        let last = self.systems.len() - 1;
+        SystemOrder {
+            place: &mut self.systems[last].place,
+        }
+    }
+
+    /// Builds `plugin` into the simulation, its systems marked as its own (for the order
+    /// constraints' names and messages).
+    pub fn build_plugin(&mut self, plugin: &dyn PluginConfig) -> Result<(), SimError> {
+        let outer = std::mem::replace(&mut self.building, plugin.name());
+        let built = plugin.build_into(self);
+        self.building = outer;
+        built
     }
 
     /// Adds a term to the pair sweep (and the sweep itself, the first time).
@@ -429,18 +380,33 @@ impl<V: Vector> Sim<V> {
         }
     }
 
-    fn ordered(&self) -> Vec<usize> {
-        let mut idx: Vec<usize> = (0..self.systems.len()).collect();
-        idx.sort_by_key(|&k| (self.systems[k].set, k));
-        idx
+    /// The systems in run order: by set, and inside a set by insertion order and the
+    /// systems' constraints ([`crate::order`]); the error names a contradiction.
+    fn ordered(&self) -> Result<Vec<usize>, SimError> {
+        let mut out = Vec::with_capacity(self.systems.len());
+        for set in StepSet::ALL {
+            let members: Vec<usize> = (0..self.systems.len())
+                .filter(|&k| self.systems[k].set == set)
+                .collect();
+            let places: Vec<Placement> = members
+                .iter()
+                .map(|&k| self.systems[k].place.clone())
+                .collect();
+            let inside = crate::order::order(&places)
+                .map_err(|e| SimError::Build(format!("{set:?}: {e}")))?;
+            out.extend(inside.into_iter().map(|i| members[i]));
+        }
+        Ok(out)
     }
 
     /// The systems in execution order, the particle components and the pair terms.
     pub fn plan(&mut self) -> Plan {
-        let systems = self
+        let order = self
             .ordered()
+            .unwrap_or_else(|_| (0..self.systems.len()).collect());
+        let systems = order
             .into_iter()
-            .map(|k| (self.systems[k].set, self.systems[k].label.clone()))
+            .map(|k| (self.systems[k].set, self.systems[k].place.label.clone()))
             .collect();
         let components = std::iter::once("ParticleId (id)".to_string())
             .chain(self.world.resource::<Columns>().iter().map(|c| {
@@ -482,8 +448,7 @@ impl<V: Vector> Sim<V> {
         }
         self.insert_pending_columns();
         self.check_store()?;
-        self.build_schedule();
-        Ok(())
+        self.build_schedule()
     }
 
     /// The store holds every particle in one table and every pair term binds to it.
@@ -515,16 +480,16 @@ impl<V: Vector> Sim<V> {
             .map_err(SimError::Build)
     }
 
-    fn build_schedule(&mut self) {
+    fn build_schedule(&mut self) -> Result<(), SimError> {
         if self.schedule.is_some() {
-            return;
+            return Ok(());
         }
         if !self.has_feature("pair_sweep") && self.enable_feature("no_pair_sweep") {
             crate::sweep::add_zero_acceleration_system(self);
         }
         let mut schedule = Schedule::new(Step);
         schedule.set_executor(SingleThreadedExecutor::new());
-        let order = self.ordered();
+        let order = self.ordered()?;
         for (pos, &k) in order.iter().enumerate() {
             let slot = Slot(pos);
             if pos > 0 {
@@ -539,9 +504,10 @@ impl<V: Vector> Sim<V> {
         }
         self.labels = order
             .iter()
-            .map(|&k| self.systems[k].label.clone())
+            .map(|&k| self.systems[k].place.label.clone())
             .collect();
         self.schedule = Some(schedule);
+        Ok(())
     }
 
     /// Times every system of the step from now on (wall time per system, see

@@ -12,8 +12,8 @@
 //! evaluation in hydrodynamic context using the SPH, Comput. Phys. Commun. 180, 861–872: the
 //! diffusive term they add to the continuity equation; it is also the δ-SPH term of Antuono,
 //! Colagrossi, Marrone & Molteni (2010), Comput. Phys. Commun. 181, 532–549, without its
-//! renormalised-gradient correction, which matters only under gravity. Neither paper is in
-//! /work/shared/papers, so no equation numbers are quoted.) The pair sum is Brookshaw's (1985)
+//! renormalised-gradient correction, which matters only under gravity. Equation numbers are
+//! not quoted: they would refer to neither DS-SPH paper.) The pair sum is Brookshaw's (1985)
 //! SPH Laplacian, so the term is `δ (h/2) c0 ∇²ρ` to O(h²): it damps the noise at the particle
 //! scale and leaves smooth fields almost alone (tested against the analytic Laplacian).
 //!
@@ -158,18 +158,21 @@ impl SimPlugin for DensityDiffusion {
         }
     }
 
+    /// Adds the diffusion after whatever sets the density rate in the `Forces` set (the pair
+    /// sweep, the continuity system), wherever the plugins stand in the scene's list.
     fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
-        if !sim.has_feature("density_integration") {
-            return Err(SimError::Build(
-                "DensityDiffusion diffuses the integrated density: list ContinuityDensity before it"
-                    .into(),
-            ));
-        }
-        if !sim.has_feature("pair_sweep") || !sim.has_feature("eos") {
-            return Err(SimError::Build(
-                "DensityDiffusion needs the sound speed and adds to the continuity rate after the pair sweep: list it after the equation of state and PressureForce".into(),
-            ));
-        }
+        sim.require_feature(
+            "density_integration",
+            "DensityDiffusion diffuses the integrated density: add ContinuityDensity",
+        );
+        sim.require_feature(
+            "eos",
+            "DensityDiffusion needs the sound speed: add an equation of state",
+        );
+        sim.require_feature(
+            "pair_sweep",
+            "DensityDiffusion adds to the rates of a pair sweep: add PressureForce or another pair term",
+        );
         if !sim.enable_feature("density_diffusion") {
             return Err(SimError::Build("DensityDiffusion is listed twice".into()));
         }
@@ -178,7 +181,9 @@ impl SimPlugin for DensityDiffusion {
             StepSet::Forces,
             "density_diffusion (delta-SPH, Molteni & Colagrossi 2009)",
             density_diffusion::<V>,
-        );
+        )
+        .after("pair_sweep")
+        .after("continuity");
         Ok(())
     }
 }

@@ -69,7 +69,7 @@ impl SimPlugin for ContinuityDensity {
                     StepSet::Forces,
                     "continuity (-rho div v)",
                     passes::continuity_divergence::<V>,
-                )
+                );
             }
         }
         Ok(())

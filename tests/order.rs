@@ -1,0 +1,91 @@
+//! The order of the systems comes from their constraints, not from the scene's plugin list:
+//! `DensityDiffusion` runs after the pair sweep and the continuity system wherever it is
+//! listed, and a scene without what it needs is refused whatever the order.
+
+use dualsph::build_sim;
+use dualsph::core::glam::DVec2;
+use dualsph::scene::Scene;
+use std::path::Path;
+
+fn scene(text: &str) -> Result<Scene, String> {
+    Scene::from_str(text, Path::new("order.ron"), &dualsph::default_registry())
+        .map_err(|e| e.to_string())
+}
+
+/// `scenes/hard/drop_stretched.ron` with `plugins` as its plugin list.
+fn with_plugins(plugins: &[&str]) -> Scene {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/hard/drop_stretched.ron");
+    let text = std::fs::read_to_string(path).unwrap();
+    let a = text.find("    plugins: [").unwrap();
+    let b = a + text[a..].find("    ],").unwrap() + "    ],".len();
+    let list = format!("    plugins: [{}],", plugins.join(", "));
+    scene(&format!("{}{list}{}", &text[..a], &text[b..])).unwrap()
+}
+
+/// The scene with `plugins`: its plan and state after 30 steps.
+fn run(plugins: &[&str]) -> (Vec<String>, Vec<u64>) {
+    let mut sim = build_sim::<DVec2>(&with_plugins(plugins)).unwrap();
+    let plan = sim.plan().systems.iter().map(|(_, l)| l.clone()).collect();
+    sim.initialize().unwrap();
+    for _ in 0..30 {
+        sim.step().unwrap();
+    }
+    let d = sim.diagnostics();
+    let bits = [
+        d.e_kin,
+        d.e_int,
+        d.momentum[0],
+        d.momentum[1],
+        d.max_density_variation,
+    ];
+    (plan, bits.map(f64::to_bits).to_vec())
+}
+
+const PLUGINS: [&str; 7] = [
+    "KernelCorrection()",
+    "ContinuityDensity(form: VelocityDivergence)",
+    "TaitEos(rho0: 1000.0, gamma: 7.0, p0: 285.714e6)",
+    "PressureForce()",
+    "NewtonianViscosity(mu: 0.5)",
+    "SmoothingLengthUpdate(every: 50, n: 2.6, isotropy: (min: 0.99, max_growth: 4.0))",
+    "DensityDiffusion(delta: 0.1)",
+];
+
+#[test]
+fn density_diffusion_runs_after_the_rates_wherever_it_is_listed() {
+    let (plan, last) = run(&PLUGINS);
+    let mut first = PLUGINS.to_vec();
+    first.rotate_right(1); // DensityDiffusion first
+    let (plan_first, state_first) = run(&first);
+    assert_eq!(plan, plan_first);
+    assert_eq!(last, state_first, "bitwise the same state");
+    let at = |name: &str| plan.iter().position(|l| l.starts_with(name)).unwrap();
+    assert!(at("density_diffusion") > at("pair_sweep"));
+    assert!(at("density_diffusion") > at("continuity"));
+}
+
+#[test]
+fn what_density_diffusion_needs_is_checked_whatever_the_order() {
+    // without continuity, without an EOS, without any pair term
+    for (missing, needs) in [
+        (&[1][..], "ContinuityDensity"),
+        (&[2], "equation of state"),
+        (&[3, 4], "pair term"),
+    ] {
+        let mut plugins: Vec<&str> = PLUGINS
+            .iter()
+            .enumerate()
+            .filter(|(k, _)| !missing.contains(k))
+            .map(|(_, p)| *p)
+            .collect();
+        plugins.rotate_right(1); // DensityDiffusion first
+        let err = build_sim::<DVec2>(&with_plugins(&plugins))
+            .err()
+            .expect("refused")
+            .to_string();
+        assert!(
+            err.contains("DensityDiffusion") && err.contains(needs),
+            "{missing:?}: {err}"
+        );
+    }
+}
