@@ -9,7 +9,7 @@ use crate::kernels::Kernel;
 use crate::math::{Matrix, Real, Vector};
 use crate::neighbours::Neighbours;
 use crate::sim::{KernelRes, Sim, SimError, StepSet};
-use crate::store::{ParticleData, single_table};
+use crate::store::{CoreColumns, ParticleData, single_table};
 use crate::sweep::{
     ContinuityInSweep, Formulation, OwnerKernel, PairTerms, Support, SweepCtx, continuity_in_sweep,
 };
@@ -72,20 +72,13 @@ pub fn kernel_correction<V: Vector>(
     nb: Res<Neighbours<V>>,
     kernel: Res<KernelRes>,
     form: Res<Formulation>,
-    mut q: Query<(
-        &Position<V>,
-        &Velocity<V>,
-        &Mass,
-        &Density,
-        &SmoothingLength,
-        &mut GradientCorrection<V>,
-    )>,
+    mut q: Query<(CoreColumns<V>, &mut GradientCorrection<V>)>,
 ) {
     let tables = q.contiguous_iter_mut().expect(DENSE);
-    let Some((pos, vel, mass, rho, h, mut l)) = single_table(tables) else {
+    let Some((core, mut l)) = single_table(tables) else {
         return;
     };
-    let data = ParticleData::from_columns(pos, vel, mass, rho, h);
+    let data = ParticleData::from_columns(core);
     let ctx = pass_ctx(data, None, &nb, &kernel, *form);
     l.par_iter_mut()
         .enumerate()
@@ -105,22 +98,16 @@ pub fn velocity_gradient<V: Vector>(
     kernel: Res<KernelRes>,
     form: Res<Formulation>,
     mut q: Query<(
-        (
-            &Position<V>,
-            &Velocity<V>,
-            &Mass,
-            &Density,
-            &SmoothingLength,
-        ),
+        CoreColumns<V>,
         Option<&GradientCorrection<V>>,
         &mut VelocityGradient<V>,
     )>,
 ) {
     let tables = q.contiguous_iter_mut().expect(DENSE);
-    let Some(((pos, vel, mass, rho, h), correction, mut grads)) = single_table(tables) else {
+    let Some((core, correction, mut grads)) = single_table(tables) else {
         return;
     };
-    let data = ParticleData::from_columns(pos, vel, mass, rho, h);
+    let data = ParticleData::from_columns(core);
     let ctx = pass_ctx(data, correction, &nb, &kernel, *form);
     grads
         .par_iter_mut()
@@ -144,24 +131,17 @@ pub fn continuity_pairwise<V: Vector>(
     form: Res<Formulation>,
     fused: Option<Res<ContinuityInSweep>>,
     terms: Option<Res<PairTerms<V>>>,
-    mut q: Query<(
-        &Position<V>,
-        &Velocity<V>,
-        &Mass,
-        &Density,
-        &SmoothingLength,
-        &mut DensityRate,
-    )>,
+    mut q: Query<(CoreColumns<V>, &mut DensityRate)>,
 ) {
     let has_terms = terms.is_some_and(|t| !t.terms.is_empty());
     if continuity_in_sweep(fused.is_some(), has_terms, *form) {
         return; // the pair sweep forms the same sums (see `SweepBuffers::with_density_rate`)
     }
     let tables = q.contiguous_iter_mut().expect(DENSE);
-    let Some((pos, vel, mass, rho, h, mut rates)) = single_table(tables) else {
+    let Some((core, mut rates)) = single_table(tables) else {
         return;
     };
-    let data = ParticleData::from_columns(pos, vel, mass, rho, h);
+    let data = ParticleData::from_columns(core);
     let ctx = pass_ctx(data, None, &nb, &kernel, *form);
     rates
         .par_iter_mut()
@@ -170,7 +150,9 @@ pub fn continuity_pairwise<V: Vector>(
         .for_each(|(i, out)| {
             out.rate = if *form == Formulation::AveragedKernel {
                 let mut s = 0.0;
-                ctx.for_each_neighbour(i, |j, _, _, _, g| s += mass[j].0 * data.vij(i, j).dot(g));
+                ctx.for_each_neighbour(i, |j, _, _, _, g| {
+                    s += data.mass[j].0 * data.vij(i, j).dot(g)
+                });
                 s
             } else {
                 own_support_continuity(&data, nb.support.row(i), i, &kernel.0)

@@ -55,6 +55,16 @@ pub fn particle_tables(world: &World) -> usize {
     state.contiguous_iter(world).map_or(0, Iterator::count)
 }
 
+/// The core columns in a query (`Query<(CoreColumns<V>, &mut Out)>`): its table slices make a
+/// [`ParticleData`] with [`ParticleData::from_columns`].
+pub type CoreColumns<V> = (
+    &'static Position<V>,
+    &'static Velocity<V>,
+    &'static Mass,
+    &'static Density,
+    &'static SmoothingLength,
+);
+
 /// Read access to the particles' core columns, by row: what every neighbour loop reads.
 /// Other columns are fetched by type with [`ParticleData::column`] (once per sweep, not per
 /// pair).
@@ -93,15 +103,17 @@ impl<'w, V: Vector> ParticleData<'w, V> {
         })
     }
 
-    /// The core columns from slices of equal length, without access to other columns
-    /// ([`ParticleData::column`] gives `None`): for loops that write another column of the
-    /// same table through a typed query.
+    /// The core columns from the slices of a [`CoreColumns`] query item, without access to
+    /// other columns ([`ParticleData::column`] gives `None`): for loops that write another
+    /// column of the same table through a typed query.
     pub fn from_columns(
-        pos: &'w [Position<V>],
-        vel: &'w [Velocity<V>],
-        mass: &'w [Mass],
-        rho: &'w [Density],
-        h: &'w [SmoothingLength],
+        (pos, vel, mass, rho, h): (
+            &'w [Position<V>],
+            &'w [Velocity<V>],
+            &'w [Mass],
+            &'w [Density],
+            &'w [SmoothingLength],
+        ),
     ) -> Self {
         ParticleData {
             pos,

@@ -36,7 +36,7 @@ use dualsph_core::chunks::DENSE;
 use dualsph_core::neighbours::Neighbours;
 use dualsph_core::prelude::*;
 use dualsph_core::sim::KernelRes;
-use dualsph_core::store::single_table;
+use dualsph_core::store::{CoreColumns, single_table};
 use rayon::prelude::*;
 use serde::Deserialize;
 
@@ -118,24 +118,14 @@ pub fn density_diffusion<V: Vector>(
     nb: Res<Neighbours<V>>,
     kernel: Res<KernelRes>,
     delta: Res<DiffusionDelta>,
-    mut q: Query<(
-        (
-            &Position<V>,
-            &Velocity<V>,
-            &Mass,
-            &Density,
-            &SmoothingLength,
-        ),
-        &SoundSpeed,
-        &mut DensityRate,
-    )>,
+    mut q: Query<(CoreColumns<V>, &SoundSpeed, &mut DensityRate)>,
 ) {
     let tables = q.contiguous_iter_mut().expect(DENSE);
-    let Some(((pos, vel, mass, rho, h), sound, mut rates)) = single_table(tables) else {
+    let Some((core, sound, mut rates)) = single_table(tables) else {
         return;
     };
     let f = DiffusionData {
-        data: ParticleData::from_columns(pos, vel, mass, rho, h),
+        data: ParticleData::from_columns(core),
         sound,
     };
     rates
