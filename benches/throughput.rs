@@ -154,7 +154,7 @@ fn bench_dim<V: Vector>(c: &mut Criterion, case: Case) {
 
         // pair sweep (pressure + artificial viscosity, support + dual-support)
         {
-            let mut buf = SweepBuffers::<V>::default();
+            let mut buf = SweepBuffers::default();
             let (reps, cpu, wall) = measure(min_cpu, || pool.install(|| run_sweep(&sim, &mut buf)));
             println!(
                 "{name} sweep   {threads}T: {:.3e} pair interactions/CPU-s ({:.1} pairs/particle){}",

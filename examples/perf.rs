@@ -88,8 +88,7 @@ fn fmt_ratio<V: Vector>(sim: &Sim<V>) -> String {
 #[inline(never)]
 fn sweep_only<V: Vector>(sim: &Sim<V>, steps: usize) {
     use dualsph::core::sweep::SweepBuffers;
-    let mut buf = SweepBuffers::<V>::default();
-    buf.with_density_rate = true;
+    let mut buf = SweepBuffers::default();
     let pairs = support_pairs(sim);
     let (c0, mut best) = (cpu_seconds(), f64::INFINITY);
     for _ in 0..steps {

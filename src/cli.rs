@@ -284,7 +284,7 @@ pub fn main(registry: Registry) -> ExitCode {
             for (k, (set, label)) in plan.systems.iter().enumerate() {
                 say!("  {:>2}. {:<16} {}", k + 1, format!("{set:?}"), label);
             }
-            say!("\npair terms fused into the sweep:");
+            say!("\npair terms (sweep: terms; terms joined by + run as one compiled loop):");
             if plan.pair_terms.is_empty() {
                 say!("  (none)");
             }

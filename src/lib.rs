@@ -73,6 +73,30 @@ pub fn default_registry() -> Registry {
     r
 }
 
+/// Declares the fusions of the built-in terms in the orders the scenes list them (see
+/// [`dualsph_core::sweep::Fused`]): continuity, pressure, then artificial viscosity or the
+/// viscous stress, then the density diffusion or the cohesion — each fused chain runs as one
+/// compiled row loop. The results do not depend on it.
+pub fn fuse_builtin_terms<V: Vector>(sim: &mut Sim<V>) {
+    use dualsph_core::sweep::Fused;
+    use dualsph_density::ContinuityTerm as C;
+    use dualsph_density::diffusion::DiffusionTerm as D;
+    use dualsph_pressure::PressureTerm as P;
+    use dualsph_surface_tension::CohesionTerm as S;
+    use dualsph_viscosity::{ArtificialViscosityTerm as Av, ViscousStressTerm as Nv};
+    type Cp = Fused<C, P>;
+    sim.fuse::<C, P>()
+        .fuse::<Cp, Av>()
+        .fuse::<Cp, Nv>()
+        .fuse::<Fused<Cp, Av>, D>()
+        .fuse::<Fused<Cp, Nv>, D>()
+        .fuse::<Fused<Cp, Av>, S>()
+        .fuse::<P, Av>()
+        .fuse::<Av, P>()
+        .fuse::<P, Nv>()
+        .fuse::<Fused<P, Nv>, D>();
+}
+
 /// Maps the scene's formulation to the engine's.
 pub fn formulation_of(f: dualsph_scene::Formulation) -> Formulation {
     match f {
@@ -172,6 +196,7 @@ pub fn build_sim<V: Vector>(scene: &Scene) -> Result<Sim<V>, SimError> {
         let mut clock = sim.world.resource_mut::<SimClock>();
         clock.t_end = scene.end_time;
     }
+    fuse_builtin_terms(&mut sim);
     for p in &scene.plugins {
         sim.build_plugin(p.as_ref()).map_err(|e| {
             let why = match e {

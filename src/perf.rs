@@ -219,15 +219,16 @@ pub fn peak_rss_bytes() -> Option<u64> {
     Some(kb * 1024)
 }
 
-/// The pair sweep of the simulation's current state, as the Forces set runs it
-/// (`sweep::evaluate` over the scene's pair terms), into `buf` — what the benches and the
-/// `perf` example time on their own.
+/// The force sweep of the simulation's current state, as the Forces set runs it
+/// (`sweep::evaluate` over the terms of the sweep `FORCES`: the momentum, energy and density
+/// rates), into `buf` — what the benches and the `perf` example time on their own.
 ///
 /// # Panics
 /// When a term does not bind, which [`Sim::finish`] rules out for a built simulation.
-pub fn run_sweep<V: Vector>(sim: &Sim<V>, buf: &mut dualsph_core::sweep::SweepBuffers<V>) {
-    use dualsph_core::sweep::{PairTerms, evaluate};
-    let terms = &sim.world.resource::<PairTerms<V>>().terms;
+pub fn run_sweep<V: Vector>(sim: &Sim<V>, buf: &mut dualsph_core::sweep::SweepBuffers) {
+    use dualsph_core::sweep::{FORCES, PairSweeps, evaluate};
+    let sweeps = sim.world.resource::<PairSweeps<V>>();
+    let terms = sweeps.get(FORCES).map_or(&[][..], |s| &s.terms[..]);
     if let Err(e) = evaluate(&sweep_ctx(sim), terms, buf) {
         panic!("the pair terms bound when the simulation was built: {e}")
     }

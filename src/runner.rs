@@ -424,6 +424,7 @@ pub fn plan(scene: &Scene) -> Result<dualsph_core::sim::Plan, SimError> {
     )?;
     with_dimension!(scene.dimension, V => {
         let mut sim = build_sim::<V>(scene)?;
+        sim.finish()?;
         Ok(sim.plan())
     })
 }

@@ -55,7 +55,7 @@ pub struct SoundSpeed(pub Real);
 pub struct InternalEnergy(pub Real);
 
 /// `dε_i/dt` and the start-of-step values kept by the integrator.
-#[derive(Component, Clone, Copy, Debug, PartialEq)]
+#[derive(Component, Clone, Copy, Debug, Default, PartialEq)]
 pub struct EnergyRate {
     /// `dε/dt` from the last evaluation.
     pub rate: Real,
@@ -66,7 +66,7 @@ pub struct EnergyRate {
 }
 
 /// `dρ_i/dt` and the start-of-step values (added by the continuity equation).
-#[derive(Component, Clone, Copy, Debug, PartialEq)]
+#[derive(Component, Clone, Copy, Debug, Default, PartialEq)]
 pub struct DensityRate {
     /// `dρ/dt` from the last evaluation.
     pub rate: Real,

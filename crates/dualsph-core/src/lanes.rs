@@ -12,6 +12,7 @@ use wide::f64x2;
 /// One value per pair for `N` pairs at once.
 pub trait Lanes:
     Copy
+    + std::fmt::Debug
     + Add<Output = Self>
     + Sub<Output = Self>
     + Mul<Output = Self>
@@ -26,6 +27,10 @@ pub trait Lanes:
     fn from_fn(f: impl Fn(usize) -> Real) -> Self;
     /// Lane `l`.
     fn lane(self, l: usize) -> Real;
+    /// The first `N` values of `s`, one per lane.
+    fn load(s: &[Real]) -> Self;
+    /// Adds lane `l` to `s[l]` for the first `N` values of `s`.
+    fn add_into(self, s: &mut [Real]);
     /// `√x` per lane.
     fn sqrt(self) -> Self;
     /// `if a < b { t } else { f }` per lane.
@@ -49,6 +54,14 @@ impl Lanes for Real {
     #[inline(always)]
     fn lane(self, _: usize) -> Real {
         self
+    }
+    #[inline(always)]
+    fn load(s: &[Real]) -> Self {
+        s[0]
+    }
+    #[inline(always)]
+    fn add_into(self, s: &mut [Real]) {
+        s[0] += self;
     }
     #[inline(always)]
     fn sqrt(self) -> Self {
@@ -83,6 +96,16 @@ impl Lanes for f64x2 {
         self.to_array()[l]
     }
     #[inline(always)]
+    fn load(s: &[Real]) -> Self {
+        let a: [Real; 2] = s[..2].try_into().expect("two values");
+        f64x2::new(a)
+    }
+    #[inline(always)]
+    fn add_into(self, s: &mut [Real]) {
+        let s: &mut [Real; 2] = (&mut s[..2]).try_into().expect("two values");
+        *s = (f64x2::new(*s) + self).to_array();
+    }
+    #[inline(always)]
     fn sqrt(self) -> Self {
         f64x2::sqrt(self)
     }
@@ -102,7 +125,7 @@ impl Lanes for f64x2 {
 }
 
 /// A vector per lane, by components (`0..V::DIM` used).
-#[derive(Clone, Copy)]
+#[derive(Clone, Copy, Debug)]
 pub struct LaneVec<T: Lanes>(pub [T; 3]);
 
 impl<T: Lanes> LaneVec<T> {

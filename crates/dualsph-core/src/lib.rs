@@ -5,6 +5,7 @@
 //! Hydrodynamics* (RenDSSPH in the project's `docs/references.md`): `h_i` is the support radius
 //! of particle i, `H_i` its support and `H'_i` its dual-support.
 #![warn(missing_docs)]
+pub mod accum;
 pub mod bodies;
 pub mod chunks;
 pub mod columns;
@@ -18,7 +19,6 @@ pub mod neighbours;
 pub mod order;
 pub mod output;
 pub mod pair;
-pub mod passes;
 pub mod plugin;
 pub mod profile;
 pub mod sampling;
@@ -31,20 +31,21 @@ pub use glam;
 
 /// The most used items.
 pub mod prelude {
+    pub use crate::accum::{Acc, Binder, Reaction};
     pub use crate::bodies::{BodyId, BodyKind};
     pub use crate::columns::{ColumnSpec, ColumnValue, Shape};
     pub use crate::components::*;
     pub use crate::diagnostics::Diagnostics;
     pub use crate::kernels::{Kernel, KernelKind};
+    pub use crate::lanes::{LaneVec, Lanes};
     pub use crate::math::{Mat1, Matrix, Real, Vec1, Vector};
     pub use crate::neighbours::SkinRule;
     pub use crate::output::{RunOutputDir, StepLimit};
+    pub use crate::pair::{BoundTerm, Out, OwnerSums, PairLanes, PairTerm};
     pub use crate::plugin::{PluginConfig, Registry, SceneInfo, SimPlugin};
     pub use crate::sim::{
         Domain, KernelRes, ParticleInit, Sim, SimClock, SimConfig, SimError, StepSet, TimeStepping,
     };
     pub use crate::store::ParticleData;
-    pub use crate::sweep::{
-        BoundTerm, Formulation, OwnerKernel, Pair, PairOut, PairTerm, Row, SweepCtx,
-    };
+    pub use crate::sweep::{FORCES, Formulation, OwnerKernel, SweepCtx};
 }

@@ -1,219 +1,505 @@
-//! The pair-term contract: what a term sees — the particles' core columns
-//! ([`ParticleData`]), one pair ([`Pair`]) or one owner's whole support ([`Row`]) — what it
-//! returns ([`PairOut`]), the [`PairTerm`] trait with its per-sweep binding to the columns it
-//! reads ([`BoundTerm`]), and the owner's precomputed kernel ([`OwnerKernel`]). The sweep
-//! itself is in [`crate::sweep`], which re-exports everything here.
+//! The pair-term contract: a [`PairTerm`] declares, when it is bound for a sweep
+//! ([`PairTerm::bind`] with a [`Binder`]), the columns it reads and the sums it writes
+//! ([`crate::accum`]); its [`BoundTerm`] then adds, for one pair or two side by side
+//! ([`Lanes`]), its contributions to the owner i and to the neighbour j ([`Out`]), from what
+//! the sweep has formed for the pair ([`PairLanes`]). The sweep itself is in
+//! [`crate::sweep`], which runs every term of one place over each owner's support in one pass
+//! and delivers each contribution to j through j's dual-support.
 
+pub use crate::accum::{Acc, Binder, Reaction};
 use crate::kernels::{Kernel, KernelKind};
-use crate::lanes::Lanes;
-use crate::math::{Real, Vector};
+use crate::lanes::{LaneVec, Lanes};
+use crate::math::{Matrix, Real, Vector};
 pub use crate::store::ParticleData;
-use bevy_ecs::prelude::*;
-use std::sync::Arc;
+use wide::f64x2;
 
-/// One evaluation of a pair: `owner` is the particle whose kernel and support are used.
+/// Owner channels a sweep can sum (the per-particle sums of all its accumulators).
+pub const MAX_OWNER_CHANNELS: usize = 16;
+/// Neighbour channels a sweep can carry ([`Reaction::Separate`] accumulators).
+pub const MAX_NEIGHBOUR_CHANNELS: usize = 8;
+
+/// `T::N` pairs of one owner i (one per lane), as a term's [`BoundTerm::interact`] reads them:
+/// the pair geometry the sweep formed once for all terms, and gathers of any column at the
+/// lanes' neighbours.
 #[derive(Clone, Copy, Debug)]
-pub struct Pair<'a, V: Vector> {
-    /// The owner i (kernel `W(·, h_i)`).
-    pub i: usize,
-    /// The neighbour j ∈ H_i.
-    pub j: usize,
-    /// `r_ij = r_i − r_j`.
-    pub rij: V,
-    /// `|r_ij|`.
-    pub r: Real,
-    /// `W_ij`.
-    pub w: Real,
-    /// `∇_i W_ij` as is.
-    pub grad_raw: V,
-    /// `∇_i W_ij`, with the kernel-gradient correction `L_i` applied when it is active.
-    pub grad: V,
-    /// The particles' core columns.
-    pub data: &'a ParticleData<'a, V>,
+pub struct PairLanes<'a, T: Lanes, V: Vector> {
+    i: usize,
+    j: [u32; 2],
+    rij: LaneVec<T>,
+    r: T,
+    vij: LaneVec<T>,
+    grad_raw: LaneVec<T>,
+    grad: LaneVec<T>,
+    w: Option<T>,
+    kernel: OwnerKernel,
+    data: &'a ParticleData<'a, V>,
 }
 
-impl<V: Vector> Pair<'_, V> {
-    /// `v_ij = v_i − v_j`.
-    #[inline]
-    pub fn vij(&self) -> V {
-        self.data.vij(self.i, self.j)
-    }
-}
+/// The geometry of `T::N` pairs of one owner: `(r_ij, |r_ij|, v_ij, ∇_iW_ij, L_i∇_iW_ij)`.
+pub type Geometry<T> = (LaneVec<T>, T, LaneVec<T>, LaneVec<T>, LaneVec<T>);
 
-/// What one term gives for one pair: the force on the owner i (j receives `−force`) and the
-/// rates of internal energy `m ε̇` credited to i and to j. A term conserves energy when
-/// `power_i + power_j = −force · v_ij` (the pair's work goes into heat, nothing is lost).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PairOut<V: Vector> {
-    /// Force on i; the reaction `−force` acts on j.
-    pub force: V,
-    /// `m_i dε_i/dt` contribution.
-    pub power_i: Real,
-    /// `m_j dε_j/dt` contribution.
-    pub power_j: Real,
-}
-
-impl<V: Vector> Default for PairOut<V> {
-    fn default() -> Self {
-        PairOut {
-            force: V::zero(),
-            power_i: 0.0,
-            power_j: 0.0,
+impl<'a, T: Lanes, V: Vector> PairLanes<'a, T, V> {
+    /// The pairs (i, `j[l]`) with their geometry; `W_ij` given (`w`) or, if `None`, from the
+    /// owner's kernel on demand.
+    #[inline(always)]
+    pub fn new(
+        (i, j): (usize, [u32; 2]),
+        (rij, r, vij, grad_raw, grad): Geometry<T>,
+        w: Option<T>,
+        kernel: OwnerKernel,
+        data: &'a ParticleData<'a, V>,
+    ) -> Self {
+        PairLanes {
+            i,
+            j,
+            rij,
+            r,
+            vij,
+            grad_raw,
+            grad,
+            w,
+            kernel,
+            data,
         }
     }
-}
 
-/// One owner's support `H_i` as the sweep hands it to [`BoundTerm::interact_row`]: the
-/// neighbours `j` strictly inside `h_i`, ascending, with the pair geometry as parallel slices
-/// (`rij[k]`, `r[k]`, `grad_raw[k]`, `grad[k]` belong to `j[k]`).
-#[derive(Clone, Copy, Debug)]
-pub struct Row<'a, V: Vector> {
     /// The owner i.
-    pub i: usize,
-    /// `j ∈ H_i`, ascending.
-    pub j: &'a [u32],
-    /// `r_ij = r_i − r_j`.
-    pub rij: &'a [V],
-    /// `|r_ij|`.
-    pub r: &'a [Real],
-    /// `v_ij = v_i − v_j` (formed once per row for every term).
-    pub vij: &'a [V],
-    /// `∇_i W_ij` as is (Eq. 2.2).
-    pub grad_raw: &'a [V],
-    /// `∇_i W_ij` with `L_i` applied when the correction is active (Eq. 2.10); the same slice
-    /// as `grad_raw` otherwise.
-    pub grad: &'a [V],
-    /// The owner's kernel (for `W_ij`, computed on demand by [`Row::w`]).
-    pub kernel: OwnerKernel,
+    #[inline(always)]
+    pub fn i(&self) -> usize {
+        self.i
+    }
+
+    /// The neighbour of lane `l`.
+    #[inline(always)]
+    pub fn j(&self, l: usize) -> usize {
+        self.j[l] as usize
+    }
+
     /// The particles' core columns.
-    pub data: &'a ParticleData<'a, V>,
+    #[inline(always)]
+    pub fn data(&self) -> &'a ParticleData<'a, V> {
+        self.data
+    }
+
+    /// `r_ij = r_i − r_j`.
+    #[inline(always)]
+    pub fn rij(&self) -> LaneVec<T> {
+        self.rij
+    }
+
+    /// `|r_ij|`.
+    #[inline(always)]
+    pub fn r(&self) -> T {
+        self.r
+    }
+
+    /// `v_ij = v_i − v_j`.
+    #[inline(always)]
+    pub fn vij(&self) -> LaneVec<T> {
+        self.vij
+    }
+
+    /// `∇_iW_ij` (Eq. 2.2).
+    #[inline(always)]
+    pub fn grad_raw(&self) -> LaneVec<T> {
+        self.grad_raw
+    }
+
+    /// `(1/r) ∂W/∂r` of the owner's kernel (so that `∇_iW_ij = r_ij ·` this; zero at `r = 0`).
+    #[inline(always)]
+    pub fn grad_factor(&self) -> T {
+        self.kernel.grad_factor_lanes(self.r)
+    }
+
+    /// `L_i ∇_iW_ij` with the kernel-gradient correction (Eq. 2.10) when the scene computes
+    /// it, `∇_iW_ij` otherwise.
+    #[inline(always)]
+    pub fn grad(&self) -> LaneVec<T> {
+        self.grad
+    }
+
+    /// `W_ij` (Eq. 2.1).
+    #[inline(always)]
+    pub fn w(&self) -> T {
+        match self.w {
+            Some(w) => w,
+            None => T::from_fn(|l| self.kernel.w(self.r.lane(l))),
+        }
+    }
+
+    /// The owner's kernel.
+    #[inline(always)]
+    pub fn kernel(&self) -> OwnerKernel {
+        self.kernel
+    }
+
+    /// `f(column[j])` in every lane: a gather of any column at the lanes' neighbours.
+    #[inline(always)]
+    pub fn gather<C>(&self, column: &[C], f: impl Fn(&C) -> Real) -> T {
+        T::from_fn(|l| f(&column[self.j[l] as usize]))
+    }
+
+    /// `f(column[j])` in every lane, for a vector-valued column.
+    #[inline(always)]
+    pub fn gather_vec<C>(&self, column: &[C], f: impl Fn(&C) -> V) -> LaneVec<T> {
+        LaneVec::from_fn(|l| f(&column[self.j[l] as usize]))
+    }
+
+    /// `m_j`.
+    #[inline(always)]
+    pub fn m_j(&self) -> T {
+        self.gather(self.data.mass, |m| m.0)
+    }
+
+    /// `ρ_j`.
+    #[inline(always)]
+    pub fn rho_j(&self) -> T {
+        self.gather(self.data.rho, |r| r.0)
+    }
 }
 
-impl<'a, V: Vector> Row<'a, V> {
-    /// Number of pairs.
-    #[inline]
-    pub fn len(&self) -> usize {
-        self.j.len()
-    }
+/// What the terms of a sweep give for `T::N` pairs, zero before the first term: the standard
+/// sums by name (the force, the power and the density rate, to the owner and to the
+/// neighbour: kept in registers), and the channels of the sweep's other accumulators
+/// ([`Acc`], see [`crate::accum`]).
+#[derive(Debug)]
+pub struct Out<'e, T: Lanes> {
+    pub(crate) force: LaneVec<T>,
+    pub(crate) power: T,
+    pub(crate) power_j: T,
+    pub(crate) rate: T,
+    pub(crate) rate_j: T,
+    pub(crate) extra: &'e mut Extra<T>,
+}
 
-    /// True when `H_i` is empty.
-    #[inline]
-    pub fn is_empty(&self) -> bool {
-        self.j.is_empty()
-    }
+/// The channels of a sweep's non-standard accumulators, apart from [`Out`]'s standard sums
+/// so that those stay in registers.
+#[derive(Clone, Copy, Debug)]
+pub struct Extra<T: Lanes> {
+    pub(crate) own: [T; MAX_OWNER_CHANNELS],
+    pub(crate) nbr: [T; MAX_NEIGHBOUR_CHANNELS],
+}
 
-    /// `W_ij = W(r_ij, h_i)` of the k-th pair (Eq. 2.1).
-    #[inline]
-    pub fn w(&self, k: usize) -> Real {
-        self.kernel.w(self.r[k])
-    }
-
-    /// The k-th pair of the row.
-    #[inline]
-    pub fn pair(&self, k: usize) -> Pair<'a, V> {
-        Pair {
-            i: self.i,
-            j: self.j[k] as usize,
-            rij: self.rij[k],
-            r: self.r[k],
-            w: self.w(k),
-            grad_raw: self.grad_raw[k],
-            grad: self.grad[k],
-            data: self.data,
+impl<T: Lanes> Default for Extra<T> {
+    fn default() -> Self {
+        let z = T::splat(0.0);
+        Extra {
+            own: [z; MAX_OWNER_CHANNELS],
+            nbr: [z; MAX_NEIGHBOUR_CHANNELS],
         }
     }
 }
 
-/// A physics term that joins the pair sweep: for the pair (i owner, j ∈ H_i) it adds the
-/// force on i and the energy rates of i and j to a [`PairOut`], and inherits the sweep's
-/// conservation (j receives the reaction through its dual-support) and determinism.
+impl<'e, T: Lanes> Out<'e, T> {
+    /// Zero sums, the non-standard ones in `extra` (which must be zero).
+    #[inline(always)]
+    pub fn new(extra: &'e mut Extra<T>) -> Self {
+        let z = T::splat(0.0);
+        Out {
+            force: LaneVec([z; 3]),
+            power: z,
+            power_j: z,
+            rate: z,
+            rate_j: z,
+            extra,
+        }
+    }
+
+    /// Adds `f` to the force on the owner (its reaction `−f` goes to the neighbour); the term
+    /// declares it with [`Binder::force`].
+    #[inline(always)]
+    pub fn add_force<V: Vector>(&mut self, f: LaneVec<T>) {
+        self.force = self.force.plus::<V>(f);
+    }
+
+    /// Adds `p` to the power into the owner's internal energy ([`Binder::power`]).
+    #[inline(always)]
+    pub fn add_power(&mut self, p: T) {
+        self.power = self.power + p;
+    }
+
+    /// Adds `p` to the power into the neighbour's internal energy ([`Binder::power`]).
+    #[inline(always)]
+    pub fn react_power(&mut self, p: T) {
+        self.power_j = self.power_j + p;
+    }
+
+    /// Adds `d` to the owner's density rate ([`Binder::density_rate`]).
+    #[inline(always)]
+    pub fn add_density_rate(&mut self, d: T) {
+        self.rate = self.rate + d;
+    }
+
+    /// Adds `d` to the neighbour's density rate ([`Binder::density_rate`] with
+    /// [`Reaction::Separate`]).
+    #[inline(always)]
+    pub fn react_density_rate(&mut self, d: T) {
+        self.rate_j = self.rate_j + d;
+    }
+
+    #[inline(always)]
+    fn own_at(&mut self, c: usize, v: T) {
+        let x = &mut self.extra.own[c % MAX_OWNER_CHANNELS];
+        *x = *x + v;
+    }
+
+    /// Adds `v` to the owner's scalar sum `acc`.
+    #[inline(always)]
+    pub fn add(&mut self, acc: Acc, v: T) {
+        self.own_at(acc.i as usize, v);
+    }
+
+    /// Adds `v` to the owner's vector sum `acc` (`d` components).
+    #[inline(always)]
+    pub fn add_vec<V: Vector>(&mut self, acc: Acc, v: LaneVec<T>) {
+        for c in 0..V::DIM {
+            self.own_at(acc.i as usize + c, v.0[c]);
+        }
+    }
+
+    /// Adds `m(l)` to the owner's matrix sum `acc` in lane `l` (`d × d` entries, row-major).
+    #[inline(always)]
+    pub fn add_mat<V: Vector>(&mut self, acc: Acc, m: impl Fn(usize) -> V::Mat) {
+        let d = V::DIM;
+        let ms: [V::Mat; 2] = [m(0), m(T::N - 1)];
+        for a in 0..d {
+            for b in 0..d {
+                let v = T::from_fn(|l| ms[l].entry(a, b));
+                self.own_at(acc.i as usize + a * d + b, v);
+            }
+        }
+    }
+
+    /// Adds `v` to the neighbour's scalar sum `acc` (an accumulator with
+    /// [`Reaction::Separate`]): what j receives from this pair through its dual-support.
+    #[inline(always)]
+    pub fn react(&mut self, acc: Acc, v: T) {
+        debug_assert!(
+            acc.j != u16::MAX,
+            "react on an accumulator without Separate"
+        );
+        let x = &mut self.extra.nbr[acc.j as usize % MAX_NEIGHBOUR_CHANNELS];
+        *x = *x + v;
+    }
+
+    /// Adds `v` to the neighbour's vector sum `acc` ([`Reaction::Separate`]).
+    #[inline(always)]
+    pub fn react_vec<V: Vector>(&mut self, acc: Acc, v: LaneVec<T>) {
+        debug_assert!(
+            acc.j != u16::MAX,
+            "react on an accumulator without Separate"
+        );
+        for c in 0..V::DIM {
+            let x = &mut self.extra.nbr[(acc.j as usize + c) % MAX_NEIGHBOUR_CHANNELS];
+            *x = *x + v.0[c];
+        }
+    }
+
+    /// Component `c` of accumulator `s` for the owner.
+    #[inline(always)]
+    pub fn owner_value(&self, s: &crate::accum::AccumulatorSlot, c: usize) -> T {
+        use crate::accum::Standard;
+        match s.standard {
+            Some(Standard::Force) => self.force.0[c],
+            Some(Standard::Power) => self.power,
+            Some(Standard::Rate) => self.rate,
+            None => self.extra.own[s.chan + c],
+        }
+    }
+
+    /// Component `c` of accumulator `s` for the neighbour (zero without one).
+    #[inline(always)]
+    pub fn neighbour_value(&self, s: &crate::accum::AccumulatorSlot, c: usize) -> T {
+        use crate::accum::Standard;
+        match s.standard {
+            Some(Standard::Force) => -self.force.0[c],
+            Some(Standard::Power) => self.power_j,
+            Some(Standard::Rate) => self.rate_j,
+            None => match (s.reaction, s.j) {
+                (Reaction::Opposite, _) => -self.extra.own[s.chan + c],
+                (_, Some(j)) => self.extra.nbr[j + c],
+                _ => T::splat(0.0),
+            },
+        }
+    }
+}
+
+/// The owner's sums before any pair (see [`BoundTerm::initialize`]).
+#[derive(Debug)]
+pub struct OwnerSums<'b> {
+    sums: &'b mut [Real],
+    layout: &'b crate::accum::Layout,
+}
+
+impl<'b> OwnerSums<'b> {
+    /// The sums of one particle in a sweep with `layout`.
+    pub fn new(sums: &'b mut [Real], layout: &'b crate::accum::Layout) -> Self {
+        OwnerSums { sums, layout }
+    }
+
+    /// Adds `v` to the scalar sum `acc`.
+    #[inline(always)]
+    pub fn add(&mut self, acc: Acc, v: Real) {
+        self.sums[acc.at as usize] += v;
+    }
+
+    /// Adds `v` to the vector sum `acc`.
+    #[inline(always)]
+    pub fn add_vec<V: Vector>(&mut self, acc: Acc, v: V) {
+        for c in 0..V::DIM {
+            self.sums[acc.at as usize + c] += v.get(c);
+        }
+    }
+
+    /// Adds `d` to the density rate ([`Binder::density_rate`]).
+    pub fn add_density_rate(&mut self, d: Real) {
+        use crate::accum::Standard;
+        if let Some(s) = self.layout.standard(Standard::Rate) {
+            self.sums[s.i] += d;
+        }
+    }
+}
+
+/// A physics term that joins a pair sweep. For the pair (i owner, `j ∈ H_i`, evaluated once
+/// with i's kernel) it adds its contributions to i's sums and, through j's dual-support, to
+/// j's ([`Reaction`]); it inherits the sweep's conservation and determinism.
 ///
-/// Once per sweep the term is **bound** ([`PairTerm::bind`]) to the columns it reads beyond
-/// the core ones of [`ParticleData`] — that is where it declares them, by type
-/// (`data.require::<Pressure>(name)`); a column no plugin adds is a build error naming the
-/// term. The bound term ([`BoundTerm`]) evaluates pairs. A term that reads no other column
-/// can be its own bound term (`type Bound<'w> = Self`, `bind` returns a copy).
+/// Once per sweep the term is **bound** ([`PairTerm::bind`]): it fetches the columns it reads
+/// beyond the core ones (`b.require::<Pressure>()`) and declares the sums it writes
+/// (`b.force()`, `b.power()`, `b.density_rate(…)` or any column with [`Binder::accumulate`]);
+/// a missing column is a build error naming the term.
 pub trait PairTerm<V: Vector>: Send + Sync + 'static {
-    /// The term bound to its columns for one sweep.
+    /// The term bound to its columns and sums for one sweep.
     type Bound<'w>: BoundTerm<V> + 'w;
     /// Name shown by `plan`.
     fn name(&self) -> &str;
-    /// Binds the columns the term reads (once per sweep); the error names what is missing.
-    fn bind<'w>(&'w self, data: &ParticleData<'w, V>) -> Result<Self::Bound<'w>, String>;
-    /// The built-in term this is, if any: the sweep then may evaluate it in its fused loop
-    /// ([`crate::sweep::BuiltinTerm`]), which must give bitwise what `interact` gives.
-    fn builtin(&self) -> Option<crate::sweep::BuiltinTerm> {
-        None
-    }
+    /// Binds the columns the term reads and declares the sums it writes (once per sweep).
+    fn bind<'w>(&'w self, b: &mut Binder<'_, 'w, V>) -> Result<Self::Bound<'w>, String>;
 }
 
-/// A [`PairTerm`] bound to its columns for one sweep.
+/// A [`PairTerm`] bound for one sweep.
 ///
-/// Only [`BoundTerm::interact`] must be written. The sweep calls [`BoundTerm::interact_row`]
-/// once per owner and term; its default loops over the row calling `interact`, statically
-/// dispatched and inlined, so a term costs one dynamic call per particle, not per pair.
-/// Override it only to vectorise a term by hand; it must give the same `out` as the default.
+/// [`BoundTerm::interact`] is written once over [`Lanes`]: the sweep calls it two pairs at a
+/// time (`f64x2`) and for an odd last pair alone (`f64`), with the same operations lane by
+/// lane, so a term written this way is vectorised and bitwise the same on either path
+/// ([`crate::sweep::check_lanes_2d`] tests a term for it).
 pub trait BoundTerm<V: Vector>: Sync {
-    /// Adds this term's force and energy rates for the pair.
-    fn interact(&self, pair: &Pair<'_, V>, out: &mut PairOut<V>);
-    /// Adds this term to `out[k]` for every pair `k` of the row (`out.len() == row.len()`).
-    #[inline]
-    fn interact_row(&self, row: &Row<'_, V>, out: &mut [PairOut<V>]) {
-        for (k, o) in out.iter_mut().enumerate() {
-            self.interact(&row.pair(k), o);
-        }
+    /// What the term computes once per owner i for all of i's pairs (i's factors); `()`
+    /// for a term with none.
+    type Owner: Copy;
+
+    /// The owner's part of the term, computed once per owner row.
+    fn owner(&self, i: usize) -> Self::Owner;
+
+    /// Adds the term's contributions for the lanes' pairs, `o` being [`BoundTerm::owner`]
+    /// of their owner.
+    fn interact<T: Lanes>(&self, o: &Self::Owner, p: &PairLanes<'_, T, V>, out: &mut Out<'_, T>);
+
+    /// True when the term overrides [`BoundTerm::initialize`] (the sweep skips the call
+    /// otherwise).
+    const INITIALIZES: bool = false;
+
+    /// Adds the term's per-particle part to i's sums before any pair (e.g. the self term of
+    /// a summation); nothing by default. A term that overrides it sets
+    /// [`BoundTerm::INITIALIZES`].
+    #[inline(always)]
+    fn initialize(&self, _i: usize, _sums: &mut OwnerSums<'_>) {}
+
+    /// False for a term with no pair part (only [`BoundTerm::initialize`]).
+    fn has_pairs(&self) -> bool {
+        true
     }
 }
 
-/// A [`PairTerm`] with its type erased, as the sweep holds it.
+/// A [`BoundTerm`] with its type erased, as a sweep holds it.
+pub trait RowTerm<V: Vector>: Sync {
+    /// [`BoundTerm::interact`] for two pairs.
+    fn pairs2(&self, p: &PairLanes<'_, f64x2, V>, out: &mut Out<'_, f64x2>);
+    /// [`BoundTerm::interact`] for one pair.
+    fn pair1(&self, p: &PairLanes<'_, Real, V>, out: &mut Out<'_, Real>);
+    /// See [`BoundTerm::initialize`].
+    fn initialize(&self, i: usize, sums: &mut OwnerSums<'_>);
+    /// See [`BoundTerm::INITIALIZES`].
+    fn initializes(&self) -> bool;
+    /// See [`BoundTerm::has_pairs`].
+    fn has_pairs(&self) -> bool;
+    /// Pass 1 of the sweep for owner i with this term alone, its loop compiled for the term
+    /// (the sweep's fast path: see [`crate::sweep::Fused`] for several terms).
+    #[doc(hidden)]
+    fn run_row(
+        &self,
+        ctx: &crate::sweep::SweepCtx<'_, V>,
+        plan: &crate::sweep::row::RowPlan<'_, '_, V>,
+        row: (usize, &mut crate::sweep::row::RowScratch<V>),
+        reactions: &mut [Real],
+        sums: &mut [Real],
+    );
+}
+
+impl<V: Vector, B: BoundTerm<V>> RowTerm<V> for B {
+    fn pairs2(&self, p: &PairLanes<'_, f64x2, V>, out: &mut Out<'_, f64x2>) {
+        self.interact(&self.owner(p.i()), p, out)
+    }
+
+    fn pair1(&self, p: &PairLanes<'_, Real, V>, out: &mut Out<'_, Real>) {
+        self.interact(&self.owner(p.i()), p, out)
+    }
+
+    fn run_row(
+        &self,
+        ctx: &crate::sweep::SweepCtx<'_, V>,
+        plan: &crate::sweep::row::RowPlan<'_, '_, V>,
+        row: (usize, &mut crate::sweep::row::RowScratch<V>),
+        reactions: &mut [Real],
+        sums: &mut [Real],
+    ) {
+        let eval = crate::sweep::row::OneTerm(self, self.owner(row.0));
+        crate::sweep::row::pairs_of_row(ctx, (plan, &eval), row, reactions, sums)
+    }
+
+    fn initialize(&self, i: usize, sums: &mut OwnerSums<'_>) {
+        BoundTerm::initialize(self, i, sums)
+    }
+
+    fn initializes(&self) -> bool {
+        B::INITIALIZES
+    }
+
+    fn has_pairs(&self) -> bool {
+        BoundTerm::has_pairs(self)
+    }
+}
+
+/// A [`PairTerm`] with its type erased, as a sweep's list holds it.
 pub trait DynPairTerm<V: Vector>: Send + Sync {
     /// See [`PairTerm::name`].
     fn name(&self) -> &str;
-    /// See [`PairTerm::builtin`].
-    fn builtin(&self) -> Option<crate::sweep::BuiltinTerm>;
+    /// The term's type.
+    fn term_type(&self) -> std::any::TypeId;
+    /// The term as `Any` (to be fused with another, see [`crate::sweep::Fused`]).
+    fn into_any(self: std::sync::Arc<Self>) -> std::sync::Arc<dyn std::any::Any + Send + Sync>;
     /// See [`PairTerm::bind`].
     fn bind_dyn<'w>(
         &'w self,
-        data: &ParticleData<'w, V>,
-    ) -> Result<Box<dyn BoundTerm<V> + 'w>, String>;
+        b: &mut Binder<'_, 'w, V>,
+    ) -> Result<Box<dyn RowTerm<V> + 'w>, String>;
 }
 
 impl<V: Vector, T: PairTerm<V>> DynPairTerm<V> for T {
     fn name(&self) -> &str {
         PairTerm::name(self)
     }
-    fn builtin(&self) -> Option<crate::sweep::BuiltinTerm> {
-        PairTerm::builtin(self)
+    fn term_type(&self) -> std::any::TypeId {
+        std::any::TypeId::of::<T>()
+    }
+    fn into_any(self: std::sync::Arc<Self>) -> std::sync::Arc<dyn std::any::Any + Send + Sync> {
+        self
     }
     fn bind_dyn<'w>(
         &'w self,
-        data: &ParticleData<'w, V>,
-    ) -> Result<Box<dyn BoundTerm<V> + 'w>, String> {
-        Ok(Box::new(self.bind(data)?))
-    }
-}
-
-/// The terms fused into the sweep, in order.
-#[derive(Resource)]
-pub struct PairTerms<V: Vector> {
-    /// Terms.
-    pub terms: Vec<Arc<dyn DynPairTerm<V>>>,
-}
-
-impl<V: Vector> Default for PairTerms<V> {
-    fn default() -> Self {
-        PairTerms { terms: Vec::new() }
-    }
-}
-
-impl<V: Vector> PairTerms<V> {
-    /// Every term bound to `data`'s columns, in order; the error names the term and the
-    /// column it misses.
-    pub fn bind<'w>(
-        &'w self,
-        data: &ParticleData<'w, V>,
-    ) -> Result<Vec<Box<dyn BoundTerm<V> + 'w>>, String> {
-        self.terms.iter().map(|t| t.bind_dyn(data)).collect()
+        b: &mut Binder<'_, 'w, V>,
+    ) -> Result<Box<dyn RowTerm<V> + 'w>, String> {
+        Ok(Box::new(self.bind(b)?))
     }
 }
 
@@ -268,6 +554,12 @@ impl OwnerKernel {
         Self::factor_of(self.kind, self.g_norm, self.inv_h, r)
     }
 
+    /// [`Self::grad_factor`] for one pair or several side by side.
+    #[inline(always)]
+    pub fn grad_factor_lanes<T: Lanes>(&self, r: T) -> T {
+        Self::factor_lanes(self.kind, self.g_norm, self.inv_h, r)
+    }
+
     #[inline(always)]
     pub(crate) fn factor_of(kind: KernelKind, g_norm: Real, inv_h: Real, r: Real) -> Real {
         Self::factor_lanes(kind, g_norm, inv_h, r)
@@ -297,47 +589,4 @@ impl OwnerKernel {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use glam::{DVec2, DVec3};
-
-    #[test]
-    fn owner_kernel_matches_kernel_to_round_off() {
-        for kind in KernelKind::ALL {
-            // The viscosity kernel cannot be normalised in 1-D (scenes refuse it there).
-            for dim in (1..=3).filter(|&d| kind.supports_dimension(d)) {
-                let kernel = Kernel::new(kind, dim);
-                for h in [0.013, 0.7, 2.9] {
-                    let k = OwnerKernel::new(&kernel, h);
-                    // Müller's viscosity profile −q³/2 + q² + 1/(2q) − 1 cancels to 0 at q = 1, so
-                    // near the edge round-off is relative to the kernel's scale C_d/h^d, not to
-                    // the tiny value; the other profiles are products of (1 − q) and need no floor.
-                    let hd = h.powi(dim as i32);
-                    let (w_floor, g_floor) = if kind == KernelKind::MullerViscosity {
-                        (kernel.norm / hd, kernel.norm / (hd * h))
-                    } else {
-                        (1e-300, 0.0)
-                    };
-                    for i in 0..200 {
-                        let r = h * i as Real / 200.0;
-                        let (w0, w1) = (kernel.w(r, h), k.w(r));
-                        if w0.is_finite() {
-                            assert!((w0 - w1).abs() <= 1e-13 * w0.abs().max(w_floor), "{kind:?}");
-                        } else {
-                            // The viscosity kernel is singular at r = 0: both must say so.
-                            assert_eq!(w0, w1, "{kind:?} {dim}D at r = 0");
-                        }
-                        let x = DVec3::new(0.6, -0.48, 0.64) * r;
-                        let (g0, g1) = (kernel.grad(x, r, h), k.grad(x, r));
-                        assert!(
-                            (g0 - g1).length() <= 1e-13 * g0.length().max(g_floor),
-                            "{kind:?} {dim}D"
-                        );
-                        let y = DVec2::new(0.8, -0.6) * r;
-                        assert_eq!(k.eval(y, r).1, k.grad(y, r));
-                    }
-                }
-            }
-        }
-    }
-}
+mod tests;

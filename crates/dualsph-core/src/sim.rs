@@ -10,7 +10,7 @@ use crate::math::{Real, Vector};
 use crate::neighbours::{Neighbours, SkinRule};
 use crate::order::Placement;
 use crate::plugin::PluginConfig;
-use crate::sweep::{Formulation, PairTerm, PairTerms, ParticleData};
+use crate::sweep::{Formulation, PairSweeps, ParticleData};
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::{ScheduleLabel, SingleThreadedExecutor};
 use bevy_ecs::system::ScheduleSystem;
@@ -235,7 +235,7 @@ pub struct Plan {
     /// The particles' columns in registration order: type, name, output labels, whether
     /// checkpointed.
     pub components: Vec<String>,
-    /// Pair terms fused into the sweep, in order.
+    /// Pair terms as `sweep: term`, sweep by sweep, in order.
     pub pair_terms: Vec<String>,
 }
 
@@ -294,7 +294,7 @@ impl<V: Vector> Sim<V> {
         world.insert_resource(config.domain);
         world.insert_resource(config.time_stepping);
         world.insert_resource(Neighbours::<V>::with_rule(config.skin, config.skin_rule));
-        world.insert_resource(PairTerms::<V>::default());
+        world.insert_resource(PairSweeps::<V>::default());
         world.insert_resource(MaxViscosity::default());
         world.insert_resource(InitialInternalEnergy::default());
         world.insert_resource(crate::diagnostics::Diagnostics::default());
@@ -369,17 +369,6 @@ impl<V: Vector> Sim<V> {
         built
     }
 
-    /// Adds a term to the pair sweep (and the sweep itself, the first time).
-    pub fn add_pair_term(&mut self, term: impl PairTerm<V>) {
-        self.world
-            .resource_mut::<PairTerms<V>>()
-            .terms
-            .push(std::sync::Arc::new(term));
-        if self.enable_feature("pair_sweep") {
-            crate::sweep::add_sweep_system(self);
-        }
-    }
-
     /// The systems in run order: by set, and inside a set by insertion order and the
     /// systems' constraints ([`crate::order`]); the error names a contradiction.
     fn ordered(&self) -> Result<Vec<usize>, SimError> {
@@ -425,10 +414,10 @@ impl<V: Vector> Sim<V> {
             .collect();
         let pair_terms = self
             .world
-            .resource::<PairTerms<V>>()
-            .terms
+            .resource::<PairSweeps<V>>()
+            .sweeps
             .iter()
-            .map(|t| t.name().to_string())
+            .flat_map(|s| s.terms.iter().map(|t| format!("{}: {}", s.name, t.name())))
             .collect();
         Plan {
             systems,
@@ -447,6 +436,7 @@ impl<V: Vector> Sim<V> {
             }
         }
         self.insert_pending_columns();
+        self.apply_fusions();
         self.check_store()?;
         self.build_schedule()
     }
@@ -473,18 +463,30 @@ impl<V: Vector> Sim<V> {
         }
         let data = ParticleData::<V>::of(&self.world)
             .ok_or_else(|| SimError::Build("the particles lack a core component".into()))?;
-        self.world
-            .resource::<PairTerms<V>>()
-            .bind(&data)
-            .map(drop)
-            .map_err(SimError::Build)
+        let kernel = &self.world.resource::<KernelRes>().0;
+        for sweep in &self.world.resource::<PairSweeps<V>>().sweeps {
+            crate::sweep::bind(&sweep.terms, data, kernel).map_err(SimError::Build)?;
+        }
+        Ok(())
+    }
+
+    /// True when some pair sweep writes the accelerations.
+    fn sweeps_write_accelerations(&self) -> bool {
+        ParticleData::<V>::of(&self.world).is_some_and(|data| {
+            self.world
+                .resource::<PairSweeps<V>>()
+                .writes::<crate::components::Acceleration<V>>(
+                    data,
+                    &self.world.resource::<KernelRes>().0,
+                )
+        })
     }
 
     fn build_schedule(&mut self) -> Result<(), SimError> {
         if self.schedule.is_some() {
             return Ok(());
         }
-        if !self.has_feature("pair_sweep") && self.enable_feature("no_pair_sweep") {
+        if !self.sweeps_write_accelerations() && self.enable_feature("no_pair_sweep") {
             crate::sweep::add_zero_acceleration_system(self);
         }
         let mut schedule = Schedule::new(Step);

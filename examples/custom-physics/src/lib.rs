@@ -42,7 +42,8 @@ dualsph::core::scalar_column!(DragGamma, PathLength);
 #[derive(Debug, Clone, Copy)]
 pub struct PairDragTerm;
 
-/// The pair term bound to the `drag_gamma` column for one sweep.
+/// The pair term bound for one sweep: the `drag_gamma` column it reads, the force and power
+/// it writes.
 #[derive(Debug, Clone, Copy)]
 pub struct BoundDrag<'w> {
     gamma: &'w [DragGamma],
@@ -55,27 +56,38 @@ impl<V: Vector> PairTerm<V> for PairDragTerm {
         "pair drag (DPD dissipative force, per-particle γ)"
     }
 
-    fn bind<'w>(&'w self, data: &ParticleData<'w, V>) -> Result<BoundDrag<'w>, String> {
+    fn bind<'w>(&'w self, b: &mut Binder<'_, 'w, V>) -> Result<BoundDrag<'w>, String> {
+        b.force()?;
+        b.power()?;
         Ok(BoundDrag {
-            gamma: data.require::<DragGamma>("PairDrag")?,
+            gamma: b.require::<DragGamma>()?,
         })
     }
 }
 
 impl<V: Vector> BoundTerm<V> for BoundDrag<'_> {
-    fn interact(&self, p: &Pair<'_, V>, out: &mut PairOut<V>) {
-        if p.r == 0.0 {
-            return;
-        }
-        let (d, e) = (p.data, p.rij / p.r);
-        let w = 1.0 - p.r / d.h[p.i].0;
-        let gamma = 0.5 * (self.gamma[p.i].0 + self.gamma[p.j].0);
+    type Owner = ();
+
+    #[inline(always)]
+    fn owner(&self, _: usize) {}
+
+    /// `f_ij = −γ̄ m_i m_j (1 − r/h_i)² (v_ij·e) e` with `e = r_ij/r` (zero for coincident
+    /// particles) on i, its reaction on j; the dissipated work `−f_ij·v_ij ≥ 0` to both, ½/½.
+    /// Written once over [`Lanes`]: the sweep runs it two pairs at a time.
+    fn interact<T: Lanes>(&self, _: &(), p: &PairLanes<'_, T, V>, out: &mut Out<'_, T>) {
+        let (d, i, r) = (p.data(), p.i(), p.r());
+        let c = T::splat;
+        let inv_r = T::if_gt(r, c(0.0), c(1.0) / r, c(0.0));
+        let e = p.rij().scale::<V>(inv_r);
+        let w = c(1.0) - r / c(d.h[i].0);
+        let gamma = c(0.5) * (c(self.gamma[i].0) + p.gather(self.gamma, |g| g.0));
         let vij = p.vij();
-        let force = e * (-gamma * d.mass[p.i].0 * d.mass[p.j].0 * w * w * vij.dot(e));
-        out.force += force;
-        let heat = -0.5 * force.dot(vij); // ≥ 0: the dissipated work, shared ½/½
-        out.power_i += heat;
-        out.power_j += heat;
+        let mag = -gamma * c(d.mass[i].0) * p.m_j() * w * w * vij.dot::<V>(e);
+        let force = e.scale::<V>(mag);
+        out.add_force::<V>(force);
+        let heat = c(-0.5) * force.dot::<V>(vij);
+        out.add_power(heat);
+        out.react_power(heat);
     }
 }
 

@@ -27,17 +27,11 @@
 //! owner's half of the pressure term, each owner contributes half of `ψ_ij = 2(ρ_j − ρ_i)`:
 //! with equal h the pair is evaluated from both sides and the sum is the formula above. Then
 //! `V_i dρ_i + V_j dρ_j = 0` for every pair: the term only exchanges `ρV = m` between the
-//! two, exactly, whatever the h field. It moves no momentum (no force). The sum over i is
-//! taken over `H_i` in ascending j and the reactions through the dual-support list in
-//! ascending i (the same `D_ij` recomputed from the same inputs), so it is deterministic.
+//! two, exactly, whatever the h field. It moves no momentum (no force). It is a term of the
+//! force sweep ([`DiffusionTerm`]): `D_ij` is evaluated once per pair, and the reaction reaches
+//! j through its dual-support like every other sum of the sweep, in a fixed order.
 
-use dualsph_core::bevy_ecs::prelude::*;
-use dualsph_core::chunks::DENSE;
-use dualsph_core::neighbours::Neighbours;
 use dualsph_core::prelude::*;
-use dualsph_core::sim::KernelRes;
-use dualsph_core::store::{CoreColumns, single_table};
-use rayon::prelude::*;
 use serde::Deserialize;
 
 /// δ-SPH density diffusion settings.
@@ -53,86 +47,55 @@ fn default_delta() -> Real {
     0.1
 }
 
-/// δ as a resource for the system.
-#[derive(Resource, Clone, Copy, Debug)]
-pub struct DiffusionDelta(pub Real);
+/// The diffusion as a pair term of the force sweep: `D_ij V_j` to `dρ_i/dt`, `−D_ij V_i` to
+/// `dρ_j/dt` ([`Reaction::Separate`]).
+#[derive(Debug, Clone, Copy)]
+pub struct DiffusionTerm {
+    /// δ.
+    pub delta: Real,
+}
 
-/// What the diffusion reads: the core columns and the sound speeds.
+/// [`DiffusionTerm`] bound for a sweep.
 #[derive(Clone, Copy, Debug)]
-pub struct DiffusionData<'a, V: Vector> {
-    /// Positions, masses, densities, support radii.
-    pub data: ParticleData<'a, V>,
-    /// Sound speeds `c_i`.
-    pub sound: &'a [SoundSpeed],
-}
-
-/// `D_ij` of the module docs for the owner i and `j ∈ H_i`; `None` outside `h_i` or at r = 0.
-#[inline]
-pub fn pair_coefficient<V: Vector>(
-    f: &DiffusionData<'_, V>,
-    k: &Kernel,
+pub struct BoundDiffusion<'w> {
     delta: Real,
-    i: usize,
-    j: usize,
-) -> Option<Real> {
-    let d = &f.data;
-    let hi = d.h[i].0;
-    let r = (d.pos[i].0 - d.pos[j].0).length();
-    if !(r > 0.0 && r < hi) {
-        return None;
-    }
-    let c = 0.5 * (f.sound[i].0 + f.sound[j].0);
-    // the owner's half of ψ_ij = 2(ρ_j − ρ_i)
-    let half_psi = d.rho[j].0 - d.rho[i].0;
-    Some(delta * 0.5 * hi * c * half_psi * (-k.dw_dr(r, hi)) / r)
+    sound: &'w [SoundSpeed],
 }
 
-/// The diffusion rate `dρ_i/dt` of particle i (its owner sum plus its reactions).
-pub fn diffusion_rate<V: Vector>(
-    f: &DiffusionData<'_, V>,
-    nb: &Neighbours<V>,
-    k: &Kernel,
-    delta: Real,
-    i: usize,
-) -> Real {
-    let mut s = 0.0;
-    for &j in nb.support.row(i) {
-        let j = j as usize;
-        if let Some(d) = pair_coefficient(f, k, delta, i, j) {
-            s += d * f.data.volume(j);
-        }
+impl<V: Vector> PairTerm<V> for DiffusionTerm {
+    type Bound<'w> = BoundDiffusion<'w>;
+
+    fn name(&self) -> &str {
+        "density_diffusion (delta-SPH, Molteni & Colagrossi 2009)"
     }
-    // reactions: i is the neighbour j of every owner o with i ∈ H_o
-    for &o in nb.dual.row(i) {
-        let o = o as usize;
-        if let Some(d) = pair_coefficient(f, k, delta, o, i) {
-            s -= d * f.data.volume(o);
-        }
+
+    fn bind<'w>(&'w self, b: &mut Binder<'_, 'w, V>) -> Result<BoundDiffusion<'w>, String> {
+        b.density_rate(Reaction::Separate)?;
+        Ok(BoundDiffusion {
+            delta: self.delta,
+            sound: b.require()?,
+        })
     }
-    s
 }
 
-/// Adds the diffusion rates to `DensityRate.rate` (after the continuity equation has set it).
-#[inline(never)] // a frame of its own in profiles
-pub fn density_diffusion<V: Vector>(
-    nb: Res<Neighbours<V>>,
-    kernel: Res<KernelRes>,
-    delta: Res<DiffusionDelta>,
-    mut q: Query<(CoreColumns<V>, &SoundSpeed, &mut DensityRate)>,
-) {
-    let tables = q.contiguous_iter_mut().expect(DENSE);
-    let Some((core, sound, mut rates)) = single_table(tables) else {
-        return;
-    };
-    let f = DiffusionData {
-        data: ParticleData::from_columns(core),
-        sound,
-    };
-    rates
-        .par_iter_mut()
-        .enumerate()
-        .with_min_len(64)
-        .for_each(|(i, r)| r.rate += diffusion_rate(&f, &nb, &kernel.0, delta.0, i));
+impl<V: Vector> BoundTerm<V> for BoundDiffusion<'_> {
+    type Owner = ();
+
+    #[inline(always)]
+    fn owner(&self, _: usize) {}
+
+    /// `D_ij = δ (h_i/2) c̄_ij (ρ_j − ρ_i) (−∂W/∂r)/r` (module docs); zero at `r = 0`.
+    #[inline(always)]
+    fn interact<T: Lanes>(&self, _: &(), p: &PairLanes<'_, T, V>, out: &mut Out<'_, T>) {
+        let (d, i) = (p.data(), p.i());
+        let c = T::splat(0.5) * (T::splat(self.sound[i].0) + p.gather(self.sound, |c| c.0));
+        // the owner's half of ψ_ij = 2(ρ_j − ρ_i)
+        let half_psi = p.rho_j() - T::splat(d.rho[i].0);
+        let coef = T::splat(self.delta * 0.5 * d.h[i].0) * c * half_psi * (-p.grad_factor());
+        let v_j = p.m_j() / p.rho_j();
+        out.add_density_rate(coef * v_j);
+        out.react_density_rate(-(coef * T::splat(d.volume(i))));
+    }
 }
 
 impl SimPlugin for DensityDiffusion {
@@ -148,8 +111,7 @@ impl SimPlugin for DensityDiffusion {
         }
     }
 
-    /// Adds the diffusion after whatever sets the density rate in the `Forces` set (the pair
-    /// sweep, the continuity system), wherever the plugins stand in the scene's list.
+    /// Adds the diffusion term to the force sweep, whose density-rate sum it joins.
     fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
         sim.require_feature(
             "density_integration",
@@ -159,21 +121,10 @@ impl SimPlugin for DensityDiffusion {
             "eos",
             "DensityDiffusion needs the sound speed: add an equation of state",
         );
-        sim.require_feature(
-            "pair_sweep",
-            "DensityDiffusion adds to the rates of a pair sweep: add PressureForce or another pair term",
-        );
         if !sim.enable_feature("density_diffusion") {
             return Err(SimError::Build("DensityDiffusion is listed twice".into()));
         }
-        sim.world.insert_resource(DiffusionDelta(self.delta));
-        sim.add_system(
-            StepSet::Forces,
-            "density_diffusion (delta-SPH, Molteni & Colagrossi 2009)",
-            density_diffusion::<V>,
-        )
-        .after("pair_sweep")
-        .after("continuity");
+        sim.add_pair_term(DiffusionTerm { delta: self.delta });
         Ok(())
     }
 }
@@ -181,8 +132,12 @@ impl SimPlugin for DensityDiffusion {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use dualsph_core::bevy_ecs::prelude::*;
     use dualsph_core::glam::DVec2;
+    use dualsph_core::neighbours::Neighbours;
     use dualsph_core::store::{Cloud, insert_column};
+    use dualsph_core::sweep::{DynPairTerm, SweepBuffers, evaluate};
+    use std::sync::Arc;
 
     /// A square lattice of `n × n` particles, spacing dx, h = 2.6 dx (support radius), with
     /// density `rho(x)` and sound speed `c`; h scaled by `h_scale(x)` (variable h).
@@ -209,27 +164,30 @@ mod tests {
         nb.rebuild(&c.pos, &c.h);
         let mut world = c.spawn();
         insert_column(&mut world, |i| SoundSpeed(sound[i]));
+        insert_column(&mut world, |_| DensityRate::default());
         (world, nb)
     }
 
-    /// The diffusion data of a cloud's world.
-    fn data_of(world: &World) -> DiffusionData<'_, DVec2> {
-        DiffusionData {
-            data: ParticleData::of(world).unwrap(),
-            sound: dualsph_core::store::column(world).unwrap(),
-        }
-    }
-
-    /// Every particle's diffusion rate.
+    /// Every particle's diffusion rate, from a dual-support sweep of the term alone.
     fn diffusion_rates(
-        f: &DiffusionData<'_, DVec2>,
+        world: &World,
         nb: &Neighbours<DVec2>,
         k: &Kernel,
         delta: Real,
     ) -> Vec<Real> {
-        (0..f.data.len())
-            .map(|i| diffusion_rate(f, nb, k, delta, i))
+        let terms: Vec<Arc<dyn DynPairTerm<DVec2>>> = vec![Arc::new(DiffusionTerm { delta })];
+        let data = ParticleData::of(world).unwrap();
+        let ctx = SweepCtx::new(data, nb, k, Formulation::DualSupport);
+        let mut buf = SweepBuffers::default();
+        evaluate(&ctx, &terms, &mut buf).unwrap();
+        (0..data.len())
+            .map(|i| buf.sum_of::<DensityRate>(i).unwrap()[0])
             .collect()
+    }
+
+    #[test]
+    fn two_lanes_equal_one_lane_bitwise() {
+        dualsph_core::sweep::check_lanes_2d(&DiffusionTerm { delta: 0.1 }).unwrap();
     }
 
     #[test]
@@ -241,9 +199,8 @@ mod tests {
             |x| 1.0 + 0.8 * x.x, // h varies by 1.8 across the cloud: one-sided pairs
         );
         let k = Kernel::new(KernelKind::CubicSpline, 2);
-        let f = data_of(&world);
-        let rates = diffusion_rates(&f, &nb, &k, 0.1);
-        let d = f.data;
+        let rates = diffusion_rates(&world, &nb, &k, 0.1);
+        let d = ParticleData::<DVec2>::of(&world).unwrap();
         let exchanged: Real = (0..d.len()).map(|i| d.volume(i) * rates[i]).sum();
         let scale: Real = (0..d.len()).map(|i| (d.volume(i) * rates[i]).abs()).sum();
         assert!(scale > 0.0);
@@ -253,8 +210,11 @@ mod tests {
         );
         // a uniform density is left alone
         let (world, nb) = cloud(10, 0.05, |_| 1000.0, |x| 1.0 + x.x);
-        let f = data_of(&world);
-        assert!(diffusion_rates(&f, &nb, &k, 0.1).iter().all(|&r| r == 0.0));
+        assert!(
+            diffusion_rates(&world, &nb, &k, 0.1)
+                .iter()
+                .all(|&r| r == 0.0)
+        );
     }
 
     #[test]
@@ -265,16 +225,17 @@ mod tests {
         let (n, dx, a, kappa) = (40, 0.025, 5.0, std::f64::consts::PI);
         let (world, nb) = cloud(n, dx, |x| 1000.0 + a * (kappa * x.x).cos(), |_| 1.0);
         let k = Kernel::new(KernelKind::CubicSpline, 2);
-        let f = data_of(&world);
-        let rates = diffusion_rates(&f, &nb, &k, 0.1);
+        let rates = diffusion_rates(&world, &nb, &k, 0.1);
+        let d = ParticleData::<DVec2>::of(&world).unwrap();
+        let sound: &[SoundSpeed] = d.column().unwrap();
         let (mut err, mut norm) = (0.0, 0.0);
-        for i in 0..f.data.len() {
-            let x = f.data.pos[i].0;
+        for i in 0..d.len() {
+            let x = d.pos[i].0;
             let inside = (0.2..=0.8).contains(&x.x) && (0.2..=0.8).contains(&x.y);
             if inside {
-                let div = -kappa * kappa * a * (kappa * x.x).cos() * f.sound[i].0
+                let div = -kappa * kappa * a * (kappa * x.x).cos() * sound[i].0
                     - 10.0 * kappa * a * (kappa * x.x).sin();
-                let exact = 0.1 * 0.5 * f.data.h[i].0 * div;
+                let exact = 0.1 * 0.5 * d.h[i].0 * div;
                 err += (rates[i] - exact).abs();
                 norm += exact.abs();
             }

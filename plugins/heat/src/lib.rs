@@ -31,7 +31,7 @@ pub struct HeatTerm {
     pub inv_cv: Real,
 }
 
-/// [`HeatTerm`] bound to the columns it reads: `ε` and `κ`.
+/// [`HeatTerm`] bound to the columns it reads (`ε` and `κ`) and the power it writes.
 #[derive(Clone, Copy, Debug)]
 pub struct BoundHeat<'w> {
     inv_cv: Real,
@@ -46,29 +46,36 @@ impl<V: Vector> PairTerm<V> for HeatTerm {
         "heat conduction (Eq. 3.13)"
     }
 
-    fn bind<'w>(&'w self, data: &ParticleData<'w, V>) -> Result<BoundHeat<'w>, String> {
-        let name = PairTerm::<V>::name(self);
+    fn bind<'w>(&'w self, b: &mut Binder<'_, 'w, V>) -> Result<BoundHeat<'w>, String> {
+        b.power()?;
         Ok(BoundHeat {
             inv_cv: self.inv_cv,
-            eps: data.require(name)?,
-            kappa: data.require(name)?,
+            eps: b.require()?,
+            kappa: b.require()?,
         })
     }
 }
 
 impl<V: Vector> BoundTerm<V> for BoundHeat<'_> {
+    type Owner = ();
+
     #[inline(always)]
-    fn interact(&self, p: &Pair<'_, V>, out: &mut PairOut<V>) {
-        let d = p.data;
-        let (i, j) = (p.i, p.j);
+    fn owner(&self, _: usize) {}
+
+    /// i gains `Q_ij`, j loses it.
+    #[inline(always)]
+    fn interact<T: Lanes>(&self, _: &(), p: &PairLanes<'_, T, V>, out: &mut Out<'_, T>) {
+        let (d, i) = (p.data(), p.i());
+        let c = T::splat;
         let eta = 0.1 * d.h[i].0;
-        let tij = (self.eps[i].0 - self.eps[j].0) * self.inv_cv;
-        let q = d.mass[i].0 * d.mass[j].0 * self.kappa[i].0 / (d.rho[i].0 * d.rho[j].0)
-            * p.rij.dot(p.grad_raw)
-            / (p.r * p.r + eta * eta)
+        let tij = (c(self.eps[i].0) - p.gather(self.eps, |e| e.0)) * c(self.inv_cv);
+        let r = p.r();
+        let q = c(d.mass[i].0) * p.m_j() * c(self.kappa[i].0) / (c(d.rho[i].0) * p.rho_j())
+            * p.rij().dot::<V>(p.grad_raw())
+            / (r * r + c(eta * eta))
             * tij;
-        out.power_i += q;
-        out.power_j -= q;
+        out.add_power(q);
+        out.react_power(-q);
     }
 }
 
@@ -101,5 +108,15 @@ impl SimPlugin for HeatConduction {
             inv_cv: 1.0 / self.heat_capacity,
         });
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn two_lanes_equal_one_lane_bitwise() {
+        dualsph_core::sweep::check_lanes_2d(&HeatTerm { inv_cv: 0.25 }).unwrap();
     }
 }

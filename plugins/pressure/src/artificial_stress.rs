@@ -16,9 +16,9 @@
 //! (`m_i ε̇_i += m_i m_j R_i F^n v_ij·∇_iW_ij`), so total energy stays exact too. With the
 //! kernel correction active the same forms as the pressure term are used (`1/(ρ_iρ_j)`,
 //! `L_i ∇_iW`). Monaghan, J. J. (2000), SPH without a tensile instability, J. Comput. Phys.
-//! 159, 290–311 (reference [13] of paper 001).
+//! 159, 290–311.
 
-use crate::{is_corrected, neighbour_factor, owner_factor};
+use crate::{add_pressure_like, is_corrected, neighbour_lanes, owner_factor};
 use dualsph_core::integrator::ensure_energy_equation;
 use dualsph_core::prelude::*;
 use serde::Deserialize;
@@ -50,11 +50,9 @@ pub struct ArtificialStressTerm {
     pub epsilon: Real,
     /// n.
     pub exponent: i32,
-    /// The scene's kernel (for `W(Δp_i, h_i)` in [`BoundTerm::interact`]).
-    pub kernel: Kernel,
 }
 
-/// [`ArtificialStressTerm`] bound to the pressure column.
+/// [`ArtificialStressTerm`] bound to the pressure column and its sums.
 #[derive(Clone, Copy, Debug)]
 pub struct BoundStress<'w> {
     term: &'w ArtificialStressTerm,
@@ -86,46 +84,36 @@ impl<V: Vector> PairTerm<V> for ArtificialStressTerm {
         "artificial stress (Monaghan 2000)"
     }
 
-    fn bind<'w>(&'w self, data: &ParticleData<'w, V>) -> Result<BoundStress<'w>, String> {
+    fn bind<'w>(&'w self, b: &mut Binder<'_, 'w, V>) -> Result<BoundStress<'w>, String> {
+        b.force()?;
+        b.power()?;
         Ok(BoundStress {
             term: self,
-            pressure: data.require(PairTerm::<V>::name(self))?,
-            corrected: is_corrected(data),
+            pressure: b.require()?,
+            corrected: is_corrected(b),
         })
     }
 }
 
 impl<V: Vector> BoundTerm<V> for BoundStress<'_> {
-    fn interact(&self, p: &Pair<'_, V>, out: &mut PairOut<V>) {
-        let d = p.data;
-        let owner = self.owner(d, p.i);
-        if owner == 0.0 {
-            return;
-        }
-        let kernel = OwnerKernel::new(&self.term.kernel, d.h[p.i].0);
-        let ratio = p.w * (1.0 / Self::w_spacing(d, p.i, &kernel));
-        let coef =
-            owner * neighbour_factor(d, self.corrected, p.j) * ratio.powi(self.term.exponent);
-        out.force += p.grad * (-coef);
-        out.power_i += coef * p.vij().dot(p.grad);
-    }
+    type Owner = ();
 
-    fn interact_row(&self, row: &Row<'_, V>, out: &mut [PairOut<V>]) {
-        let d = row.data;
-        let owner = self.owner(d, row.i);
+    #[inline(always)]
+    fn owner(&self, _: usize) {}
+
+    #[inline(always)]
+    fn interact<T: Lanes>(&self, _: &(), p: &PairLanes<'_, T, V>, out: &mut Out<'_, T>) {
+        let (d, i) = (p.data(), p.i());
+        let owner = self.owner(d, i);
         if owner == 0.0 {
             return;
         }
-        let inv_w0 = 1.0 / Self::w_spacing(d, row.i, &row.kernel);
-        for (k, o) in out.iter_mut().enumerate() {
-            let j = row.j[k] as usize;
-            let ratio = row.w(k) * inv_w0;
-            let coef =
-                owner * neighbour_factor(d, self.corrected, j) * ratio.powi(self.term.exponent);
-            let g = row.grad[k];
-            o.force += g * (-coef);
-            o.power_i += coef * d.vij(row.i, j).dot(g);
-        }
+        let inv_w0 = 1.0 / Self::w_spacing(d, i, &p.kernel());
+        let ratio = p.w() * T::splat(inv_w0);
+        let n = self.term.exponent;
+        let fn_ = T::from_fn(|l| ratio.lane(l).powi(n));
+        let coef = T::splat(owner) * neighbour_lanes(p, self.corrected) * fn_;
+        add_pressure_like(p, coef, out);
     }
 }
 
@@ -153,11 +141,9 @@ impl SimPlugin for ArtificialStress {
             "ArtificialStress needs an equation of state (TaitEos or IdealGas)",
         );
         ensure_energy_equation(sim)?;
-        let kernel = sim.world.resource::<KernelRes>().0;
         sim.add_pair_term(ArtificialStressTerm {
             epsilon: self.epsilon,
             exponent: self.exponent as i32,
-            kernel,
         });
         Ok(())
     }
@@ -168,12 +154,11 @@ mod tests {
     use super::*;
 
     #[test]
-    fn interact_row_matches_interact_bitwise() {
+    fn two_lanes_equal_one_lane_bitwise() {
         let term = ArtificialStressTerm {
             epsilon: 0.2,
             exponent: 4,
-            kernel: Kernel::new(KernelKind::CubicSpline, 2),
         };
-        dualsph_core::sweep::check_row_override_2d(&term).unwrap();
+        dualsph_core::sweep::check_lanes_2d(&term).unwrap();
     }
 }

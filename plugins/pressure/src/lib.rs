@@ -27,7 +27,7 @@ pub struct PressureTerm;
 
 /// The owner's factor of a pressure-like pair coefficient for the stress `s_i` of particle i:
 /// `m_i s_i/ρ_i²`, or `m_i s_i/ρ_i` with the kernel correction (then the neighbour's factor,
-/// [`neighbour_factor`], is `m_j/ρ_j`, otherwise `m_j`; §5.2).
+/// [`neighbour_lanes`], is `m_j/ρ_j`, otherwise `m_j`; §5.2).
 #[inline(always)]
 pub(crate) fn owner_factor<V: Vector>(
     d: &ParticleData<'_, V>,
@@ -43,89 +43,73 @@ pub(crate) fn owner_factor<V: Vector>(
     }
 }
 
-/// The neighbour's factor (see [`owner_factor`]).
+/// True when the scene applies the kernel-gradient correction (Eq. 2.10).
+pub(crate) fn is_corrected<V: Vector>(b: &Binder<'_, '_, V>) -> bool {
+    b.column::<GradientCorrection<V>>().is_some()
+}
+
+/// The neighbour's factor in every lane (see [`owner_factor`]): `m_j/ρ_j` with the kernel
+/// correction, `m_j` without.
 #[inline(always)]
-pub(crate) fn neighbour_factor<V: Vector>(
-    d: &ParticleData<'_, V>,
-    corrected: bool,
-    j: usize,
-) -> Real {
+pub(crate) fn neighbour_lanes<T: Lanes, V: Vector>(p: &PairLanes<'_, T, V>, corrected: bool) -> T {
     if corrected {
-        d.mass[j].0 / d.rho[j].0
+        p.m_j() / p.rho_j()
     } else {
-        d.mass[j].0
+        p.m_j()
     }
 }
 
-/// True when the scene applies the kernel-gradient correction (Eq. 2.10).
-pub(crate) fn is_corrected<V: Vector>(data: &ParticleData<'_, V>) -> bool {
-    data.column::<GradientCorrection<V>>().is_some()
+/// `f_ij = −c ∇̃_iW_ij` on i and `c v_ij·∇̃_iW_ij` to `m_i ε̇_i`, for the pair coefficient `c`.
+#[inline(always)]
+pub(crate) fn add_pressure_like<T: Lanes, V: Vector>(
+    p: &PairLanes<'_, T, V>,
+    coef: T,
+    out: &mut Out<'_, T>,
+) {
+    let g = p.grad();
+    out.add_force::<V>(g.scale::<V>(-coef));
+    out.add_power(coef * p.vij().dot::<V>(g));
 }
 
-/// [`PressureTerm`] bound to the pressure column.
+/// [`PressureTerm`] bound to the pressure column and its sums.
 #[derive(Clone, Copy, Debug)]
-pub struct BoundPressure<'w> {
+pub struct BoundPressure<'w, V: Vector> {
+    data: ParticleData<'w, V>,
     pressure: &'w [Pressure],
     corrected: bool,
 }
 
-impl BoundPressure<'_> {
-    /// The owner's factor: [`owner_factor`] with `s_i = p_i`.
-    #[inline(always)]
-    fn owner<V: Vector>(&self, d: &ParticleData<'_, V>, i: usize) -> Real {
-        owner_factor(d, self.corrected, i, self.pressure[i].0)
-    }
-
-    /// `f_ij = −c ∇̃_iW_ij` on i and `c v_ij·∇̃_iW_ij` to `m_i ε̇_i`, `c = owner · other`.
-    #[inline(always)]
-    fn add<V: Vector>(coef: Real, vij: V, grad: V, out: &mut PairOut<V>) {
-        out.force += grad * (-coef);
-        out.power_i += coef * vij.dot(grad);
-    }
-}
-
 impl<V: Vector> PairTerm<V> for PressureTerm {
-    type Bound<'w> = BoundPressure<'w>;
+    type Bound<'w> = BoundPressure<'w, V>;
 
     fn name(&self) -> &str {
         "pressure (Eq. 4.19)"
     }
 
-    fn bind<'w>(&'w self, data: &ParticleData<'w, V>) -> Result<BoundPressure<'w>, String> {
+    fn bind<'w>(&'w self, b: &mut Binder<'_, 'w, V>) -> Result<BoundPressure<'w, V>, String> {
+        b.force()?;
+        b.power()?;
         Ok(BoundPressure {
-            pressure: data.require(PairTerm::<V>::name(self))?,
-            corrected: is_corrected(data),
+            data: b.data(),
+            pressure: b.require()?,
+            corrected: is_corrected(b),
         })
-    }
-
-    fn builtin(&self) -> Option<dualsph_core::sweep::BuiltinTerm> {
-        Some(dualsph_core::sweep::BuiltinTerm::Pressure)
     }
 }
 
-impl<V: Vector> BoundTerm<V> for BoundPressure<'_> {
+impl<V: Vector> BoundTerm<V> for BoundPressure<'_, V> {
+    /// `m_i p_i/ρ_i²` (`m_i p_i/ρ_i` with the kernel correction).
+    type Owner = Real;
+
     #[inline(always)]
-    fn interact(&self, p: &Pair<'_, V>, out: &mut PairOut<V>) {
-        let d = p.data;
-        let coef = self.owner(d, p.i) * neighbour_factor(d, self.corrected, p.j);
-        Self::add(coef, p.vij(), p.grad, out);
+    fn owner(&self, i: usize) -> Real {
+        owner_factor(&self.data, self.corrected, i, self.pressure[i].0)
     }
 
-    /// The same arithmetic as [`BoundTerm::interact`] with the owner's values loaded once.
-    fn interact_row(&self, row: &Row<'_, V>, out: &mut [PairOut<V>]) {
-        let d = row.data;
-        let owner = self.owner(d, row.i);
-        let mass = d.mass;
-        let pairs = out.iter_mut().zip(row.j).zip(row.vij).zip(row.grad);
-        if !self.corrected {
-            for (((o, &j), &v), &g) in pairs {
-                Self::add(owner * mass[j as usize].0, v, g, o);
-            }
-        } else {
-            for (((o, &j), &v), &g) in pairs {
-                Self::add(owner * neighbour_factor(d, true, j as usize), v, g, o);
-            }
-        }
+    #[inline(always)]
+    fn interact<T: Lanes>(&self, owner: &Real, p: &PairLanes<'_, T, V>, out: &mut Out<'_, T>) {
+        let coef = T::splat(*owner) * neighbour_lanes(p, self.corrected);
+        add_pressure_like(p, coef, out);
     }
 }
 
@@ -150,7 +134,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn interact_row_matches_interact_bitwise() {
-        dualsph_core::sweep::check_row_override_2d(&PressureTerm).unwrap();
+    fn two_lanes_equal_one_lane_bitwise() {
+        dualsph_core::sweep::check_lanes_2d(&PressureTerm).unwrap();
     }
 }

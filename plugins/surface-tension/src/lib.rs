@@ -118,29 +118,43 @@ impl CohesionTerm {
     }
 }
 
+/// [`CohesionTerm`] bound to its sums.
+#[derive(Clone, Copy, Debug)]
+pub struct BoundCohesion {
+    term: CohesionTerm,
+}
+
 impl<V: Vector> PairTerm<V> for CohesionTerm {
-    type Bound<'w> = CohesionTerm;
+    type Bound<'w> = BoundCohesion;
 
     fn name(&self) -> &str {
         "surface tension: pairwise cohesion (Akinci et al. 2013)"
     }
 
-    /// Reads only the core columns.
-    fn bind<'w>(&'w self, _: &ParticleData<'w, V>) -> Result<CohesionTerm, String> {
-        Ok(*self)
+    fn bind<'w>(&'w self, b: &mut Binder<'_, 'w, V>) -> Result<BoundCohesion, String> {
+        b.force()?;
+        b.power()?;
+        Ok(BoundCohesion { term: *self })
     }
 }
 
-impl<V: Vector> BoundTerm<V> for CohesionTerm {
+impl<V: Vector> BoundTerm<V> for BoundCohesion {
+    type Owner = ();
+
+    #[inline(always)]
+    fn owner(&self, _: usize) {}
+
     #[inline]
-    fn interact(&self, p: &Pair<'_, V>, out: &mut PairOut<V>) {
-        let force = self.force(p.data, p.i, p.j, p.rij, p.r);
-        out.force += force;
+    fn interact<T: Lanes>(&self, _: &(), p: &PairLanes<'_, T, V>, out: &mut Out<'_, T>) {
+        let (d, i, rij, r) = (p.data(), p.i(), p.rij(), p.r());
+        let force =
+            LaneVec::<T>::from_fn(|l| self.term.force(d, i, p.j(l), rij.lane::<V>(l), r.lane(l)));
+        out.add_force::<V>(force);
         // Conservative force: the kinetic energy it gives, f·v_ij, is taken from the
         // internal (cohesive binding) energy, half from each particle.
-        let heat = -0.5 * force.dot(p.vij());
-        out.power_i += heat;
-        out.power_j += heat;
+        let heat = T::splat(-0.5) * force.dot::<V>(p.vij());
+        out.add_power(heat);
+        out.react_power(heat);
     }
 }
 
@@ -188,6 +202,12 @@ mod tests {
             s += f(a + k as Real * h) * if k % 2 == 1 { 4.0 } else { 2.0 };
         }
         s * h / 3.0
+    }
+
+    #[test]
+    fn two_lanes_equal_one_lane_bitwise() {
+        let term = CohesionTerm::new(1.0, 2).unwrap();
+        dualsph_core::sweep::check_lanes_2d(&term).unwrap();
     }
 
     #[test]

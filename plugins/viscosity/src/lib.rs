@@ -13,10 +13,9 @@
 #![warn(missing_docs)]
 
 use dualsph_core::integrator::ensure_energy_equation;
-use dualsph_core::passes::ensure_velocity_gradient;
 use dualsph_core::prelude::*;
 use dualsph_core::sim::MaxViscosity;
-use dualsph_core::sweep::{BuiltinTerm, artificial_viscosity_parts};
+use dualsph_kernel_correction::ensure_velocity_gradient;
 use serde::Deserialize;
 
 /// Monaghan artificial viscosity.
@@ -47,147 +46,92 @@ pub struct ArtificialViscosityTerm {
     pub eta_factor: Real,
 }
 
-/// The owner's values used by [`ArtificialViscosityTerm`].
-#[derive(Clone, Copy, Debug)]
-struct AvOwner {
-    m: Real,
-    h: Real,
-    c: Real,
-    rho: Real,
+/// One particle's values in the artificial viscosity: `(h, c, ρ)`.
+pub type AvSide<T> = (T, T, T);
+
+/// `(num, den)` of Monaghan's `Π_ij` (Eq. 4.17) for `(α, β, η_f)`, the owner's `(h_i, c_i, ρ_i)`,
+/// the neighbour's `(h_j, c_j, ρ_j)`, `v_ij·r_ij` and `|r_ij|`: with `h̄ = (h_i + h_j)/2`,
+/// `D = r² + (η_f h̄)²`, `x = h̄ min(v_ij·r_ij, 0)` (so `μ_ij = x/D`) and `c̄ = (c_i + c_j)/2`,
+/// `Π_ij = μ(−α c̄ + β μ)/ρ̄ = 2 num/den` with `num = x (β x − α c̄ D)` and
+/// `den = D² (ρ_i + ρ_j)`: one division, and no branch (a receding pair has `x = 0`).
+#[inline(always)]
+pub fn pi_parts<T: Lanes>(
+    (alpha, beta, eta_factor): (Real, Real, Real),
+    (h_i, c_i, rho_i): AvSide<T>,
+    (h_j, c_j, rho_j): AvSide<T>,
+    vr: T,
+    r: T,
+) -> (T, T) {
+    let c = T::splat;
+    let hbar = c(0.5) * (h_i + h_j);
+    let eta = c(eta_factor) * hbar;
+    let d = r * r + eta * eta;
+    let x = hbar * T::if_lt(vr, c(0.0), vr, c(0.0));
+    let cbar = c(0.5) * (c_i + c_j);
+    (
+        x * (c(beta) * x - c(alpha) * cbar * d),
+        d * d * (rho_i + rho_j),
+    )
 }
 
-/// [`ArtificialViscosityTerm`] bound to the sound-speed column.
+/// [`ArtificialViscosityTerm`] bound to the sound-speed column and its sums.
 #[derive(Clone, Copy, Debug)]
-pub struct BoundAv<'w> {
+pub struct BoundAv<'w, V: Vector> {
     term: ArtificialViscosityTerm,
+    data: ParticleData<'w, V>,
     sound: &'w [SoundSpeed],
 }
 
-impl BoundAv<'_> {
-    #[inline(always)]
-    fn owner<V: Vector>(&self, d: &ParticleData<'_, V>, i: usize) -> AvOwner {
-        AvOwner {
-            m: d.mass[i].0,
-            h: d.h[i].0,
-            c: self.sound[i].0,
-            rho: d.rho[i].0,
-        }
-    }
-
-    /// `Π_ij` of Eq. 4.17 (0 for receding pairs).
-    #[inline]
-    pub fn pi<V: Vector>(&self, p: &Pair<'_, V>) -> Real {
-        let a = self.owner(p.data, p.i);
-        self.pi_of(&a, p.data, p.j, p.vij().dot(p.rij), p.r)
-    }
-
-    /// `Π_ij` from the owner's values, j, `v_ij·r_ij` and `r_ij`: with `D = r² + η²` and
-    /// `x = h̄ min(v_ij·r_ij, 0)` (so `μ_ij = x/D`),
-    /// `Π_ij = μ(−α c̄ + β μ)/ρ̄ = 2 x (β x − α c̄ D) / (D² (ρ_i + ρ_j))` — one division, and
-    /// no branch: a receding pair has `x = 0`, hence `Π_ij = 0`.
-    #[inline(always)]
-    fn pi_of<V: Vector>(
-        &self,
-        a: &AvOwner,
-        d: &ParticleData<'_, V>,
-        j: usize,
-        vr: Real,
-        r: Real,
-    ) -> Real {
-        let (num, den) = self.pi_parts(a, d, j, vr, r);
-        2.0 * num / den
-    }
-
-    /// `(x (β x − α c̄ D), D² (ρ_i + ρ_j))`: `Π_ij = 2 num/den` (see [`Self::pi_of`]); the
-    /// formula is the core's [`artificial_viscosity_parts`], which the sweep's fused loop uses
-    /// too.
-    #[inline(always)]
-    fn pi_parts<V: Vector>(
-        &self,
-        a: &AvOwner,
-        d: &ParticleData<'_, V>,
-        j: usize,
-        vr: Real,
-        r: Real,
-    ) -> (Real, Real) {
-        let t = &self.term;
-        artificial_viscosity_parts(
-            (t.alpha, t.beta, t.eta_factor),
-            (a.h, a.c, a.rho),
-            (d.h[j].0, self.sound[j].0, d.rho[j].0),
-            vr,
-            r,
-        )
-    }
-
-    /// Adds the pair's force `−m_i m_j (Π_ij/2) ∇_iW_ij` and heat (Eqs. 4.17, 4.20); a
-    /// receding pair adds zeros.
-    #[inline(always)]
-    #[allow(clippy::too_many_arguments)] // the pair's data, passed unpacked to stay in registers
-    fn add<V: Vector>(
-        &self,
-        a: &AvOwner,
-        d: &ParticleData<'_, V>,
-        j: usize,
-        rij: V,
-        r: Real,
-        vij: V,
-        grad_raw: V,
-        out: &mut PairOut<V>,
-    ) {
-        let (num, den) = self.pi_parts(a, d, j, vij.dot(rij), r);
-        // m_i m_j Π/2 = m_i m_j num/den
-        let coef = a.m * d.mass[j].0 * num / den;
-        out.force += grad_raw * (-coef);
-        let heat = 0.5 * coef * vij.dot(grad_raw);
-        out.power_i += heat;
-        out.power_j += heat;
-    }
-}
-
 impl<V: Vector> PairTerm<V> for ArtificialViscosityTerm {
-    type Bound<'w> = BoundAv<'w>;
+    type Bound<'w> = BoundAv<'w, V>;
 
     fn name(&self) -> &str {
         "artificial viscosity (Eq. 4.17)"
     }
 
-    fn bind<'w>(&'w self, data: &ParticleData<'w, V>) -> Result<BoundAv<'w>, String> {
+    fn bind<'w>(&'w self, b: &mut Binder<'_, 'w, V>) -> Result<BoundAv<'w, V>, String> {
+        b.force()?;
+        b.power()?;
         Ok(BoundAv {
             term: *self,
-            sound: data.require(PairTerm::<V>::name(self))?,
-        })
-    }
-
-    fn builtin(&self) -> Option<BuiltinTerm> {
-        Some(BuiltinTerm::ArtificialViscosity {
-            alpha: self.alpha,
-            beta: self.beta,
-            eta_factor: self.eta_factor,
+            data: b.data(),
+            sound: b.require()?,
         })
     }
 }
 
-impl<V: Vector> BoundTerm<V> for BoundAv<'_> {
+impl<V: Vector> BoundTerm<V> for BoundAv<'_, V> {
+    /// `(m_i, (h_i, c_i, ρ_i))`.
+    type Owner = (Real, AvSide<Real>);
+
     #[inline(always)]
-    fn interact(&self, p: &Pair<'_, V>, out: &mut PairOut<V>) {
-        let a = self.owner(p.data, p.i);
-        self.add(&a, p.data, p.j, p.rij, p.r, p.vij(), p.grad_raw, out);
+    fn owner(&self, i: usize) -> Self::Owner {
+        let d = &self.data;
+        (d.mass[i].0, (d.h[i].0, self.sound[i].0, d.rho[i].0))
     }
 
-    /// The same arithmetic as [`BoundTerm::interact`] with the owner's values loaded once.
-    fn interact_row(&self, row: &Row<'_, V>, out: &mut [PairOut<V>]) {
-        let a = self.owner(row.data, row.i);
-        let geom = row
-            .j
-            .iter()
-            .zip(row.rij)
-            .zip(row.r)
-            .zip(row.vij)
-            .zip(row.grad_raw);
-        for (o, ((((&j, &rij), &r), &vij), &g)) in out.iter_mut().zip(geom) {
-            self.add(&a, row.data, j as usize, rij, r, vij, g, o);
-        }
+    /// The pair's force `−m_i m_j (Π_ij/2) ∇_iW_ij` and its heat, half to each (Eqs. 4.17,
+    /// 4.20); a receding pair adds zeros.
+    #[inline(always)]
+    fn interact<T: Lanes>(&self, o: &Self::Owner, p: &PairLanes<'_, T, V>, out: &mut Out<'_, T>) {
+        let (d, t) = (p.data(), &self.term);
+        let c = T::splat;
+        let (m_i, (h_i, c_i, rho_i)) = *o;
+        let side_j = (
+            p.gather(d.h, |h| h.0),
+            p.gather(self.sound, |s| s.0),
+            p.rho_j(),
+        );
+        let (vij, g) = (p.vij(), p.grad_raw());
+        let coefs = (t.alpha, t.beta, t.eta_factor);
+        let side_i = (c(h_i), c(c_i), c(rho_i));
+        let (num, den) = pi_parts(coefs, side_i, side_j, vij.dot::<V>(p.rij()), p.r());
+        // m_i m_j Π/2 = m_i m_j num/den
+        let coef = c(m_i) * p.m_j() * num / den;
+        out.add_force::<V>(g.scale::<V>(-coef));
+        let heat = c(0.5) * coef * vij.dot::<V>(g);
+        out.add_power(heat);
+        out.react_power(heat);
     }
 }
 
@@ -238,33 +182,47 @@ pub struct PhysicalViscosityTerm {
     pub mu: Real,
 }
 
+/// [`PhysicalViscosityTerm`] bound to its sums.
+#[derive(Clone, Copy, Debug)]
+pub struct BoundPhysical {
+    mu: Real,
+}
+
 impl<V: Vector> PairTerm<V> for PhysicalViscosityTerm {
-    type Bound<'w> = PhysicalViscosityTerm;
+    type Bound<'w> = BoundPhysical;
 
     fn name(&self) -> &str {
         "physical viscosity (Eq. 4.23)"
     }
 
-    /// Reads only the core columns.
-    fn bind<'w>(&'w self, _: &ParticleData<'w, V>) -> Result<PhysicalViscosityTerm, String> {
-        Ok(*self)
+    fn bind<'w>(&'w self, b: &mut Binder<'_, 'w, V>) -> Result<BoundPhysical, String> {
+        b.force()?;
+        b.power()?;
+        Ok(BoundPhysical { mu: self.mu })
     }
 }
 
-impl<V: Vector> BoundTerm<V> for PhysicalViscosityTerm {
+impl<V: Vector> BoundTerm<V> for BoundPhysical {
+    type Owner = ();
+
     #[inline(always)]
-    fn interact(&self, p: &Pair<'_, V>, out: &mut PairOut<V>) {
-        let d = p.data;
-        let (i, j) = (p.i, p.j);
+    fn owner(&self, _: usize) {}
+
+    #[inline(always)]
+    fn interact<T: Lanes>(&self, _: &(), p: &PairLanes<'_, T, V>, out: &mut Out<'_, T>) {
+        let (d, i) = (p.data(), p.i());
+        let c = T::splat;
         let eta = 0.1 * d.h[i].0;
         let rho_i = d.rho[i].0;
-        let coef = d.mass[i].0 * d.mass[j].0 * self.mu / (rho_i * rho_i) * p.rij.dot(p.grad_raw)
-            / (p.r * p.r + eta * eta);
+        let r = p.r();
+        let coef = c(d.mass[i].0) * p.m_j() * c(self.mu) / c(rho_i * rho_i)
+            * p.rij().dot::<V>(p.grad_raw())
+            / (r * r + c(eta * eta));
         let vij = p.vij();
-        out.force += vij * coef;
-        let heat = -0.5 * coef * vij.length_squared();
-        out.power_i += heat;
-        out.power_j += heat;
+        out.add_force::<V>(vij.scale::<V>(coef));
+        let heat = c(-0.5) * coef * vij.dot::<V>(vij);
+        out.add_power(heat);
+        out.react_power(heat);
     }
 }
 
@@ -307,7 +265,7 @@ pub struct ViscousStressTerm {
     pub lambda: Real,
 }
 
-/// [`ViscousStressTerm`] bound to the velocity-gradient column.
+/// [`ViscousStressTerm`] bound to the velocity-gradient column and its sums.
 #[derive(Clone, Copy, Debug)]
 pub struct BoundStress<'w, V: Vector> {
     term: ViscousStressTerm,
@@ -321,26 +279,33 @@ impl<V: Vector> PairTerm<V> for ViscousStressTerm {
         "Newtonian viscous stress (Eqs. 4.6, 4.13, 7.4)"
     }
 
-    fn bind<'w>(&'w self, data: &ParticleData<'w, V>) -> Result<BoundStress<'w, V>, String> {
+    fn bind<'w>(&'w self, b: &mut Binder<'_, 'w, V>) -> Result<BoundStress<'w, V>, String> {
+        b.force()?;
+        b.power()?;
         Ok(BoundStress {
             term: *self,
-            grad: data.require(PairTerm::<V>::name(self))?,
+            grad: b.require()?,
         })
     }
 }
 
 impl<V: Vector> BoundTerm<V> for BoundStress<'_, V> {
+    type Owner = ();
+
     #[inline(always)]
-    fn interact(&self, p: &Pair<'_, V>, out: &mut PairOut<V>) {
-        let d = p.data;
-        let (i, j) = (p.i, p.j);
+    fn owner(&self, _: usize) {}
+
+    #[inline(always)]
+    fn interact<T: Lanes>(&self, _: &(), p: &PairLanes<'_, T, V>, out: &mut Out<'_, T>) {
+        let (d, i) = (p.data(), p.i());
         let (mu, lambda) = (self.term.mu, self.term.lambda);
         let g = self.grad[i].0;
         let tau = (g + g.transpose()) * mu + V::Mat::identity() * (lambda * g.trace());
-        let coef = d.mass[i].0 * d.mass[j].0 / (d.rho[i].0 * d.rho[j].0);
-        let force = tau.mul_vec(p.grad) * coef;
-        out.force += force;
-        out.power_i -= force.dot(p.vij());
+        let coef = T::splat(d.mass[i].0) * p.m_j() / (T::splat(d.rho[i].0) * p.rho_j());
+        let grad = p.grad();
+        let force = LaneVec::<T>::from_fn(|l| tau.mul_vec(grad.lane::<V>(l)) * coef.lane(l));
+        out.add_force::<V>(force);
+        out.add_power(-force.dot::<V>(p.vij()));
     }
 }
 
@@ -381,11 +346,18 @@ mod tests {
     use super::*;
 
     #[test]
-    fn interact_row_matches_interact_bitwise() {
-        dualsph_core::sweep::check_row_override_2d(&ArtificialViscosityTerm {
+    fn two_lanes_equal_one_lane_bitwise() {
+        use dualsph_core::sweep::check_lanes_2d;
+        let av = ArtificialViscosityTerm {
             alpha: 1.0,
             beta: 2.0,
             eta_factor: 0.1,
+        };
+        check_lanes_2d(&av).unwrap();
+        check_lanes_2d(&PhysicalViscosityTerm { mu: 1e-3 }).unwrap();
+        check_lanes_2d(&ViscousStressTerm {
+            mu: 1e-3,
+            lambda: 2e-4,
         })
         .unwrap();
     }
@@ -395,16 +367,9 @@ mod tests {
     #[test]
     fn pi_matches_eq_4_17_as_written() {
         use dualsph_core::glam::DVec2;
-        let term = ArtificialViscosityTerm {
-            alpha: 1.0,
-            beta: 2.0,
-            eta_factor: 0.1,
-        };
-        use dualsph_core::store::{Cloud, insert_column};
-        let mut c = Cloud::<DVec2>::new(2);
-        (c.h[0], c.h[1], c.rho[0], c.rho[1]) = (0.05, 0.08, 1003.0, 991.0);
-        (c.mass[0], c.mass[1]) = (0.1, 0.2);
-        c.pos[1] = DVec2::new(0.03, -0.01);
+        let (h, rho, c) = ([0.05, 0.08], [1003.0, 991.0], [100.0, 103.0]);
+        let rij = DVec2::new(-0.03, 0.01);
+        let r = rij.length();
         let mut checked = 0;
         for (vx, vy) in [
             (-2.0, 1.0),
@@ -413,26 +378,17 @@ mod tests {
             (-0.01, 0.2),
             (-40.0, 3.0),
         ] {
-            c.vel[1] = DVec2::new(vx, vy);
-            let mut world = c.spawn();
-            insert_column(&mut world, |i| SoundSpeed([100.0, 103.0][i]));
-            let data = ParticleData::<DVec2>::of(&world).unwrap();
-            let bound = PairTerm::<DVec2>::bind(&term, &data).unwrap();
-            let f = &c;
-            let rij = f.pos[0] - f.pos[1];
-            let r = rij.length();
-            let pair = Pair {
-                i: 0,
-                j: 1,
-                rij,
+            let vij = -DVec2::new(vx, vy);
+            let vr = vij.dot(rij);
+            let (num, den) = pi_parts::<Real>(
+                (1.0, 2.0, 0.1),
+                (h[0], c[0], rho[0]),
+                (h[1], c[1], rho[1]),
+                vr,
                 r,
-                w: 0.0,
-                grad_raw: rij,
-                grad: rij,
-                data: &data,
-            };
-            let vr = (f.vel[0] - f.vel[1]).dot(rij);
-            let hbar = 0.5 * (f.h[0] + f.h[1]);
+            );
+            let got = 2.0 * num / den;
+            let hbar = 0.5 * (h[0] + h[1]);
             let eta = 0.1 * hbar;
             let expect = if vr < 0.0 {
                 let mu = hbar * vr / (r * r + eta * eta);
@@ -441,7 +397,6 @@ mod tests {
             } else {
                 0.0
             };
-            let got = bound.pi(&pair);
             assert!(
                 (got - expect).abs() <= 1e-14 * expect.abs(),
                 "v = ({vx}, {vy}): {got} vs {expect}"

@@ -1,13 +1,20 @@
-//! Test helpers for pair terms that override [`BoundTerm::interact_row`]: the row path must
-//! give bitwise the results of the pair-by-pair path.
+//! Test helpers for pair terms: a term written over [`crate::lanes::Lanes`] must give, two
+//! pairs at a time, bitwise what it gives one pair at a time.
 
 use super::*;
-use crate::components::{GradientCorrection, Pressure, SoundSpeed};
+use crate::components::{
+    Acceleration, Conductivity, DensityRate, EnergyRate, GradientCorrection, InternalEnergy,
+    Pressure, SoundSpeed, VelocityGradient,
+};
+use crate::lanes::{LaneVec, Lanes};
+use crate::pair::{Extra, Out, OwnerKernel};
 use crate::store::{Cloud, insert_column};
+use wide::f64x2;
 
-/// A jittered 20 × 20 lattice with varying h, velocities, masses, densities, pressures and
-/// sound speeds (a fixed LCG), as a world of particles: the fixture of
-/// [`check_row_override_2d`].
+/// A jittered 20 × 20 lattice with varying h, velocities, masses, densities, pressures,
+/// sound speeds, internal energies, conductivities and correction matrices (a fixed LCG), and the core's rate columns, as a
+/// world of particles: the fixture of
+/// [`check_lanes_2d`].
 pub fn lattice_2d() -> World {
     use glam::DVec2;
     let mut seed = 12345u64;
@@ -32,15 +39,26 @@ pub fn lattice_2d() -> World {
     let mut world = c.spawn();
     insert_column(&mut world, |i| Pressure(p[i]));
     insert_column(&mut world, |i| SoundSpeed(s[i]));
+    // the columns the core's sums write, and a non-trivial kernel-gradient correction
+    insert_column(&mut world, |i| InternalEnergy(1.0 + 0.1 * (i % 5) as Real));
+    insert_column(&mut world, |i| Conductivity(0.5 + 0.01 * (i % 3) as Real));
+    insert_column(&mut world, |_| Acceleration(DVec2::ZERO));
+    insert_column(&mut world, |_| EnergyRate::default());
+    insert_column(&mut world, |_| DensityRate::default());
+    insert_column(&mut world, |_| VelocityGradient::<DVec2>(glam::DMat2::ZERO));
+    insert_column(&mut world, |i| {
+        let a = 1.0 + 0.01 * (i % 7) as Real;
+        GradientCorrection::<DVec2>(glam::DMat2::from_cols_array(&[a, 0.02, -0.01, 1.0 / a]))
+    });
     world
 }
 
-/// Checks [`check_row_matches_interact`] for a 2-D term on `lattice_2d`, first without and
-/// then with a non-trivial kernel-gradient correction: the fixture every plugin that
-/// overrides `interact_row` tests itself on.
-pub fn check_row_override_2d(term: &dyn DynPairTerm<glam::DVec2>) -> Result<(), String> {
-    use glam::DMat2;
-    let mut world = lattice_2d();
+/// Checks a 2-D term on [`lattice_2d`], first without and then with a non-trivial
+/// kernel-gradient correction: every row evaluated as the sweep does (two pairs per lane
+/// group) gives bitwise what each pair alone gives; the error names the first differing pair
+/// and channel.
+pub fn check_lanes_2d(term: &dyn DynPairTerm<glam::DVec2>) -> Result<(), String> {
+    let world = lattice_2d();
     let mut nb = Neighbours::new(0.1);
     {
         let data = ParticleData::<glam::DVec2>::of(&world).ok_or("no particles")?;
@@ -50,82 +68,78 @@ pub fn check_row_override_2d(term: &dyn DynPairTerm<glam::DVec2>) -> Result<(), 
     }
     let kernel = Kernel::new(crate::kernels::KernelKind::CubicSpline, 2);
     for corrected in [false, true] {
-        if corrected {
-            insert_column(&mut world, |i| {
-                let a = 1.0 + 0.01 * (i % 7) as Real;
-                GradientCorrection::<glam::DVec2>(DMat2::from_cols_array(&[
-                    a,
-                    0.02,
-                    -0.01,
-                    1.0 / a,
-                ]))
-            });
-        }
         let data = ParticleData::of(&world).ok_or("no particles")?;
-        let ctx = SweepCtx::new(data, &nb, &kernel, Formulation::DualSupport);
-        let bound = term.bind_dyn(&data)?;
-        check_row_matches_interact(term.name(), &*bound, &ctx)
+        let mut ctx = SweepCtx::new(data, &nb, &kernel, Formulation::DualSupport);
+        if !corrected {
+            ctx.correction = None;
+        }
+        let mut layout = crate::accum::Layout::default();
+        let bound = term.bind_dyn(&mut Binder::new(data, &kernel, &mut layout, term.name()))?;
+        check_rows(term.name(), &*bound, &ctx, &layout)
             .map_err(|e| format!("correction {corrected}: {e}"))?;
     }
     Ok(())
 }
 
-/// Checks that a bound term's [`BoundTerm::interact_row`] gives bitwise the same results as
-/// its [`BoundTerm::interact`] on every row of `ctx` (for terms that override
-/// `interact_row`); the error names the first differing pair.
-pub fn check_row_matches_interact<V: Vector>(
+/// Every row of `ctx` through `term` two pairs at a time and pair by pair: bitwise the same
+/// outputs.
+fn check_rows<V: Vector>(
     name: &str,
-    term: &dyn BoundTerm<V>,
+    term: &dyn RowTerm<V>,
     ctx: &SweepCtx<'_, V>,
+    layout: &crate::accum::Layout,
 ) -> Result<(), String> {
     let data = &ctx.data;
     for i in 0..ctx.len() {
-        let (mut js, mut rijs, mut rs, mut raw, mut grad, mut pairs) =
-            (vec![], vec![], vec![], vec![], vec![], vec![]);
-        ctx.for_each_neighbour(i, |j, rij, r, w, g| {
-            let gc = ctx.corrected(i, g);
-            js.push(j as u32);
-            rijs.push(rij);
-            rs.push(r);
-            raw.push(g);
-            grad.push(gc);
-            let mut out = PairOut::default();
-            let pair = Pair {
-                i,
-                j,
-                rij,
-                r,
-                w,
-                grad_raw: g,
-                grad: gc,
-                data,
-            };
-            term.interact(&pair, &mut out);
-            pairs.push(out);
+        let k_i = OwnerKernel::new(ctx.kernel, data.h[i].0);
+        let mut pairs = Vec::new();
+        ctx.for_each_neighbour(i, |j, rij, r, _, g| {
+            pairs.push((j as u32, rij, r, data.vij(i, j), g, ctx.corrected(i, g)));
         });
-        let vijs: Vec<V> = js.iter().map(|&j| data.vij(i, j as usize)).collect();
-        let row = Row {
-            i,
-            j: &js,
-            rij: &rijs,
-            r: &rs,
-            vij: &vijs,
-            grad_raw: &raw,
-            grad: &grad,
-            kernel: OwnerKernel::new(ctx.kernel, data.h[i].0),
-            data,
-        };
-        let mut outs = vec![PairOut::default(); js.len()];
-        term.interact_row(&row, &mut outs);
-        for (k, (a, b)) in outs.iter().zip(&pairs).enumerate() {
-            let same = a.force.to_xyz().map(f64::to_bits) == b.force.to_xyz().map(f64::to_bits)
-                && a.power_i.to_bits() == b.power_i.to_bits()
-                && a.power_j.to_bits() == b.power_j.to_bits();
-            if !same {
-                return Err(format!(
-                    "{name}: pair ({i}, {}): interact_row {a:?}, interact {b:?}",
-                    js[k]
-                ));
+        for two in pairs.chunks_exact(2) {
+            let lv = |f: &dyn Fn(usize) -> V| LaneVec::<f64x2>::from_fn(f);
+            let geometry = (
+                lv(&|l| two[l].1),
+                f64x2::new([two[0].2, two[1].2]),
+                lv(&|l| two[l].3),
+                lv(&|l| two[l].4),
+                lv(&|l| two[l].5),
+            );
+            let p = PairLanes::new((i, [two[0].0, two[1].0]), geometry, None, k_i, data);
+            let mut e2 = Extra::<f64x2>::default();
+            let mut out2 = Out::new(&mut e2);
+            term.pairs2(&p, &mut out2);
+            for (l, &(j, rij, r, vij, g, gc)) in two.iter().enumerate() {
+                let s = |x: V| LaneVec::<Real>::splat(x);
+                let p = PairLanes::new(
+                    (i, [j; 2]),
+                    (s(rij), r, s(vij), s(g), s(gc)),
+                    None,
+                    k_i,
+                    data,
+                );
+                let mut e1 = Extra::<Real>::default();
+                let mut out1 = Out::new(&mut e1);
+                term.pair1(&p, &mut out1);
+                let (out1, out2) = (&out1, &out2);
+                let channels = layout.slots.iter().flat_map(|s| {
+                    (0..s.width).flat_map(move |c| {
+                        [
+                            (out2.owner_value(s, c).lane(l), out1.owner_value(s, c)),
+                            (
+                                out2.neighbour_value(s, c).lane(l),
+                                out1.neighbour_value(s, c),
+                            ),
+                        ]
+                    })
+                });
+                for (c, (a, b)) in channels.enumerate() {
+                    if a.to_bits() != b.to_bits() {
+                        return Err(format!(
+                            "{name}: pair ({i}, {j}), channel {c}: {a:e} in two lanes, {b:e} alone"
+                        ));
+                    }
+                }
             }
         }
     }

@@ -1,52 +1,102 @@
 //! Pass 1 of the dual-support sweep for one owner row: the candidates inside `h_i` are
-//! compacted into per-thread SoA scratch, their kernel gradients evaluated in one dispatch-free
-//! loop, every [`PairTerm`] called once on the row, and i's sums and the reactions formed.
+//! compacted into per-thread scratch; then, two pairs at a time in the lanes of an `f64x2`
+//! (and an odd last pair alone), the pair geometry is formed once, every term of the sweep
+//! adds its contributions ([`Out`], in registers or on the stack), and i's sums and the
+//! reactions are formed from them — no per-pair array between the terms and the sums.
+//! Per pair the terms' contributions add up in the order of the sweep's terms, i's sums in
+//! the order of `H_i`, so the sums do not depend on how the pairs are grouped in lanes.
 
-use super::{Bound, SweepCtx};
+use super::SweepCtx;
+use crate::accum::{Layout, ReactionChannel, Source, Standard};
 use crate::components::Position;
-use crate::kernels::with_kernel_kind;
+use crate::kernels::{KernelKind, with_kernel_kind};
+use crate::lanes::{LaneVec, Lanes};
 use crate::math::{Matrix, Real, Vector};
-use crate::pair::{OwnerKernel, PairOut, Row};
+use crate::pair::{BoundTerm, Extra, Out, OwnerKernel, OwnerSums, PairLanes, RowTerm};
+use wide::f64x2;
 
-/// What pass 1 stores for one support slot (i owner, j the slot's particle): the force on i,
-/// whose reaction `−force` j receives, and the power credited to j (`m_j ε̇_j`). Zero for a
-/// candidate outside `h_i`.
-#[derive(Clone, Copy, Debug)]
-pub(super) struct Reaction<V: Vector> {
-    pub(super) force: V,
-    pub(super) power: Real,
+/// Bound terms, as a sweep runs them.
+pub type Terms<'a, 'w, V> = [&'a (dyn RowTerm<V> + 'w)];
+
+/// Most reals of sums per particle a sweep can have.
+const MAX_SUMS: usize = 32;
+
+/// What one row of a sweep forms, laid out once per sweep from its [`Layout`]: the place in
+/// each particle's sums (and, with a reaction, in each slot's reaction record) of the
+/// standard sums, the other accumulators' channels, and the terms with a pair part.
+pub struct RowPlan<'a, 'w, V: Vector> {
+    pub(super) layout: &'a Layout,
+    pub(super) owner: usize,
+    rw: usize,
+    force: Option<(usize, usize)>,
+    power: Option<(usize, Option<usize>)>,
+    rate: Option<(usize, Option<usize>)>,
+    extra_own: Vec<(usize, usize)>,
+    extra_react: Vec<(Source, usize)>,
+    extra: (usize, usize),
+    pub(super) pair_terms: &'a Terms<'a, 'w, V>,
 }
 
-impl<V: Vector> Default for Reaction<V> {
-    fn default() -> Self {
-        Reaction {
-            force: V::zero(),
-            power: 0.0,
+impl<'a, 'w, V: Vector> RowPlan<'a, 'w, V> {
+    /// The plan of a sweep with `layout`, its reaction channels `react` and its terms with a
+    /// pair part.
+    pub(super) fn new(
+        layout: &'a Layout,
+        react: &[ReactionChannel],
+        pair_terms: &'a Terms<'a, 'w, V>,
+    ) -> Self {
+        let at = |k| layout.standard(k).map(|s| s.i);
+        let r_of = |src: Source| react.iter().position(|r| r.source == src);
+        let mut extra_own = Vec::new();
+        for s in layout.slots.iter().filter(|s| s.standard.is_none()) {
+            extra_own.extend((0..s.width).map(|c| (s.chan + c, s.i + c)));
+        }
+        let extra_react = react
+            .iter()
+            .enumerate()
+            .filter(|(_, r)| matches!(r.source, Source::Owner(_) | Source::Neighbour(_)))
+            .map(|(k, r)| (r.source, k))
+            .collect();
+        assert!(
+            layout.owner <= MAX_SUMS,
+            "a sweep sums at most {MAX_SUMS} reals per particle"
+        );
+        RowPlan {
+            layout,
+            owner: layout.owner,
+            rw: react.len(),
+            force: at(Standard::Force).map(|i| (i, r_of(Source::Force(0)).unwrap_or(usize::MAX))),
+            power: at(Standard::Power).map(|i| (i, r_of(Source::Power))),
+            rate: at(Standard::Rate).map(|i| (i, r_of(Source::Rate))),
+            extra_own,
+            extra_react,
+            extra: (layout.extra_owner, layout.extra_neighbour),
+            pair_terms,
         }
     }
 }
 
-/// Per-thread scratch of pass 1: one row's pairs (SoA), their slots and their results.
+/// i's standard sums while its row runs (in registers; the others in an array apart).
+struct RowSums<V: Vector> {
+    force: V,
+    power: Real,
+    rate: Real,
+}
+
+/// Per-thread scratch of pass 1: one row's candidates inside `h_i`, compacted.
 #[derive(Default)]
-pub(super) struct RowScratch<V: Vector> {
+pub struct RowScratch<V: Vector> {
+    extra2: Extra<f64x2>,
+    extra1: Extra<Real>,
+    all: Vec<Real>,
     j: Vec<u32>,
     slot: Vec<u32>,
     rij: Vec<V>,
-    r: Vec<Real>,
-    vij: Vec<V>,
-    grad_raw: Vec<V>,
-    grad: Vec<V>,
-    out: Vec<PairOut<V>>,
+    r2: Vec<Real>,
 }
 
 impl<V: Vector> RowScratch<V> {
-    /// The compacted pairs `0..n`: `j`, slot, `r_ij`, `|r_ij|²` (see [`compact_row_into`]).
-    #[inline(always)]
-    pub(super) fn compacted(&self, n: usize) -> (&[u32], &[u32], &[V], &[Real]) {
-        (&self.j[..n], &self.slot[..n], &self.rij[..n], &self.r[..n])
-    }
-
-    /// Makes every array hold at least `m` entries (grows only; never shrinks).
+    /// Makes room for `m` candidates (grows only; never shrinks).
     #[inline(always)]
     fn reserve(&mut self, m: usize) {
         if self.j.len() < m {
@@ -60,31 +110,43 @@ impl<V: Vector> RowScratch<V> {
         self.j.resize(m, 0);
         self.slot.resize(m, 0);
         self.rij.resize(m, V::zero());
-        self.r.resize(m, 0.0);
-        self.vij.resize(m, V::zero());
-        self.grad_raw.resize(m, V::zero());
-        self.grad.resize(m, V::zero());
-        self.out.resize(m, PairOut::default());
+        self.r2.resize(m, 0.0);
     }
 }
 
-/// Compacts the candidates with `|r_ij|² < h_i²` into the front of the row arrays (`j`, slot,
-/// `r_ij`, `|r_ij|²` in `r2s`) and returns their number. Branch-free: every candidate is
-/// written at the next free place and the place is kept only if it is inside. Every reaction
-/// slot of the row is zeroed on the way (pass 1 overwrites those of the pairs afterwards).
+/// i's sums before any pair: zero, then every term's [`crate::pair::BoundTerm::initialize`].
+pub(super) fn initialize<V: Vector>(
+    (terms, layout): (&Terms<'_, '_, V>, &Layout),
+    i: usize,
+    sums: &mut [Real],
+) {
+    sums.fill(0.0);
+    let mut o = OwnerSums::new(sums, layout);
+    for t in terms.iter().filter(|t| t.initializes()) {
+        t.initialize(i, &mut o);
+    }
+}
+
+/// Compacts the candidates with `|r_ij|² < h_i²` into the front of the scratch (`j`, slot,
+/// `r_ij`, `|r_ij|²`) and returns their number. Branch-free: every candidate is written at
+/// the next free place and the place is kept only if it is inside.
 #[inline(always)]
 fn compact_row<V: Vector>(
     cand: &[u32],
     pos: &[Position<V>],
     xi: V,
     h2: Real,
-    (js, slots, rijs, r2s): (&mut [u32], &mut [u32], &mut [V], &mut [Real]),
-    reactions: &mut [Reaction<V>],
+    s: &mut RowScratch<V>,
 ) -> usize {
     let m = cand.len();
-    let (js, slots, rijs, r2s) = (&mut js[..m], &mut slots[..m], &mut rijs[..m], &mut r2s[..m]);
+    let (js, slots, rijs, r2s) = (
+        &mut s.j[..m],
+        &mut s.slot[..m],
+        &mut s.rij[..m],
+        &mut s.r2[..m],
+    );
     let mut n = 0;
-    for ((slot, &j), reaction) in cand.iter().enumerate().zip(&mut reactions[..m]) {
+    for (slot, &j) in cand.iter().enumerate() {
         let rij = xi - pos[j as usize].0;
         let r2 = rij.length_squared();
         // n <= slot < m: the writes stay in bounds
@@ -92,137 +154,250 @@ fn compact_row<V: Vector>(
         slots[n] = slot as u32;
         rijs[n] = rij;
         r2s[n] = r2;
-        *reaction = Reaction::default();
         n += (r2 < h2) as usize;
     }
     n
 }
 
-/// Owner i's kernel, and i's candidates inside `h_i` compacted into the scratch (see
-/// [`compact_row`]; `|r_ij|²` goes to `r`) with i's reaction slots zeroed: returns the kernel
-/// and the number of pairs.
-#[inline(always)]
-pub(super) fn compact_row_into<V: Vector>(
-    ctx: &SweepCtx<'_, V>,
+/// The owner's values the pair geometry needs: i, `v_i`, `L_i` (when corrected), its kernel
+/// and the kernel's kind with the constants of [`OwnerKernel::grad_factor`].
+#[derive(Clone, Copy)]
+struct Owner<V: Vector> {
     i: usize,
-    s: &mut RowScratch<V>,
-    reactions: &mut [Reaction<V>],
-) -> (OwnerKernel, usize) {
-    let data = &ctx.data;
-    let k = OwnerKernel::new(ctx.kernel, data.h[i].0);
-    let cand = ctx.neighbours.support.row(i);
-    s.reserve(cand.len());
-    let n = compact_row(
-        cand,
-        data.pos,
-        data.pos[i].0,
-        k.h2,
-        (&mut s.j, &mut s.slot, &mut s.rij, &mut s.r),
-        reactions,
-    );
-    (k, n)
+    v: V,
+    l: Option<V::Mat>,
+    kernel: OwnerKernel,
+    factor: (KernelKind, Real, Real),
 }
 
-/// The per-pair quantities of the compacted row `0..n`, in one loop (a loop per quantity
-/// costs a mispredicted exit each on rows of ~12 pairs): `r = √r²`, `∇_iW_ij = r_ij ·`
-/// [`OwnerKernel::grad_factor`] (Eq. 2.2, the kind resolved once for the row), `v_ij`,
-/// `L_i ∇_iW_ij` when `corrected` (Eq. 2.10), the zeroed term output, and, when `drho`, returns
-/// `Σ_{j∈H_i} m_j v_ij·∇_iW_ij` (Eq. 4.9, summed in the row's order).
+/// The geometry of the `T::N` pairs `js` (with `r_ij`, `|r_ij|²`): `|r_ij|`,
+/// `∇_iW_ij = r_ij ·` [`OwnerKernel::grad_factor`] (Eq. 2.2), `v_ij` and `L_i∇_iW_ij` (Eq. 2.10).
 #[inline(always)]
-fn prepare_pairs<V: Vector>(
-    ctx: &SweepCtx<'_, V>,
-    i: usize,
-    k: OwnerKernel,
-    drho: bool,
-    n: usize,
-    s: &mut RowScratch<V>,
-) -> Real {
-    let (vel, mass) = (ctx.data.vel, ctx.data.mass);
-    let vi = vel[i].0;
-    let corrected = ctx.correction.is_some();
-    let l = match ctx.correction {
-        Some(l) => l[i].0,
-        None => V::Mat::identity(),
+fn lanes<'a, T: Lanes, V: Vector>(
+    ctx: &'a SweepCtx<'a, V>,
+    o: Owner<V>,
+    js: &[u32],
+    rijs: &[V],
+    r2s: &[Real],
+) -> PairLanes<'a, T, V> {
+    let vel = ctx.data.vel;
+    let rij = LaneVec::<T>::from_fn(|l| rijs[l]);
+    let r = T::from_fn(|l| r2s[l]).sqrt();
+    let (kind, g_norm, inv_h) = o.factor;
+    let raw = rij.scale::<V>(OwnerKernel::factor_lanes(kind, g_norm, inv_h, r));
+    let vij = LaneVec::<T>::splat(o.v).minus::<V>(LaneVec::from_fn(|l| vel[js[l] as usize].0));
+    let grad = match o.l {
+        Some(m) => LaneVec::from_fn(|l| m.mul_vec(raw.lane::<V>(l))),
+        None => raw,
     };
-    let (kind, g_norm, inv_h) = k.factor_parts();
-    let mut sum = 0.0;
-    macro_rules! each {
-        ($kind:expr) => {{
-            let rows = s.r[..n]
-                .iter_mut()
-                .zip(&s.rij[..n])
-                .zip(&s.j[..n])
-                .zip(&mut s.grad_raw[..n])
-                .zip(&mut s.grad[..n])
-                .zip(&mut s.vij[..n])
-                .zip(&mut s.out[..n]);
-            for ((((((r, &rij), &j), g_raw), g), v), o) in rows {
-                *r = r.sqrt();
-                let raw = rij * OwnerKernel::factor_of($kind, g_norm, inv_h, *r);
-                *g_raw = raw;
-                let vij = vi - vel[j as usize].0;
-                *v = vij;
-                if corrected {
-                    *g = l.mul_vec(raw);
-                }
-                if drho {
-                    sum += mass[j as usize].0 * vij.dot(raw);
-                }
-                *o = PairOut::default();
-            }
-        }};
-    }
-    with_kernel_kind!(kind, K => each!(K));
-    sum
+    let j = [js[0], js[T::N - 1]];
+    PairLanes::new(
+        (o.i, j),
+        (rij, r, vij, raw, grad),
+        None,
+        o.kernel,
+        &ctx.data,
+    )
 }
 
-/// Pass 1 for one owner i: gathers `H_i` from the candidate row, evaluates every term row by
-/// row, returns i's own sums and writes the reactions into the row's slots (zero for
-/// candidates outside `h_i`); with `drho`, also `dρ_i/dt = Σ_{j∈H_i} m_j v_ij·∇_iW_ij`
-/// (Eq. 4.9).
+/// Adds the lanes' pairs to i's sums, pair by pair, writes their reactions into their
+/// support `slots` (one per lane) and clears `out` for the next lanes.
+#[inline(always)]
+fn flush<T: Lanes, V: Vector>(
+    out: &mut Out<'_, T>,
+    slots: &[u32],
+    plan: &RowPlan<'_, '_, V>,
+    (sums, all): (&mut RowSums<V>, &mut [Real]),
+    reactions: &mut [Real],
+) {
+    for (l, &slot) in slots.iter().enumerate() {
+        let base = slot as usize * plan.rw;
+        let rec = &mut reactions[base..base + plan.rw];
+        if let Some((_, r)) = plan.force {
+            let f: V = out.force.lane(l);
+            sums.force += f;
+            for (c, x) in rec[r..r + V::DIM].iter_mut().enumerate() {
+                *x = -f.get(c);
+            }
+        }
+        if let Some((_, r)) = plan.power {
+            sums.power += out.power.lane(l);
+            if let Some(r) = r {
+                rec[r] = out.power_j.lane(l);
+            }
+        }
+        if let Some((_, r)) = plan.rate {
+            sums.rate += out.rate.lane(l);
+            if let Some(r) = r {
+                rec[r] = out.rate_j.lane(l);
+            }
+        }
+        for &(c, k) in &plan.extra_own {
+            all[k] += out.extra.own[c].lane(l);
+        }
+        for &(src, r) in &plan.extra_react {
+            rec[r] = match src {
+                Source::Owner(c) => -out.extra.own[c].lane(l),
+                Source::Neighbour(c) => out.extra.nbr[c].lane(l),
+                _ => unreachable!("standard sums are written above"),
+            };
+        }
+    }
+    let z = T::splat(0.0);
+    (out.force, out.power, out.power_j, out.rate, out.rate_j) = (LaneVec([z; 3]), z, z, z, z);
+    if plan.extra != (0, 0) {
+        out.extra.own[..plan.extra.0].fill(z);
+        out.extra.nbr[..plan.extra.1].fill(z);
+    }
+}
+
+/// How a row's lane groups are evaluated: every term of the sweep through dynamic calls
+/// ([`DynTerms`]), or one term (a fused chain of terms) statically ([`OneTerm`]).
+pub(crate) trait GroupEval<V: Vector> {
+    /// The terms on two pairs.
+    fn two(&self, p: &PairLanes<'_, f64x2, V>, out: &mut Out<'_, f64x2>);
+    /// The terms on one pair.
+    fn one(&self, p: &PairLanes<'_, Real, V>, out: &mut Out<'_, Real>);
+}
+
+/// The sweep's terms, one dynamic call per term and lane group.
+pub(crate) struct DynTerms<'a, 'w, V: Vector>(pub(crate) &'a Terms<'a, 'w, V>);
+
+impl<V: Vector> GroupEval<V> for DynTerms<'_, '_, V> {
+    #[inline(always)]
+    fn two(&self, p: &PairLanes<'_, f64x2, V>, out: &mut Out<'_, f64x2>) {
+        for t in self.0 {
+            t.pairs2(p, out);
+        }
+    }
+    #[inline(always)]
+    fn one(&self, p: &PairLanes<'_, Real, V>, out: &mut Out<'_, Real>) {
+        for t in self.0 {
+            t.pair1(p, out);
+        }
+    }
+}
+
+/// One term with its owner part, statically (its row loop is compiled for it: see
+/// [`RowTerm::run_row`]).
+pub(crate) struct OneTerm<'a, V: Vector, B: BoundTerm<V>>(pub(crate) &'a B, pub(crate) B::Owner);
+
+impl<V: Vector, B: BoundTerm<V>> GroupEval<V> for OneTerm<'_, V, B> {
+    #[inline(always)]
+    fn two(&self, p: &PairLanes<'_, f64x2, V>, out: &mut Out<'_, f64x2>) {
+        self.0.interact(&self.1, p, out)
+    }
+    #[inline(always)]
+    fn one(&self, p: &PairLanes<'_, Real, V>, out: &mut Out<'_, Real>) {
+        self.0.interact(&self.1, p, out)
+    }
+}
+
+/// Every pair of the compacted row `0..n`, two at a time, through `eval`.
+#[inline(always)]
+fn row_pairs<V: Vector, E: GroupEval<V>>(
+    ctx: &SweepCtx<'_, V>,
+    (plan, eval): (&RowPlan<'_, '_, V>, &E),
+    (o, n): (Owner<V>, usize),
+    s: &mut RowScratch<V>,
+    reactions: &mut [Real],
+    own: &mut RowSums<V>,
+) {
+    let RowScratch {
+        extra2,
+        extra1,
+        all,
+        j,
+        slot,
+        rij,
+        r2,
+    } = s;
+    let all = &mut all[..];
+    let (js2, js1) = j[..n].as_chunks::<2>();
+    let (slots2, slots1) = slot[..n].as_chunks::<2>();
+    let (rijs2, rijs1) = rij[..n].as_chunks::<2>();
+    let (r2s2, r2s1) = r2[..n].as_chunks::<2>();
+    let mut out = Out::new(extra2);
+    for (((js, slots), rijs), r2s) in js2.iter().zip(slots2).zip(rijs2).zip(r2s2) {
+        let p = lanes::<f64x2, V>(ctx, o, js, rijs, r2s);
+        eval.two(&p, &mut out);
+        flush(&mut out, slots, plan, (&mut *own, &mut *all), reactions);
+    }
+    if !js1.is_empty() {
+        let p = lanes::<Real, V>(ctx, o, js1, rijs1, r2s1);
+        let mut out = Out::new(extra1);
+        eval.one(&p, &mut out);
+        flush(&mut out, slots1, plan, (own, all), reactions);
+    }
+}
+
+/// Pass 1 for one owner i: i's sums (its terms' initial values, then its pairs in `H_i`
+/// ascending) into `sums`, and the reactions of its pairs into the row's slots of
+/// `reactions` (`plan.react.len()` reals per slot; zero for candidates outside `h_i`). A
+/// sweep with one term with a pair part runs that term's own compiled row loop.
 #[inline]
 pub(super) fn owner_row<V: Vector>(
     ctx: &SweepCtx<'_, V>,
-    terms: &Bound<'_, V>,
+    (terms, plan): (&Terms<'_, '_, V>, &RowPlan<'_, '_, V>),
     i: usize,
     s: &mut RowScratch<V>,
-    reactions: &mut [Reaction<V>],
-    drho: Option<&mut Real>,
-) -> (V, Real) {
-    let (k, n) = compact_row_into(ctx, i, s, reactions);
-    let corrected = ctx.correction.is_some();
-    let drho_sum = prepare_pairs(ctx, i, k, drho.is_some(), n, s);
-    let out = &mut s.out[..n];
-    let row = Row {
-        i,
-        j: &s.j[..n],
-        rij: &s.rij[..n],
-        r: &s.r[..n],
-        vij: &s.vij[..n],
-        grad_raw: &s.grad_raw[..n],
-        grad: if corrected {
-            &s.grad[..n]
-        } else {
-            &s.grad_raw[..n]
-        },
-        kernel: k,
-        data: &ctx.data,
+    reactions: &mut [Real],
+    sums: &mut [Real],
+) {
+    initialize((terms, plan.layout), i, sums);
+    match plan.pair_terms {
+        [] => reactions.fill(0.0),
+        [one] => one.run_row(ctx, plan, (i, s), reactions, sums),
+        many => pairs_of_row(ctx, (plan, &DynTerms(many)), (i, s), reactions, sums),
+    }
+}
+
+/// i's pairs through `eval`, added to i's initial `sums`, and their reactions (see
+/// [`owner_row`]).
+#[inline(always)]
+pub(crate) fn pairs_of_row<V: Vector, E: GroupEval<V>>(
+    ctx: &SweepCtx<'_, V>,
+    (plan, eval): (&RowPlan<'_, '_, V>, &E),
+    (i, s): (usize, &mut RowScratch<V>),
+    reactions: &mut [Real],
+    sums: &mut [Real],
+) {
+    reactions.fill(0.0);
+    let data = &ctx.data;
+    let kernel = OwnerKernel::new(ctx.kernel, data.h[i].0);
+    let cand = ctx.neighbours.support.row(i);
+    s.reserve(cand.len());
+    let n = compact_row(cand, data.pos, data.pos[i].0, kernel.h2, s);
+    let mut own = RowSums {
+        force: plan
+            .force
+            .map_or(V::zero(), |(i, _)| crate::columns::take_vector(&sums[i..])),
+        power: plan.power.map_or(0.0, |(i, _)| sums[i]),
+        rate: plan.rate.map_or(0.0, |(i, _)| sums[i]),
     };
-    for t in terms {
-        t.interact_row(&row, out);
+    if !plan.extra_own.is_empty() {
+        s.all.clear();
+        s.all.extend_from_slice(sums);
     }
-    if let Some(d) = drho {
-        *d = drho_sum;
+    let (kind, g_norm, inv_h) = kernel.factor_parts();
+    let l = ctx.correction.map(|l| l[i].0);
+    let v = data.vel[i].0;
+    with_kernel_kind!(kind, K => {
+        let o = Owner { i, v, l, kernel, factor: (K, g_norm, inv_h) };
+        row_pairs(ctx, (plan, eval), (o, n), s, reactions, &mut own)
+    });
+    if !plan.extra_own.is_empty() {
+        sums.copy_from_slice(&s.all[..plan.owner]);
     }
-    let mut f_own = V::zero();
-    let mut p_own = 0.0;
-    for (o, &slot) in out.iter().zip(&s.slot[..n]) {
-        f_own += o.force;
-        p_own += o.power_i;
-        reactions[slot as usize] = Reaction {
-            force: o.force,
-            power: o.power_j,
-        };
+    if let Some((i, _)) = plan.force {
+        for c in 0..V::DIM {
+            sums[i + c] = own.force.get(c);
+        }
     }
-    (f_own, p_own)
+    if let Some((i, _)) = plan.power {
+        sums[i] = own.power;
+    }
+    if let Some((i, _)) = plan.rate {
+        sums[i] = own.rate;
+    }
 }

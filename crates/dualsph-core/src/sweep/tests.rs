@@ -2,19 +2,22 @@
 //! evaluation in the documented order, bitwise.
 
 use super::*;
-use crate::components::Pressure;
+use crate::components::{Acceleration, DensityRate, EnergyRate, Pressure};
 use crate::kernels::KernelKind;
+use crate::lanes::Lanes;
+use crate::pair::Out;
 use crate::store::{Cloud, insert_column};
 use glam::DVec2;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-/// A term with only `interact` (the default `interact_row` is used): an arbitrary but
-/// pair-specific force and powers, reading the pressure column it binds.
+/// A term with an arbitrary but pair-specific force, owner and neighbour powers and a
+/// one-sided density rate, reading the pressure column it binds.
 struct Probe;
 
 struct BoundProbe<'w> {
     pressure: &'w [Pressure],
+    rho: &'w [crate::components::Density],
 }
 
 impl PairTerm<DVec2> for Probe {
@@ -22,20 +25,52 @@ impl PairTerm<DVec2> for Probe {
     fn name(&self) -> &str {
         "probe"
     }
-    fn bind<'w>(&'w self, data: &ParticleData<'w, DVec2>) -> Result<BoundProbe<'w>, String> {
+    fn bind<'w>(&'w self, b: &mut Binder<'_, 'w, DVec2>) -> Result<BoundProbe<'w>, String> {
+        b.force()?;
+        b.power()?;
+        b.density_rate(Reaction::OneSided)?;
         Ok(BoundProbe {
-            pressure: data.require("probe")?,
+            pressure: b.require()?,
+            rho: b.data().rho,
         })
     }
 }
 
 impl BoundTerm<DVec2> for BoundProbe<'_> {
-    fn interact(&self, p: &Pair<'_, DVec2>, out: &mut PairOut<DVec2>) {
-        let d = p.data;
-        out.force += p.grad * (d.mass[p.j].0 * self.pressure[p.i].0) + p.rij * p.w;
-        out.power_i += p.vij().dot(p.grad_raw) * d.mass[p.j].0;
-        out.power_j += p.r * d.rho[p.i].0;
+    type Owner = ();
+
+    #[inline(always)]
+    fn owner(&self, _: usize) {}
+
+    fn interact<T: Lanes>(&self, _: &(), p: &PairLanes<'_, T, DVec2>, out: &mut Out<'_, T>) {
+        let m_j = p.m_j();
+        let p_i = T::splat(self.pressure[p.i()].0);
+        let f = p
+            .grad()
+            .scale::<DVec2>(m_j * p_i)
+            .plus::<DVec2>(p.rij().scale::<DVec2>(p.w()));
+        out.add_force::<DVec2>(f);
+        out.add_power(p.vij().dot::<DVec2>(p.grad_raw()) * m_j);
+        out.react_power(p.r() * T::splat(self.rho[p.i()].0));
+        out.add_density_rate(m_j * p.vij().dot::<DVec2>(p.grad_raw()));
     }
+}
+
+/// The same pair values one pair at a time: `(force on i, power of i, power of j, dρ_i/dt)`.
+fn probe_pair(
+    data: &ParticleData<'_, DVec2>,
+    pressure: &[Real],
+    (i, j): (usize, usize),
+    (rij, r, w, g): (DVec2, Real, Real, DVec2),
+) -> (DVec2, Real, Real, Real) {
+    let m_j = data.mass[j].0;
+    let vij = data.vij(i, j);
+    (
+        g * (m_j * pressure[i]) + rij * w,
+        vij.dot(g) * m_j,
+        r * data.rho[i].0,
+        m_j * vij.dot(g),
+    )
 }
 
 /// n particles with random positions in a square of side `side`, numbered by rows of
@@ -64,10 +99,13 @@ fn cloud(n: usize) -> (Cloud<DVec2>, Vec<Real>) {
     cloud_in(n, 10.0, false)
 }
 
-/// The cloud as particles with their pressures.
+/// The cloud as particles with their pressures and the columns the probe sums into.
 fn world_of(c: &Cloud<DVec2>, pressure: &[Real]) -> World {
     let mut world = c.spawn();
     insert_column(&mut world, |i| Pressure(pressure[i]));
+    insert_column(&mut world, |_| Acceleration(DVec2::ZERO));
+    insert_column(&mut world, |_| EnergyRate::default());
+    insert_column(&mut world, |_| DensityRate::default());
     world
 }
 
@@ -113,10 +151,7 @@ fn assert_sweep_matches_pairwise(c: &Cloud<DVec2>, pressure: &[Real]) {
     let nb = lists(c);
     let kernel = Kernel::new(KernelKind::CubicSpline, 2);
     let terms: Vec<Arc<dyn DynPairTerm<DVec2>>> = vec![Arc::new(Probe), Arc::new(Probe)];
-    let mut buf = SweepBuffers::<DVec2> {
-        with_density_rate: true,
-        ..Default::default()
-    };
+    let mut buf = SweepBuffers::default();
     // a first sweep of the particles moved (other pairs inside h) leaves its reactions in
     // the reused slot buffer: the sweep under test must not read any of them
     let mut moved = c.clone();
@@ -131,39 +166,24 @@ fn assert_sweep_matches_pairwise(c: &Cloud<DVec2>, pressure: &[Real]) {
     let data = ParticleData::of(&world).unwrap();
     let ctx = SweepCtx::new(data, &nb, &kernel, Formulation::DualSupport);
     evaluate(&ctx, &terms, &mut buf).unwrap();
-    let bound: Vec<_> = terms.iter().map(|t| t.bind_dyn(&data).unwrap()).collect();
     let n = c.pos.len();
     let (mut force, mut power) = (vec![DVec2::ZERO; n], vec![0.0; n]);
     let mut reaction = vec![Vec::new(); n];
     for i in 0..n {
-        let (mut fo, mut po) = (DVec2::ZERO, 0.0);
+        let (mut fo, mut po, mut ro) = (DVec2::ZERO, 0.0, 0.0);
         ctx.for_each_neighbour(i, |j, rij, r, w, g| {
-            let pair = Pair {
-                i,
-                j,
-                rij,
-                r,
-                w,
-                grad_raw: g,
-                grad: g,
-                data: &data,
-            };
-            let mut out = PairOut::default();
-            for t in &bound {
-                t.interact(&pair, &mut out);
-            }
-            fo += out.force;
-            po += out.power_i;
-            reaction[j].push((i, out.force, out.power_j));
+            let (f, p_i, p_j, d) = probe_pair(&data, pressure, (i, j), (rij, r, w, g));
+            // two probes: each pair value is (0 + one) + one
+            let (f, p_i, p_j, d) = (f + f, p_i + p_i, p_j + p_j, d + d);
+            fo += f;
+            po += p_i;
+            ro += d;
+            reaction[j].push((i, f, p_j));
         });
         force[i] = fo;
         power[i] = po;
-        let cont = crate::passes::own_support_continuity(&data, nb.support.row(i), i, &kernel);
-        assert_eq!(
-            buf.density_rate[i].to_bits(),
-            cont.to_bits(),
-            "dρ/dt of {i}"
-        );
+        let drho = buf.sum_of::<DensityRate>(i).unwrap()[0];
+        assert_eq!(drho.to_bits(), ro.to_bits(), "dρ/dt of {i}");
     }
     for j in 0..n {
         reaction[j].sort_by_key(|r| r.0);
@@ -174,7 +194,9 @@ fn assert_sweep_matches_pairwise(c: &Cloud<DVec2>, pressure: &[Real]) {
         }
         force[j] += fd;
         power[j] += pd;
-        assert_eq!(buf.force[j], force[j], "force on {j}");
-        assert_eq!(buf.power[j].to_bits(), power[j].to_bits(), "power of {j}");
+        let f = buf.sum_of::<Acceleration<DVec2>>(j).unwrap();
+        assert_eq!(DVec2::new(f[0], f[1]), force[j], "force on {j}");
+        let p = buf.sum_of::<EnergyRate>(j).unwrap()[0];
+        assert_eq!(p.to_bits(), power[j].to_bits(), "power of {j}");
     }
 }

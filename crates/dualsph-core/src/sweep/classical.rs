@@ -1,0 +1,76 @@
+//! The classical formulations the paper compares against (`SingleSupport`, `AveragedKernel`):
+//! no reaction, each particle sums the full symmetric expression over its interpolation
+//! neighbourhood. For the pair (i, j) every term is evaluated twice, as i's pair and as j's
+//! mirrored pair (`r_ji`, `−∇W`, j's correction, the same `W`), and i receives, per
+//! accumulator: [`Reaction::Opposite`] — its own minus the mirror's owner value
+//! (`T(i←j) − T(j←i)`); [`Reaction::Separate`] — its own owner value plus the mirror's
+//! neighbour value; [`Reaction::OneSided`] — its own owner value.
+
+use super::SweepCtx;
+use super::row::{Terms, initialize};
+use crate::accum::{AccumulatorSlot, Layout, Reaction};
+use crate::lanes::LaneVec;
+use crate::math::{Real, Vector};
+use crate::pair::{Extra, Out, OwnerKernel, PairLanes};
+use rayon::prelude::*;
+
+/// Adds one pair to i's sums for every accumulator (see the module docs): `own` and `mirror`
+/// are the two evaluations' outputs.
+fn combine(
+    slots: &[AccumulatorSlot],
+    own: &Out<'_, Real>,
+    mirror: &Out<'_, Real>,
+    sums: &mut [Real],
+) {
+    for s in slots {
+        for c in 0..s.width {
+            let a = own.owner_value(s, c);
+            sums[s.i + c] += match s.reaction {
+                Reaction::Opposite => a - mirror.owner_value(s, c),
+                Reaction::Separate => a + mirror.neighbour_value(s, c),
+                Reaction::OneSided => a,
+            };
+        }
+    }
+}
+
+/// Every term on one pair, into `out`.
+fn eval<V: Vector>(terms: &Terms<'_, '_, V>, p: &PairLanes<'_, Real, V>, out: &mut Out<'_, Real>) {
+    for t in terms {
+        t.pair1(p, out);
+    }
+}
+
+/// The classical sums of every particle into `sums` (`layout.owner` per particle).
+pub(super) fn classical<V: Vector>(
+    ctx: &SweepCtx<'_, V>,
+    (terms, pair_terms): (&Terms<'_, '_, V>, &Terms<'_, '_, V>),
+    layout: &Layout,
+    sums: &mut [Real],
+) {
+    let data = &ctx.data;
+    let v = |x: V| LaneVec::<Real>::splat(x);
+    sums.par_chunks_mut(layout.owner)
+        .enumerate()
+        .for_each(|(i, sums)| {
+            initialize((terms, layout), i, sums);
+            if pair_terms.is_empty() {
+                return;
+            }
+            let k_i = OwnerKernel::new(ctx.kernel, data.h[i].0);
+            ctx.for_each_neighbour(i, |j, rij, r, w, g| {
+                let geometry = (v(rij), r, v(data.vij(i, j)), v(g), v(ctx.corrected(i, g)));
+                let own = PairLanes::new((i, [j as u32; 2]), geometry, Some(w), k_i, data);
+                // the mirrored pair: owner j, neighbour i, the same W
+                let k_j = OwnerKernel::new(ctx.kernel, data.h[j].0);
+                let (mg, mr) = (-g, -rij);
+                let geometry = (v(mr), r, v(data.vij(j, i)), v(mg), v(ctx.corrected(j, mg)));
+                let mirror = PairLanes::new((j, [i as u32; 2]), geometry, Some(w), k_j, data);
+                let (mut ea, mut eb) = (Extra::default(), Extra::default());
+                let (mut a, mut b) = (Out::new(&mut ea), Out::new(&mut eb));
+                eval(pair_terms, &own, &mut a);
+                eval(pair_terms, &mirror, &mut b);
+                combine(&layout.slots, &a, &b, sums);
+            });
+        });
+}
