@@ -87,8 +87,8 @@ pub enum KernelKind {
 }
 
 impl KernelKind {
-    /// Every kernel, for listings and tests; `ALL[kind as usize] == kind` (the fused sweep
-    /// names its kernel by that index).
+    /// Every kernel, for listings and tests, in declaration order (`ALL[kind as usize] ==
+    /// kind`).
     pub const ALL: [KernelKind; 6] = [
         KernelKind::CubicSpline,
         KernelKind::WendlandC2,

@@ -1,9 +1,9 @@
 //! Arithmetic written once for one pair (`f64`) or for two pairs side by side
-//! ([`wide::f64x2`], two SSE2 lanes): the kernel profiles, the artificial viscosity and the
-//! fused sweep loop are generic over [`Lanes`], so the two-pair loop performs, lane by lane,
+//! ([`wide::f64x2`], two SSE2 lanes): the kernel profiles, the sweep's pair geometry and every
+//! pair term are generic over [`Lanes`], so the two-pair loop performs, lane by lane,
 //! exactly the floating-point operations of the one-pair code. Every operation used here
 //! (`+ − × ÷ √`, negation, comparisons, selects) is correctly rounded per lane in IEEE 754, so both give
-//! bitwise the same numbers; `tests` below and `tests/fused_sweep.rs` check it.
+//! bitwise the same numbers; `tests` below check it, and `sweep::check_lanes_2d` for a term.
 
 use crate::math::{Real, Vector};
 use std::ops::{Add, Div, Mul, Neg, Sub};
@@ -27,10 +27,6 @@ pub trait Lanes:
     fn from_fn(f: impl Fn(usize) -> Real) -> Self;
     /// Lane `l`.
     fn lane(self, l: usize) -> Real;
-    /// The first `N` values of `s`, one per lane.
-    fn load(s: &[Real]) -> Self;
-    /// Adds lane `l` to `s[l]` for the first `N` values of `s`.
-    fn add_into(self, s: &mut [Real]);
     /// `√x` per lane.
     fn sqrt(self) -> Self;
     /// `if a < b { t } else { f }` per lane.
@@ -54,14 +50,6 @@ impl Lanes for Real {
     #[inline(always)]
     fn lane(self, _: usize) -> Real {
         self
-    }
-    #[inline(always)]
-    fn load(s: &[Real]) -> Self {
-        s[0]
-    }
-    #[inline(always)]
-    fn add_into(self, s: &mut [Real]) {
-        s[0] += self;
     }
     #[inline(always)]
     fn sqrt(self) -> Self {
@@ -94,16 +82,6 @@ impl Lanes for f64x2 {
     #[inline(always)]
     fn lane(self, l: usize) -> Real {
         self.to_array()[l]
-    }
-    #[inline(always)]
-    fn load(s: &[Real]) -> Self {
-        let a: [Real; 2] = s[..2].try_into().expect("two values");
-        f64x2::new(a)
-    }
-    #[inline(always)]
-    fn add_into(self, s: &mut [Real]) {
-        let s: &mut [Real; 2] = (&mut s[..2]).try_into().expect("two values");
-        *s = (f64x2::new(*s) + self).to_array();
     }
     #[inline(always)]
     fn sqrt(self) -> Self {
