@@ -43,9 +43,10 @@ pub struct Acc {
     pub(crate) at: u16,
 }
 
-/// Sets a particle's column from its finished sum: `(column, Σ, m_i)` (the sum may be used as
-/// scratch).
-pub type Finish<C> = fn(&mut C, &mut [Real], Real);
+/// Sets a particle's column from its finished sum: `(column, Σ, m_i)`.
+pub trait Finish<C>: Fn(&mut C, &[Real], Real) + Copy + Send + Sync + 'static {}
+
+impl<C, F: Fn(&mut C, &[Real], Real) + Copy + Send + Sync + 'static> Finish<C> for F {}
 
 /// Writes the finished sums of one accumulator into its column (sums, stride, first
 /// channel); false when the particles lack the column.
@@ -190,7 +191,7 @@ impl Layout {
     fn declare<C: Component<Mutability = Mutable>>(
         &mut self,
         (reaction, width, standard): (Reaction, usize, Option<Standard>),
-        finish: Finish<C>,
+        finish: impl Finish<C>,
         optional: bool,
     ) -> Result<Acc, String> {
         let name = crate::sim::short_type_name(std::any::type_name::<C>()).to_string();
@@ -276,7 +277,7 @@ fn write_column<C: Component<Mutability = Mutable>>(
     world: &mut World,
     sums: &[Real],
     (stride, at, width): (usize, usize, usize),
-    finish: Finish<C>,
+    finish: impl Finish<C>,
 ) -> bool {
     let Some(mut q) = world.try_query::<(&Mass, &mut C)>() else {
         return false;
@@ -291,9 +292,8 @@ fn write_column<C: Component<Mutability = Mutable>>(
         .enumerate()
         .with_min_len(crate::chunks::MIN_LEN)
         .for_each(|(k, c)| {
-            let mut v = [0.0; 9];
-            v[..width].copy_from_slice(&sums[k * stride + at..k * stride + at + width]);
-            finish(c, &mut v[..width], mass[k].0);
+            let s = k * stride + at;
+            finish(c, &sums[s..s + width], mass[k].0);
         });
     true
 }
@@ -350,7 +350,7 @@ impl<'l, 'w, V: Vector> Binder<'l, 'w, V> {
         &mut self,
         reaction: Reaction,
         width: usize,
-        finish: Finish<C>,
+        finish: impl Finish<C>,
     ) -> Result<Acc, String> {
         self.require::<C>()?;
         self.layout
@@ -371,7 +371,7 @@ impl<'l, 'w, V: Vector> Binder<'l, 'w, V> {
                 crate::sim::short_type_name(std::any::type_name::<C>())
             ));
         }
-        self.accumulate::<C>(reaction, C::width(), |c, s, _| c.take(s))
+        self.accumulate::<C>(reaction, C::width(), |c: &mut C, s: &[Real], _| c.take(s))
     }
 
     /// Declares that the term adds to the force on each particle (`m_i a_i`,
@@ -379,12 +379,7 @@ impl<'l, 'w, V: Vector> Binder<'l, 'w, V> {
     /// [`Acceleration`] (divided by `m_i`).
     pub fn force(&mut self) -> Result<(), String> {
         self.require::<Acceleration<V>>()?;
-        let finish: Finish<Acceleration<V>> = |a, s, m| {
-            for x in s.iter_mut() {
-                *x /= m;
-            }
-            a.0 = take_vector(s);
-        };
+        let finish = |a: &mut Acceleration<V>, s: &[Real], m: Real| a.0 = take_vector::<V>(s) / m;
         self.layout
             .declare(
                 (Reaction::Opposite, V::DIM, Some(Standard::Force)),
@@ -400,7 +395,7 @@ impl<'l, 'w, V: Vector> Binder<'l, 'w, V> {
     /// [`crate::pair::Out::react_power`]), which goes into its [`EnergyRate`] (divided by
     /// `m_i`); dropped when the scene integrates no energy.
     pub fn power(&mut self) -> Result<(), String> {
-        let finish: Finish<EnergyRate> = |e, s, m| e.rate = s[0] / m;
+        let finish = |e: &mut EnergyRate, s: &[Real], m: Real| e.rate = s[0] / m;
         self.layout
             .declare((Reaction::Separate, 1, Some(Standard::Power)), finish, true)
             .map(drop)
@@ -412,7 +407,7 @@ impl<'l, 'w, V: Vector> Binder<'l, 'w, V> {
     /// [`crate::pair::Out::react_density_rate`]).
     pub fn density_rate(&mut self, reaction: Reaction) -> Result<(), String> {
         self.require::<DensityRate>()?;
-        let finish: Finish<DensityRate> = |d, s, _| d.rate = s[0];
+        let finish = |d: &mut DensityRate, s: &[Real], _: Real| d.rate = s[0];
         self.layout
             .declare((reaction, 1, Some(Standard::Rate)), finish, false)
             .map(drop)
@@ -429,7 +424,7 @@ mod tests {
     #[test]
     fn declarations_share_a_column_and_upgrade_one_sided_to_separate() {
         let mut l = Layout::default();
-        let none = |_: &mut _, _: &mut [Real], _| {};
+        let none = |_: &mut Acceleration<DVec2>, _: &[Real], _: Real| {};
         let f = l.declare::<Acceleration<DVec2>>(
             (Reaction::Opposite, 2, Some(Standard::Force)),
             none,
@@ -437,7 +432,7 @@ mod tests {
         );
         let d = l.declare::<VelocityGradient<DVec2>>(
             (Reaction::OneSided, 4, None),
-            |_, _, _| {},
+            |_: &mut _, _: &[Real], _: Real| {},
             false,
         );
         assert_eq!(f.map(|a| a.i), Ok(0));
@@ -451,13 +446,13 @@ mod tests {
         );
         let d2 = l.declare::<VelocityGradient<DVec2>>(
             (Reaction::Separate, 4, None),
-            |_, _, _| {},
+            |_: &mut _, _: &[Real], _: Real| {},
             false,
         );
         assert_eq!(d2, Ok(Acc { i: 0, j: 0, at: 2 }));
         let m = l.declare::<GradientCorrection<DVec2>>(
             (Reaction::OneSided, 4, None),
-            |_, _, _| {},
+            |_: &mut _, _: &[Real], _: Real| {},
             false,
         );
         assert_eq!(
@@ -487,7 +482,7 @@ mod tests {
         );
         let clash = l.declare::<VelocityGradient<DVec2>>(
             (Reaction::Opposite, 4, None),
-            |_, _, _| {},
+            |_: &mut _, _: &[Real], _: Real| {},
             false,
         );
         assert!(clash.unwrap_err().contains("VelocityGradient"));

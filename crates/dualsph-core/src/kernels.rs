@@ -32,42 +32,6 @@ use crate::math::{Real, Vector};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
-/// `match`es a [`KernelKind`] and expands `$body` once per kind with `$k` bound to that kind
-/// as a constant, so that a loop written once is compiled per kind with the kind's branches
-/// resolved at compile time: `with_kernel_kind!(kind, K => loop_over_row(K))`.
-macro_rules! with_kernel_kind {
-    ($kind:expr, $k:ident => $body:expr) => {{
-        use $crate::kernels::KernelKind as Kind;
-        match $kind {
-            Kind::CubicSpline => {
-                const $k: Kind = Kind::CubicSpline;
-                $body
-            }
-            Kind::WendlandC2 => {
-                const $k: Kind = Kind::WendlandC2;
-                $body
-            }
-            Kind::QuinticSpline => {
-                const $k: Kind = Kind::QuinticSpline;
-                $body
-            }
-            Kind::Poly6 => {
-                const $k: Kind = Kind::Poly6;
-                $body
-            }
-            Kind::Spiky => {
-                const $k: Kind = Kind::Spiky;
-                $body
-            }
-            Kind::MullerViscosity => {
-                const $k: Kind = Kind::MullerViscosity;
-                $body
-            }
-        }
-    }};
-}
-pub(crate) use with_kernel_kind;
-
 /// The kernels a scene can choose.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub enum KernelKind {

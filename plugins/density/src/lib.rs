@@ -58,7 +58,11 @@ impl<V: Vector> PairTerm<V> for SummationTerm {
         Ok(BoundSummation {
             data: b.data(),
             kernel: b.kernel(),
-            rho: b.accumulate::<Density>(Reaction::OneSided, 1, |rho, s, _| rho.0 = s[0])?,
+            rho: b.accumulate::<Density>(
+                Reaction::OneSided,
+                1,
+                |rho: &mut Density, s: &[Real], _| rho.0 = s[0],
+            )?,
         })
     }
 }

@@ -40,7 +40,7 @@ pub struct BoundCorrection {
 }
 
 /// The sum's inverse, or the identity where it is singular.
-fn invert<V: Vector>(l: &mut GradientCorrection<V>, s: &mut [Real], _m: Real) {
+fn invert<V: Vector>(l: &mut GradientCorrection<V>, s: &[Real], _m: Real) {
     let a = take_matrix::<V>(s);
     l.0 = a.try_inverse(1e-6).unwrap_or_else(V::Mat::identity);
 }

@@ -9,7 +9,7 @@
 use super::SweepCtx;
 use crate::accum::{Layout, ReactionChannel, Source, Standard};
 use crate::components::Position;
-use crate::kernels::{KernelKind, with_kernel_kind};
+use crate::kernels::KernelKind;
 use crate::lanes::{LaneVec, Lanes};
 use crate::math::{Matrix, Real, Vector};
 use crate::pair::{BoundTerm, Extra, Out, OwnerKernel, OwnerSums, PairLanes, RowTerm};
@@ -382,10 +382,14 @@ pub(crate) fn pairs_of_row<V: Vector, E: GroupEval<V>>(
     let (kind, g_norm, inv_h) = kernel.factor_parts();
     let l = ctx.correction.map(|l| l[i].0);
     let v = data.vel[i].0;
-    with_kernel_kind!(kind, K => {
-        let o = Owner { i, v, l, kernel, factor: (K, g_norm, inv_h) };
-        row_pairs(ctx, (plan, eval), (o, n), s, reactions, &mut own)
-    });
+    let o = Owner {
+        i,
+        v,
+        l,
+        kernel,
+        factor: (kind, g_norm, inv_h),
+    };
+    row_pairs(ctx, (plan, eval), (o, n), s, reactions, &mut own);
     if !plan.extra_own.is_empty() {
         sums.copy_from_slice(&s.all[..plan.owner]);
     }
