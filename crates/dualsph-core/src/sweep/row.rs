@@ -18,9 +18,6 @@ use wide::f64x2;
 /// Bound terms, as a sweep runs them.
 pub type Terms<'a, 'w, V> = [&'a (dyn RowTerm<V> + 'w)];
 
-/// Most reals of sums per particle a sweep can have.
-const MAX_SUMS: usize = 32;
-
 /// What one row of a sweep forms, laid out once per sweep from its [`Layout`]: the place in
 /// each particle's sums (and, with a reaction, in each slot's reaction record) of the
 /// standard sums, the other accumulators' channels, and the terms with a pair part.
@@ -57,10 +54,6 @@ impl<'a, 'w, V: Vector> RowPlan<'a, 'w, V> {
             .filter(|(_, r)| matches!(r.source, Source::Owner(_) | Source::Neighbour(_)))
             .map(|(k, r)| (r.source, k))
             .collect();
-        assert!(
-            layout.owner <= MAX_SUMS,
-            "a sweep sums at most {MAX_SUMS} reals per particle"
-        );
         RowPlan {
             layout,
             owner: layout.owner,
@@ -333,7 +326,7 @@ fn row_pairs<V: Vector, E: GroupEval<V>>(
 
 /// Pass 1 for one owner i: i's sums (its terms' initial values, then its pairs in `H_i`
 /// ascending) into `sums`, and the reactions of its pairs into the row's slots of
-/// `reactions` (`plan.react.len()` reals per slot; zero for candidates outside `h_i`). A
+/// `reactions` (the sweep's reaction channels per slot; zero for candidates outside `h_i`). A
 /// sweep with one term with a pair part runs that term's own compiled row loop.
 #[inline]
 pub(super) fn owner_row<V: Vector>(
