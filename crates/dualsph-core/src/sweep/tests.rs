@@ -116,8 +116,8 @@ fn lists(c: &Cloud<DVec2>) -> Neighbours<DVec2> {
     nb
 }
 
-/// Pass 1 and pass 2 of the dual-support sweep (and the fused continuity sum) against a
-/// direct evaluation pair by pair in the same order: bitwise equal.
+/// Pass 1 and pass 2 of the dual-support sweep (an opposite, a separate and a one-sided sum)
+/// against a direct evaluation pair by pair in the same order: bitwise equal.
 #[test]
 fn row_sweep_equals_pairwise_reference_bitwise() {
     let (c, p) = cloud(400);
