@@ -220,32 +220,13 @@ pub fn peak_rss_bytes() -> Option<u64> {
 }
 
 /// The force sweep of the simulation's current state, as the Forces set runs it
-/// (`sweep::evaluate` over the terms of the sweep `FORCES`: the momentum, energy and density
-/// rates), into `buf` — what the benches and the `perf` example time on their own.
-///
-/// # Panics
-/// When a term does not bind, which [`Sim::finish`] rules out for a built simulation.
+/// (`sweep::sweep_into` over the terms of the sweep `FORCES`: the momentum, energy and
+/// density rates), into `buf` — what the benches and the `perf` example time on their own.
 pub fn run_sweep<V: Vector>(sim: &Sim<V>, buf: &mut dualsph_core::sweep::SweepBuffers) {
-    use dualsph_core::sweep::{FORCES, PairSweeps, evaluate};
+    use dualsph_core::sweep::{FORCES, PairSweeps, sweep_into};
     let sweeps = sim.world.resource::<PairSweeps<V>>();
     let terms = sweeps.get(FORCES).map_or(&[][..], |s| &s.terms[..]);
-    if let Err(e) = evaluate(&sweep_ctx(sim), terms, buf) {
-        panic!("the pair terms bound when the simulation was built: {e}")
-    }
-}
-
-/// The sweep's view of `sim`'s current state (particles, lists, kernel, formulation).
-///
-/// # Panics
-/// When `sim` has no particles.
-pub fn sweep_ctx<V: Vector>(sim: &Sim<V>) -> dualsph_core::sweep::SweepCtx<'_, V> {
-    let w = &sim.world;
-    dualsph_core::sweep::SweepCtx::new(
-        ParticleData::of(w).expect("a simulation with particles"),
-        w.resource::<dualsph_core::neighbours::Neighbours<V>>(),
-        &w.resource::<dualsph_core::sim::KernelRes>().0,
-        *w.resource::<dualsph_core::sweep::Formulation>(),
-    )
+    sweep_into(&sim.world, terms, buf);
 }
 
 #[cfg(test)]

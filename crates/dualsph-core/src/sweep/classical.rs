@@ -50,9 +50,10 @@ pub(super) fn classical<V: Vector>(
 ) {
     let data = &ctx.data;
     let v = |x: V| LaneVec::<Real>::splat(x);
-    sums.par_chunks_mut(layout.owner)
-        .enumerate()
-        .for_each(|(i, sums)| {
+    let (own_extra, nbr_extra) = (layout.extra_owner, layout.extra_neighbour);
+    sums.par_chunks_mut(layout.owner).enumerate().for_each_init(
+        || (Extra::default(), Extra::default()),
+        |(ea, eb), (i, sums)| {
             initialize((terms, layout), i, sums);
             if pair_terms.is_empty() {
                 return;
@@ -66,11 +67,16 @@ pub(super) fn classical<V: Vector>(
                 let (mg, mr) = (-g, -rij);
                 let geometry = (v(mr), r, v(data.vij(j, i)), v(mg), v(ctx.corrected(j, mg)));
                 let mirror = PairLanes::new((j, [i as u32; 2]), geometry, Some(w), k_j, data);
-                let (mut ea, mut eb) = (Extra::default(), Extra::default());
-                let (mut a, mut b) = (Out::new(&mut ea), Out::new(&mut eb));
+                let (mut a, mut b) = (Out::new(ea), Out::new(eb));
                 eval(pair_terms, &own, &mut a);
                 eval(pair_terms, &mirror, &mut b);
                 combine(&layout.slots, &a, &b, sums);
+                // the channels of other columns back to zero for the next pair
+                for e in [&mut *ea, &mut *eb] {
+                    e.own[..own_extra].fill(0.0);
+                    e.nbr[..nbr_extra].fill(0.0);
+                }
             });
-        });
+        },
+    );
 }
