@@ -1,8 +1,8 @@
 //! Investigation aid: steps a scene, every K steps prints the closest pair relative to the
 //! owner's h, the most negative pressure and the density range; at the first health problem
 //! dumps the offending particle and its support.
-use dualsph::core::diagnostics::Health;
 use dualsph::core::neighbours::Neighbours;
+use dualsph::diagnostics::Health;
 use dualsph::prelude::*;
 use dualsph::{build_sim, default_registry, scene::Scene, with_dimension};
 

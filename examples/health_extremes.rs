@@ -9,7 +9,7 @@
 //! (`ρ_min0/min ρ`) and above their initial maximum (`max ρ/ρ_max0`), over every step to the
 //! end time (or to the first non-finite/non-positive value or escape).
 
-use dualsph::core::diagnostics::{Health, HealthBounds, InitialDensity};
+use dualsph::diagnostics::{Health, HealthBounds, InitialDensity};
 use dualsph::prelude::*;
 use dualsph::{build_sim, default_registry, scene::Scene, with_dimension};
 

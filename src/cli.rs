@@ -280,9 +280,9 @@ pub fn main(registry: Registry) -> ExitCode {
         Command::Plan { scene } => load(&scene, &registry).and_then(|s| {
             let plan = runner::plan(&s).map_err(|e| format!("{}: {e}", scene.display()))?;
             say!("scene {} ({}-D, formulation {:?}, kernel {:?})", s.name, s.dimension, s.formulation, s.kernel);
-            say!("\nschedule (in order):");
-            for (k, (set, label)) in plan.systems.iter().enumerate() {
-                say!("  {:>2}. {:<16} {}", k + 1, format!("{set:?}"), label);
+            say!("\nschedule (in order; [the plugin that added each system]):");
+            for (k, (set, label, plugin)) in plan.systems.iter().enumerate() {
+                say!("  {:>2}. {:<16} {:<58} [{plugin}]", k + 1, format!("{set:?}"), label);
             }
             say!("\npair terms (sweep: terms; terms joined by + run as one compiled loop):");
             if plan.pair_terms.is_empty() {

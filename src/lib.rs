@@ -17,6 +17,8 @@ pub mod report;
 pub mod runner;
 
 pub use dualsph_core as core;
+pub use dualsph_diagnostics as diagnostics;
+pub use dualsph_integrator as integrator;
 pub use dualsph_io as io;
 pub use dualsph_plot as plot;
 pub use dualsph_probes as probes;
@@ -27,7 +29,10 @@ pub use dualsph_core::prelude::*;
 /// The most used items of the engine.
 pub mod prelude {
     pub use dualsph_core::prelude::*;
+    pub use dualsph_diagnostics::{Diagnostics, SimDiagnostics};
 }
+
+pub use dualsph_diagnostics::{Diagnostics, SimDiagnostics};
 
 use dualsph_core::bodies::{Bodies, Body, install_bodies};
 use dualsph_scene::Scene;
@@ -37,9 +42,11 @@ pub mod plugins {
     pub use dualsph_density::{
         ContinuityDensity, ContinuityForm, DensityDiffusion, SummationDensity,
     };
+    pub use dualsph_diagnostics::DiagnosticsPlugin;
     pub use dualsph_eos::{IdealGas, TaitEos};
     pub use dualsph_gravity::Gravity;
     pub use dualsph_heat::HeatConduction;
+    pub use dualsph_integrator::{LeapfrogPC, PositionVerlet};
     pub use dualsph_kernel_correction::KernelCorrection;
     pub use dualsph_pressure::{ArtificialStress, PressureForce};
     pub use dualsph_probes::{Probe, Probes, Quantity};
@@ -53,7 +60,10 @@ pub mod plugins {
 pub fn default_registry() -> Registry {
     use plugins::*;
     let mut r = Registry::new();
-    r.register::<SummationDensity>()
+    r.register::<LeapfrogPC>()
+        .register::<PositionVerlet>()
+        .register::<DiagnosticsPlugin>()
+        .register::<SummationDensity>()
         .register::<ContinuityDensity>()
         .register::<DensityDiffusion>()
         .register::<TaitEos>()
@@ -138,6 +148,7 @@ pub fn build_sim<V: Vector>(scene: &Scene) -> Result<Sim<V>, SimError> {
         },
     };
     let formulation = formulation_of(scene.formulation);
+    let roles = RolePlugins::of(scene)?;
     let mut sim = Sim::<V>::new(SimConfig {
         kernel: scene.kernel,
         formulation,
@@ -150,6 +161,10 @@ pub fn build_sim<V: Vector>(scene: &Scene) -> Result<Sim<V>, SimError> {
         },
         time_stepping,
     });
+    // the integrator and the diagnostics first, as the engine's own systems: the scheme's
+    // stages open their sets (before any body pinning), its dt is chosen first
+    build_named(&mut sim, roles.integrator)?;
+    build_named(&mut sim, roles.diagnostics)?;
     let particles: Vec<ParticleInit<V>> = scene
         .generate()
         .iter()
@@ -182,7 +197,7 @@ pub fn build_sim<V: Vector>(scene: &Scene) -> Result<Sim<V>, SimError> {
     });
     install_bodies(&mut sim, Bodies(bodies.collect()))?;
     sim.world
-        .insert_resource(dualsph_core::diagnostics::HealthBounds {
+        .insert_resource(dualsph_diagnostics::HealthBounds {
             density: (scene.health.density_below, scene.health.density_above),
             h: (scene.health.h_below, scene.health.h_above),
             rho_range: None,
@@ -197,16 +212,51 @@ pub fn build_sim<V: Vector>(scene: &Scene) -> Result<Sim<V>, SimError> {
         clock.t_end = scene.end_time;
     }
     fuse_builtin_terms(&mut sim);
-    for p in &scene.plugins {
-        sim.build_plugin(p.as_ref()).map_err(|e| {
-            let why = match e {
-                SimError::Build(m) | SimError::BlowUp(m) => m,
-            };
-            SimError::Build(format!("plugin {}: {why}", p.name()))
-        })?;
+    for p in scene.plugins.iter().filter(|p| p.role() == Role::Physics) {
+        build_named(&mut sim, p.as_ref())?;
     }
     sim.finish()?;
     Ok(sim)
+}
+
+/// Builds the default integrator ([`LeapfrogPC`](plugins::LeapfrogPC)) and diagnostics
+/// ([`DiagnosticsPlugin`](plugins::DiagnosticsPlugin)) into a simulation made in code
+/// (`Sim::new`), before its other plugins — what [`build_sim`] does for a scene that names
+/// neither.
+pub fn add_default_plugins<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimError> {
+    build_named(sim, &DEFAULT_INTEGRATOR)?;
+    build_named(sim, &DEFAULT_DIAGNOSTICS)
+}
+
+/// The plugins of a scene's exclusive roles: the ones it names, or the defaults
+/// ([`LeapfrogPC`](plugins::LeapfrogPC), [`DiagnosticsPlugin`](plugins::DiagnosticsPlugin)).
+struct RolePlugins<'s> {
+    integrator: &'s dyn PluginConfig,
+    diagnostics: &'s dyn PluginConfig,
+}
+
+static DEFAULT_INTEGRATOR: plugins::LeapfrogPC = plugins::LeapfrogPC {};
+static DEFAULT_DIAGNOSTICS: plugins::DiagnosticsPlugin = plugins::DiagnosticsPlugin {};
+
+impl<'s> RolePlugins<'s> {
+    /// The scene's (at most one per role: two are an error naming both) or the default.
+    fn of(scene: &'s Scene) -> Result<Self, SimError> {
+        let named = |role: Role| scene.plugin_of_role(role).map_err(SimError::Build);
+        Ok(RolePlugins {
+            integrator: named(Role::Integrator)?.unwrap_or(&DEFAULT_INTEGRATOR),
+            diagnostics: named(Role::Diagnostics)?.unwrap_or(&DEFAULT_DIAGNOSTICS),
+        })
+    }
+}
+
+/// Builds one plugin; its error names it.
+fn build_named<V: Vector>(sim: &mut Sim<V>, p: &dyn PluginConfig) -> Result<(), SimError> {
+    sim.build_plugin(p).map_err(|e| {
+        let why = match e {
+            SimError::Build(m) | SimError::BlowUp(m) => m,
+        };
+        SimError::Build(format!("plugin {}: {why}", p.name()))
+    })
 }
 
 /// Runs `f` with the scene's dimension as a type: `Vec1`, `DVec2` or `DVec3`.

@@ -9,10 +9,10 @@ use crate::checkpoint::{self, Checkpoint, CheckpointError};
 use crate::{build_sim, with_dimension};
 use dualsph_core::bodies::Bodies;
 use dualsph_core::columns::{Column, Columns};
-use dualsph_core::diagnostics::{BodyTotals, Diagnostics, Health, HealthBounds};
-use dualsph_core::integrator::{CFL_LIMIT, TimeStepCheck};
 use dualsph_core::neighbours::Neighbours;
 use dualsph_core::prelude::*;
+use dualsph_diagnostics::{BodyTotals, Diagnostics, Health, HealthBounds, SimDiagnostics};
+use dualsph_integrator::time_step::{CFL_LIMIT, TimeStepCheck};
 use dualsph_io::{DiagnosticsRow, OutputDir, ParticleRecord, ParticleTable, TableColumn};
 use dualsph_scene::Scene;
 use keeper::Keeper;
@@ -206,7 +206,7 @@ fn diagnostics_columns(bodies: &Bodies) -> Vec<String> {
 
 /// The usual cause of an unphysical `quantity` (as named by [`Health`]).
 pub fn likely_cause(quantity: &str) -> &'static str {
-    use dualsph_core::diagnostics as d;
+    use dualsph_diagnostics as d;
     match quantity {
         d::OUTSIDE_DOMAIN => {
             "a particle thrown out of the domain: a dt above the CFL limit, or a missing wall (SpecularWalls)"
@@ -231,9 +231,12 @@ pub fn likely_cause(quantity: &str) -> &'static str {
 }
 
 /// The first unphysical value of the state (from [`Health`]) as a blow-up error naming the
-/// step, time, particle, quantity and the usual cause.
+/// step, time, particle, quantity and the usual cause. A simulation without the health check
+/// (no diagnostics plugin) or without the fixed-dt check (a scheme with its own dt rule) is
+/// not checked for what it lacks.
 pub(crate) fn check<V: Vector>(sim: &Sim<V>) -> Result<(), SimError> {
-    if let Some((id, what, value)) = sim.world.resource::<Health>().problem {
+    let problem = sim.world.get_resource::<Health>().and_then(|h| h.problem);
+    if let Some((id, what, value)) = problem {
         let c = sim.clock();
         let sane = sim
             .world
@@ -249,7 +252,8 @@ pub(crate) fn check<V: Vector>(sim: &Sim<V>) -> Result<(), SimError> {
             likely_cause(what)
         )));
     }
-    if let Some((id, dt, limit)) = sim.world.resource::<TimeStepCheck>().violation {
+    let violation = sim.world.get_resource::<TimeStepCheck>();
+    if let Some((id, dt, limit)) = violation.and_then(|c| c.violation) {
         let c = sim.clock();
         return Err(SimError::BlowUp(format!(
             "step {}, t = {:.6e}: the fixed dt = {dt:.3e} is above the CFL limit {limit:.3e} = {CFL_LIMIT} h/(c + |v|) of particle {id} (likely cause: dt above the CFL limit; lower dt or use Adaptive)",

@@ -95,6 +95,24 @@ fn plan_shows_only_what_the_scene_needs() {
         !text.contains("Conductivity"),
         "no temperature/conductivity component expected:\n{text}"
     );
+    // the default integrator's and diagnostics' systems, attributed to their plugins
+    let owner = |system: &str| {
+        let line = text.lines().find(|l| l.contains(system));
+        line.and_then(|l| l.rsplit_once('['))
+            .map(|(_, p)| p.trim_end_matches(']').to_string())
+    };
+    for (system, plugin) in [
+        ("choose_dt", "LeapfrogPC"),
+        ("predict_kinematics", "LeapfrogPC"),
+        ("predict_density", "LeapfrogPC"),
+        ("correct_density", "LeapfrogPC"),
+        ("check_time_step", "LeapfrogPC"),
+        ("check_health", "Diagnostics"),
+        ("compute_diagnostics", "Diagnostics"),
+        ("update_neighbours", "core"),
+    ] {
+        assert_eq!(owner(system).as_deref(), Some(plugin), "{system}:\n{text}");
+    }
 
     let out = bin()
         .arg("plan")

@@ -219,8 +219,8 @@ mod drops {
 
 /// Dam breaks with a support-radius jump (scenes/hard/dam_break_support_jump_1to{4,8}.ron).
 mod dam_break_jumps {
-    use dualsph::core::diagnostics::{Health, PairBalance, track_pair_balance};
     use dualsph::core::glam::DVec2;
+    use dualsph::diagnostics::{Health, PairBalance, track_pair_balance};
     use dualsph::prelude::*;
     use dualsph::scene::{Block, Generator, Lattice, Scene};
     use dualsph::{build_sim, default_registry};

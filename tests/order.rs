@@ -2,9 +2,9 @@
 //! term of the force sweep, gives the same plan and bitwise the same state wherever it is
 //! listed, and a scene without what it needs is refused whatever the order.
 
-use dualsph::build_sim;
 use dualsph::core::glam::DVec2;
 use dualsph::scene::Scene;
+use dualsph::{SimDiagnostics, build_sim};
 use std::path::Path;
 
 fn scene(text: &str) -> Result<Scene, String> {
@@ -40,7 +40,7 @@ fn run(plugins: &[&str]) -> (Vec<String>, Vec<u64>) {
     let plan = p
         .systems
         .iter()
-        .map(|(_, l)| l.clone())
+        .map(|(_, l, _)| l.clone())
         .chain(terms)
         .collect();
     sim.initialize().unwrap();

@@ -62,7 +62,17 @@ fn component<'a>(c: &'a Checkpoint, name: &str) -> &'a [f64] {
 /// `h_changes`: the scene's h-update changes h between steps 20 and 40 (with a constant
 /// density it rewrites the same values; the rebuild it forces is checked anyway).
 fn check_resume(file: &str, expect: &[&str], h_changes: bool) {
-    let scene = load_text(&std::fs::read_to_string(scene_path(file)).unwrap());
+    check_resume_text(
+        file,
+        &std::fs::read_to_string(scene_path(file)).unwrap(),
+        expect,
+        h_changes,
+    );
+}
+
+/// [`check_resume`] of the scene `text` (`file` names it in messages).
+fn check_resume_text(file: &str, text: &str, expect: &[&str], h_changes: bool) {
+    let scene = load_text(text);
     let tmp = tempfile::tempdir().unwrap();
     let (a, b) = (tmp.path().join("a"), tmp.path().join("b"));
     let s = run(&scene, &a, 20, None);
@@ -121,6 +131,20 @@ fn resume_from_half_way_is_bitwise_identical_2d_dam_break() {
             "Pressure",
             "SoundSpeed",
         ],
+        false,
+    );
+}
+
+#[test]
+fn resume_from_half_way_is_bitwise_identical_with_the_position_verlet() {
+    let text = std::fs::read_to_string(scene_path("dam_coarse.ron"))
+        .unwrap()
+        .replace("plugins: [", "plugins: [\n        PositionVerlet(),");
+    assert!(text.contains("PositionVerlet()"));
+    check_resume_text(
+        "dam_coarse.ron + PositionVerlet",
+        &text,
+        &["DensityRate"],
         false,
     );
 }

@@ -85,6 +85,7 @@ fn drop_sim(
         },
     });
     sim.spawn_particles(particles);
+    dualsph::add_default_plugins(&mut sim).expect("the default plugins build");
     let plugins: [&dyn PluginConfig; 5] = [
         &ContinuityDensity {
             form: ContinuityForm::Pairwise,

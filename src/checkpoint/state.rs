@@ -3,9 +3,9 @@
 use super::{Checkpoint, ComponentData, NeighbourData};
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::columns::{Column, Columns, put_vector, take_vector};
-use dualsph_core::diagnostics::{BodyTotals, Diagnostics, InitialDensity};
 use dualsph_core::neighbours::{Csr, Neighbours};
 use dualsph_core::prelude::*;
+use dualsph_diagnostics::{BodyTotals, Diagnostics, InitialDensity};
 use dualsph_probes::ProbeState;
 
 /// The registered columns kept in checkpoints, in registration order.

@@ -3,8 +3,8 @@
 
 use crate::runner::particle_records;
 use crate::{build_sim, with_dimension};
-use dualsph_core::diagnostics::Diagnostics;
 use dualsph_core::prelude::*;
+use dualsph_diagnostics::{Diagnostics, SimDiagnostics};
 use dualsph_io::ParticleRecord;
 use dualsph_scene::{Formulation as SceneFormulation, Generator, Scene};
 use std::time::Instant;

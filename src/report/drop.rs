@@ -93,7 +93,7 @@ pub fn grade(run: CaseRun) -> DropCase {
 
 fn drift_series(
     run: &CaseRun,
-    f: &dyn Fn(&dualsph_core::diagnostics::Diagnostics) -> f64,
+    f: &dyn Fn(&dualsph_diagnostics::Diagnostics) -> f64,
 ) -> Vec<(f64, f64)> {
     run.diagnostics
         .iter()
@@ -137,8 +137,7 @@ pub fn run(opts: &ReportOptions) -> Result<(Section, Vec<DropCase>), ReportError
 
     // Conservation against time.
     let mut images = image("drop shape", &shape_png);
-    type Pick =
-        fn(&dualsph_core::diagnostics::Diagnostics, &dualsph_core::diagnostics::Diagnostics) -> f64;
+    type Pick = fn(&dualsph_diagnostics::Diagnostics, &dualsph_diagnostics::Diagnostics) -> f64;
     let plots: [(&str, &str, Pick); 3] = [
         ("momentum", "|P(t) − P(0)| / Σ|m v|(0)", |d, d0| {
             let dp: Vec<f64> = (0..3).map(|k| d.momentum[k] - d0.momentum[k]).collect();

@@ -13,9 +13,9 @@
 use super::case::process_cpu_seconds;
 use super::{ReportError, ReportOptions, Section, Table, image};
 use crate::build_sim;
-use dualsph_core::diagnostics::{Diagnostics, PairBalance, track_pair_balance};
 use dualsph_core::glam::DVec3;
 use dualsph_core::prelude::*;
+use dualsph_diagnostics::{Diagnostics, PairBalance, SimDiagnostics, track_pair_balance};
 use dualsph_plot::{LinePlot, Series, SeriesStyle};
 use dualsph_reference::dam_break::KOSHIZUKA_OKA_FRONT;
 use dualsph_reference::drop::linear_drop_axes;

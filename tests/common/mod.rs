@@ -77,8 +77,20 @@ pub fn sim_with_kernel<V: Vector>(
         time_stepping: TimeStepping::Fixed(1e-4),
     });
     sim.spawn_particles(particles);
-    for p in plugins {
-        p.build_into(&mut sim).expect("plugin builds");
+    // an integrator or diagnostics in the list replaces the default, and is built first
+    let (roles, physics): (Vec<&dyn PluginConfig>, Vec<&dyn PluginConfig>) =
+        plugins.iter().partition(|p| p.role() != Role::Physics);
+    let defaults: [&dyn PluginConfig; 2] = [
+        &dualsph::plugins::LeapfrogPC {},
+        &dualsph::plugins::DiagnosticsPlugin {},
+    ];
+    for d in defaults {
+        if !roles.iter().any(|p| p.role() == d.role()) {
+            sim.build_plugin(d).expect("default plugin builds");
+        }
+    }
+    for p in roles.into_iter().chain(physics) {
+        sim.build_plugin(p).expect("plugin builds");
     }
     sim.initialize().expect("initial evaluation");
     sim

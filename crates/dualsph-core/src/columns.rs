@@ -138,39 +138,20 @@ scalar_column!(
 vector_column!(Position, Velocity, Acceleration);
 matrix_column!(GradientCorrection, VelocityGradient);
 
-impl<V: Vector> ColumnValue<V> for Kinematics<V> {
-    const SHAPE: Shape = Shape::Record;
-    fn width() -> usize {
-        2 * V::DIM
-    }
-    fn put(&self, out: &mut Vec<Real>) {
-        put_vector(self.v0, out);
-        put_vector(self.a0, out);
-    }
-    fn take(&mut self, values: &[Real]) {
-        self.v0 = take_vector(values);
-        self.a0 = take_vector(&values[V::DIM..]);
-    }
-}
-
 macro_rules! rate_column {
-    ($t:ident, $x0:ident) => {
+    ($($t:ident),*) => {$(
         impl<V: Vector> ColumnValue<V> for $t {
-            const SHAPE: Shape = Shape::Record;
-            fn width() -> usize {
-                3
-            }
+            const SHAPE: Shape = Shape::Scalar;
             fn put(&self, out: &mut Vec<Real>) {
-                out.extend([self.rate, self.$x0, self.rate0]);
+                out.push(self.rate);
             }
             fn take(&mut self, values: &[Real]) {
-                (self.rate, self.$x0, self.rate0) = (values[0], values[1], values[2]);
+                self.rate = values[0];
             }
         }
-    };
+    )*};
 }
-rate_column!(EnergyRate, e0);
-rate_column!(DensityRate, rho0);
+rate_column!(EnergyRate, DensityRate);
 
 /// What a plugin declares about one of its columns.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -235,8 +216,8 @@ pub struct Column {
     pub shape: Shape,
     /// Reals per particle.
     pub width: usize,
-    /// The component's type name without module path or generics (`Position`): the key of
-    /// the column in checkpoints.
+    /// The component's type name without module path or dimension (`Position`,
+    /// `Registers<Density>`): the key of the column in checkpoints.
     pub key: String,
     /// The component's short type name with generics (`Position<DVec2>`), for listings.
     pub type_name: String,
@@ -282,7 +263,11 @@ fn write_values<V: Vector, C: ColumnValue<V>>(
 impl Column {
     fn of<V: Vector, C: ColumnValue<V>>(spec: ColumnSpec) -> Self {
         let full = crate::sim::short_type_name(std::any::type_name::<C>());
-        let key = full.split('<').next().unwrap_or(&full).to_string();
+        // the name without the dimension (`Position<DVec2>` → `Position`), other type
+        // arguments kept (`Registers<Density>`, `Registers<InternalEnergy>`)
+        let key = ["<Vec1>", "<DVec2>", "<DVec3>"]
+            .iter()
+            .fold(full.clone(), |k, dim| k.replace(dim, ""));
         Column {
             spec,
             shape: C::SHAPE,
@@ -462,7 +447,8 @@ mod tests {
             cols.register::<DVec2, Density>(ColumnSpec::state("position", "rho"))
                 .is_err()
         );
-        let record = ColumnSpec::restart_only("kinematics").with_output("k");
-        assert!(cols.register::<DVec2, Kinematics<DVec2>>(record).is_err());
+        let record = ColumnSpec::restart_only("registers").with_output("k");
+        type Record = crate::integrate::Registers<Density>;
+        assert!(cols.register::<DVec2, Record>(record).is_err());
     }
 }

@@ -1,6 +1,6 @@
 //! Particle components. Every particle is a `bevy_ecs` entity with the core set
 //! ([`ParticleId`], [`Position`], [`Velocity`], [`Mass`], [`Density`], [`SmoothingLength`],
-//! [`Acceleration`], [`Kinematics`]); plugins add the rest only when a scene asks for them.
+//! [`Acceleration`]); plugins add the rest only when a scene asks for them.
 
 use crate::math::{Real, Vector};
 use bevy_ecs::prelude::Component;
@@ -33,15 +33,6 @@ pub struct SmoothingLength(pub Real);
 #[derive(Component, Clone, Copy, Debug, PartialEq)]
 pub struct Acceleration<V: Vector>(pub V);
 
-/// Start-of-step velocity and acceleration kept by the leapfrog predictor–corrector (§6).
-#[derive(Component, Clone, Copy, Debug, PartialEq)]
-pub struct Kinematics<V: Vector> {
-    /// `v^t`.
-    pub v0: V,
-    /// `f^t / m`.
-    pub a0: V,
-}
-
 /// Pressure `p_i` (added by an equation of state).
 #[derive(Component, Clone, Copy, Debug, PartialEq)]
 pub struct Pressure(pub Real);
@@ -54,26 +45,18 @@ pub struct SoundSpeed(pub Real);
 #[derive(Component, Clone, Copy, Debug, PartialEq)]
 pub struct InternalEnergy(pub Real);
 
-/// `dε_i/dt` and the start-of-step values kept by the integrator.
+/// `dε_i/dt` (added with the energy equation; integrated into [`InternalEnergy`]).
 #[derive(Component, Clone, Copy, Debug, Default, PartialEq)]
 pub struct EnergyRate {
     /// `dε/dt` from the last evaluation.
     pub rate: Real,
-    /// `ε^t`.
-    pub e0: Real,
-    /// `dε/dt` at t.
-    pub rate0: Real,
 }
 
-/// `dρ_i/dt` and the start-of-step values (added by the continuity equation).
+/// `dρ_i/dt` (added by the continuity equation; integrated into [`Density`]).
 #[derive(Component, Clone, Copy, Debug, Default, PartialEq)]
 pub struct DensityRate {
     /// `dρ/dt` from the last evaluation.
     pub rate: Real,
-    /// `ρ^t`.
-    pub rho0: Real,
-    /// `dρ/dt` at t.
-    pub rate0: Real,
 }
 
 /// Thermal conductivity `κ_i` (added by heat conduction).

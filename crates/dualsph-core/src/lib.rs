@@ -1,5 +1,6 @@
 //! dualsph core: dimensions, kernels, neighbour lists, the support/dual-support pair sweep,
-//! the integrator, diagnostics, and the `Sim`/`SimPlugin` machinery.
+//! the registry of integrated quantities, and the `Sim`/`SimPlugin` machinery. The
+//! integrator and the diagnostics are plugins (`dualsph-integrator`, `dualsph-diagnostics`).
 //!
 //! Notation follows Ren, Dai, Zhuang & Rabczuk, *Dual-support Smoothed Particle
 //! Hydrodynamics* (RenDSSPH in the project's `docs/references.md`): `h_i` is the support radius
@@ -10,8 +11,7 @@ pub mod bodies;
 pub mod chunks;
 pub mod columns;
 pub mod components;
-pub mod diagnostics;
-pub mod integrator;
+pub mod integrate;
 pub mod kernels;
 pub mod lanes;
 pub mod math;
@@ -20,6 +20,7 @@ pub mod order;
 pub mod output;
 pub mod pair;
 pub mod plugin;
+pub mod potentials;
 pub mod profile;
 pub mod sampling;
 pub mod sim;
@@ -35,14 +36,14 @@ pub mod prelude {
     pub use crate::bodies::{BodyId, BodyKind};
     pub use crate::columns::{ColumnSpec, ColumnValue, Shape};
     pub use crate::components::*;
-    pub use crate::diagnostics::Diagnostics;
+    pub use crate::integrate::{ScalarRate, ScalarState};
     pub use crate::kernels::{Kernel, KernelKind};
     pub use crate::lanes::{LaneVec, Lanes};
     pub use crate::math::{Mat1, Matrix, Real, Vec1, Vector};
     pub use crate::neighbours::SkinRule;
     pub use crate::output::{RunOutputDir, StepLimit};
     pub use crate::pair::{BoundTerm, Out, OwnerSums, PairLanes, PairTerm};
-    pub use crate::plugin::{PluginConfig, Registry, SceneInfo, SimPlugin};
+    pub use crate::plugin::{PluginConfig, Registry, Role, SceneInfo, SimPlugin};
     pub use crate::sim::{
         Domain, KernelRes, ParticleInit, Sim, SimClock, SimConfig, SimError, StepSet, TimeStepping,
     };

@@ -30,12 +30,26 @@ impl SceneInfo {
     }
 }
 
-/// A physics plugin: its settings (deserialized from the scene) and how it builds itself.
+/// The part a plugin plays in a scene.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Role {
+    /// Physics (or anything else): any number per scene, built in the order listed.
+    Physics,
+    /// The time integration ([`crate::integrate::Scheme`]): one per scene; a scene that names
+    /// none gets the default (`LeapfrogPC`), two are an error naming both.
+    Integrator,
+    /// The diagnostics: one per scene; a scene that names none gets the default.
+    Diagnostics,
+}
+
+/// A plugin: its settings (deserialized from the scene) and how it builds itself.
 pub trait SimPlugin: DeserializeOwned + Debug + Send + Sync + 'static {
     /// The name used in RON scenes.
     const NAME: &'static str;
     /// One line for listings and error messages.
     const SUMMARY: &'static str;
+    /// Its part in a scene (physics unless it says otherwise).
+    const ROLE: Role = Role::Physics;
     /// Rejects physically meaningless settings; the message names the field.
     fn validate(&self, _info: &SceneInfo) -> Result<(), String> {
         Ok(())
@@ -48,6 +62,8 @@ pub trait SimPlugin: DeserializeOwned + Debug + Send + Sync + 'static {
 pub trait PluginConfig: Debug + Send + Sync {
     /// The registered name.
     fn name(&self) -> &'static str;
+    /// See [`SimPlugin::ROLE`].
+    fn role(&self) -> Role;
     /// See [`SimPlugin::validate`].
     fn validate(&self, info: &SceneInfo) -> Result<(), String>;
     /// Builds into a simulation of any dimension.
@@ -57,6 +73,9 @@ pub trait PluginConfig: Debug + Send + Sync {
 impl<P: SimPlugin> PluginConfig for P {
     fn name(&self) -> &'static str {
         P::NAME
+    }
+    fn role(&self) -> Role {
+        P::ROLE
     }
     fn validate(&self, info: &SceneInfo) -> Result<(), String> {
         SimPlugin::validate(self, info)
@@ -97,6 +116,8 @@ pub struct PluginEntry {
     pub name: &'static str,
     /// One-line description.
     pub summary: &'static str,
+    /// Its part in a scene.
+    pub role: Role,
     /// Settings parser.
     pub parse: ParseFn,
 }
@@ -132,6 +153,7 @@ impl Registry {
         self.entries.push(PluginEntry {
             name: P::NAME,
             summary: P::SUMMARY,
+            role: P::ROLE,
             parse: parse_plugin::<P>,
         });
         self

@@ -35,7 +35,7 @@ pub enum SimError {
 pub enum StepSet {
     /// Choose dt (fixed or CFL/force/viscous).
     TimeStep,
-    /// Leapfrog predictor (§6, step 1).
+    /// The integrator's first stage (the leapfrog's predictor, §6 step 1).
     Predict,
     /// Smoothing-length update every m steps (Eq. 6.1).
     SmoothingLength,
@@ -53,7 +53,7 @@ pub enum StepSet {
     Forces,
     /// Body forces (gravity).
     BodyForces,
-    /// Leapfrog corrector (§6, step 3).
+    /// The integrator's last stage (the leapfrog's corrector, §6 step 3).
     Correct,
     /// Boundary conditions (specular walls).
     Boundary,
@@ -230,8 +230,9 @@ impl SystemOrder<'_> {
 /// What a scene will run: the systems in order and the particle components.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Plan {
-    /// `(set, label)` in execution order.
-    pub systems: Vec<(StepSet, String)>,
+    /// `(set, label, plugin)` in execution order; the plugin that added the system (`core`
+    /// for the engine's own).
+    pub systems: Vec<(StepSet, String, String)>,
     /// The particles' columns in registration order: type, name, output labels, whether
     /// checkpointed.
     pub components: Vec<String>,
@@ -253,6 +254,8 @@ pub struct Sim<V: Vector> {
     pending: Vec<PendingColumn>,
     /// The plugin being built (systems added now are its own), `core` otherwise.
     building: &'static str,
+    /// The integrated scalars and the scheme (see [`crate::integrate`]).
+    pub(crate) integration: crate::integrate::Integration<V>,
     schedule: Option<Schedule>,
     /// The systems' labels in schedule order (set when the schedule is built).
     labels: Vec<String>,
@@ -297,7 +300,7 @@ impl<V: Vector> Sim<V> {
         world.insert_resource(PairSweeps::<V>::default());
         world.insert_resource(MaxViscosity::default());
         world.insert_resource(InitialInternalEnergy::default());
-        world.insert_resource(crate::diagnostics::Diagnostics::default());
+        world.insert_resource(crate::potentials::ExternalPotentials::default());
         world.insert_resource(Columns::default());
         world.insert_resource(crate::bodies::Bodies::default());
         let mut sim = Sim {
@@ -307,12 +310,13 @@ impl<V: Vector> Sim<V> {
             requirements: Vec::new(),
             pending: Vec::new(),
             building: "core",
+            integration: Default::default(),
             schedule: None,
             labels: Vec::new(),
             pool: None,
             _v: PhantomData,
         };
-        crate::integrator::add_core_systems(&mut sim);
+        crate::integrate::add_core_systems(&mut sim);
         sim.register_core_columns();
         sim
     }
@@ -363,10 +367,15 @@ impl<V: Vector> Sim<V> {
     /// Builds `plugin` into the simulation, its systems marked as its own (for the order
     /// constraints' names and messages).
     pub fn build_plugin(&mut self, plugin: &dyn PluginConfig) -> Result<(), SimError> {
-        let outer = std::mem::replace(&mut self.building, plugin.name());
-        let built = plugin.build_into(self);
+        self.as_plugin(plugin.name(), |sim| plugin.build_into(sim))
+    }
+
+    /// Runs `f` with the systems it adds attributed to the plugin `name`.
+    pub(crate) fn as_plugin<T>(&mut self, name: &'static str, f: impl FnOnce(&mut Self) -> T) -> T {
+        let outer = std::mem::replace(&mut self.building, name);
+        let out = f(self);
         self.building = outer;
-        built
+        out
     }
 
     /// The systems in run order: by set, and inside a set by insertion order and the
@@ -395,7 +404,14 @@ impl<V: Vector> Sim<V> {
             .unwrap_or_else(|_| (0..self.systems.len()).collect());
         let systems = order
             .into_iter()
-            .map(|k| (self.systems[k].set, self.systems[k].place.label.clone()))
+            .map(|k| {
+                let place = &self.systems[k].place;
+                (
+                    self.systems[k].set,
+                    place.label.clone(),
+                    place.plugin.clone(),
+                )
+            })
             .collect();
         let components = std::iter::once("ParticleId (id)".to_string())
             .chain(self.world.resource::<Columns>().iter().map(|c| {
@@ -426,10 +442,17 @@ impl<V: Vector> Sim<V> {
         }
     }
 
-    /// Checks plugin requirements, that the particles are one table of the store (see
-    /// [`crate::store`]) and that every pair term finds the columns it reads, and builds the
-    /// schedule (idempotent).
+    /// Checks that an integrator is set ([`Sim::set_integrator`]), the plugin requirements,
+    /// that the particles are one table of the store (see [`crate::store`]) and that every
+    /// pair term finds the columns it reads, and builds the schedule (idempotent).
     pub fn finish(&mut self) -> Result<(), SimError> {
+        if self.integrator().is_none() {
+            return Err(SimError::Build(
+                "no integrator: the state would not advance; add a time-integration plugin \
+                 (e.g. `dualsph_integrator::LeapfrogPC`, which a scene gets by default)"
+                    .into(),
+            ));
+        }
         for (feature, message) in &self.requirements {
             if !self.features.contains(feature) {
                 return Err(SimError::Build(message.clone()));
@@ -595,28 +618,6 @@ impl<V: Vector> Sim<V> {
     /// The clock.
     pub fn clock(&self) -> SimClock {
         *self.world.resource::<SimClock>()
-    }
-
-    /// The diagnostics of the current state (computed now if the last evaluation is older,
-    /// see [`crate::diagnostics::DiagnosticsEvery`]).
-    pub fn diagnostics(&mut self) -> crate::diagnostics::Diagnostics {
-        let clock = self.clock();
-        let d = self.world.resource::<crate::diagnostics::Diagnostics>();
-        if d.step != clock.step || d.t != clock.t || d.n == 0 {
-            use bevy_ecs::system::RunSystemOnce;
-            self.world
-                .run_system_once(crate::diagnostics::compute_diagnostics_now::<V>)
-                .expect("diagnostics system runs");
-        }
-        self.world
-            .resource::<crate::diagnostics::Diagnostics>()
-            .clone()
-    }
-
-    /// Evaluates the expensive diagnostics only every `every` steps (and at t = 0).
-    pub fn set_diagnostics_every(&mut self, every: u64) {
-        self.world
-            .insert_resource(crate::diagnostics::DiagnosticsEvery(every.max(1)));
     }
 }
 

@@ -132,6 +132,17 @@ impl Scene {
         Scene::from_str(&text, path, registry)
     }
 
+    /// The plugin the scene names for an exclusive role (`Role::Integrator`,
+    /// `Role::Diagnostics`), if any; two are an error naming both.
+    pub fn plugin_of_role(
+        &self,
+        role: dualsph_core::plugin::Role,
+    ) -> Result<Option<&dyn PluginConfig>, String> {
+        validate::one_of_role(self, role).map_err(|p| format!("{}: {}", p.field, p.message))?;
+        let mut named = self.plugins.iter().filter(|p| p.role() == role);
+        Ok(named.next().map(|p| p.as_ref()))
+    }
+
     /// Parses `text` without validating it (syntax, field names and types only).
     pub fn parse_only(text: &str, path: &Path, registry: &Registry) -> Result<Scene, SceneError> {
         plugins_list::with_registry(registry, || ron_options().from_str::<Scene>(text))

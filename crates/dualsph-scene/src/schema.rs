@@ -319,7 +319,7 @@ impl Default for OutputSettings {
 
 /// The optional `health` section: how far density and h may leave their ranges at
 /// initialisation before a run counts as blown up (`[min/below, max·above]`; see
-/// `dualsph_core::diagnostics::HealthBounds`). Each factor must be a finite number > 1; a
+/// `dualsph_diagnostics::HealthBounds`). Each factor must be a finite number > 1; a
 /// bad value is a parse error at its own position.
 #[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -340,7 +340,7 @@ pub struct HealthSettings {
 
 impl Default for HealthSettings {
     fn default() -> Self {
-        use dualsph_core::diagnostics::{DEFAULT_DENSITY_FACTORS, DEFAULT_H_FACTORS};
+        use dualsph_diagnostics::{DEFAULT_DENSITY_FACTORS, DEFAULT_H_FACTORS};
         HealthSettings {
             density_below: DEFAULT_DENSITY_FACTORS.0,
             density_above: DEFAULT_DENSITY_FACTORS.1,

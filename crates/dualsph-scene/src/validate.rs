@@ -4,7 +4,7 @@ use crate::Scene;
 use crate::error::Problem;
 use crate::generate::{self, MAX_PARTICLES};
 use crate::schema::{BoxRegion, Generator, TimeStep, Velocity};
-use dualsph_core::plugin::SceneInfo;
+use dualsph_core::plugin::{Role, SceneInfo};
 use std::cmp::Ordering;
 
 type Check = Result<(), Problem>;
@@ -162,7 +162,7 @@ fn settings(s: &Scene) -> Check {
             viscous,
         } => {
             fraction("integrator.dt.courant", courant)?;
-            let limit = dualsph_core::integrator::CFL_LIMIT;
+            let limit = dualsph_integrator::time_step::CFL_LIMIT;
             if courant > limit {
                 return Err(Problem::new(
                     "integrator.dt.courant",
@@ -197,6 +197,34 @@ fn settings(s: &Scene) -> Check {
     for (i, p) in s.plugins.iter().enumerate() {
         p.validate(&info)
             .map_err(|m| Problem::new(format!("plugins[{i}] ({})", p.name()), m))?;
+    }
+    for role in [Role::Integrator, Role::Diagnostics] {
+        one_of_role(s, role)?;
+    }
+    Ok(())
+}
+
+/// At most one plugin of an exclusive role (an integrator, the diagnostics); the problem
+/// names the first two.
+pub(crate) fn one_of_role(s: &Scene, role: Role) -> Check {
+    let mut found = s
+        .plugins
+        .iter()
+        .enumerate()
+        .filter(|(_, p)| p.role() == role);
+    if let (Some((i, a)), Some((j, b))) = (found.next(), found.next()) {
+        let what = match role {
+            Role::Integrator => "integrators",
+            _ => "diagnostics plugins",
+        };
+        return Err(Problem::new(
+            format!("plugins[{j}] ({})", b.name()),
+            format!(
+                "two {what} in one scene, {} (plugins[{i}]) and {}: keep one",
+                a.name(),
+                b.name()
+            ),
+        ));
     }
     Ok(())
 }

@@ -115,7 +115,7 @@ impl SimPlugin for ContinuityDensity {
                 "SummationDensity and ContinuityDensity cannot both set the density".into(),
             ));
         }
-        dualsph_core::integrator::ensure_density_integration(sim)?;
+        dualsph_core::integrate::ensure_density_integration(sim)?;
         match self.form {
             ContinuityForm::Pairwise => sim.add_pair_term(ContinuityTerm),
             ContinuityForm::VelocityDivergence => {

@@ -6,7 +6,7 @@
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::bodies::Bodies;
 use dualsph_core::chunks::DENSE;
-use dualsph_core::integrator::ensure_energy_equation;
+use dualsph_core::integrate::ensure_energy_equation;
 use dualsph_core::prelude::*;
 use rayon::prelude::*;
 use serde::Deserialize;

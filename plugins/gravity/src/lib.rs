@@ -4,7 +4,7 @@
 
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::chunks::{DENSE, MIN_LEN};
-use dualsph_core::diagnostics::ExternalPotentials;
+use dualsph_core::potentials::ExternalPotentials;
 use dualsph_core::prelude::*;
 use rayon::prelude::*;
 use serde::Deserialize;

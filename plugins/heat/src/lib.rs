@@ -5,7 +5,7 @@
 //! any h field. With equal h the two supports add up to the classical `(κ_i + κ_j)` form.
 #![warn(missing_docs)]
 
-use dualsph_core::integrator::ensure_energy_equation;
+use dualsph_core::integrate::ensure_energy_equation;
 use dualsph_core::prelude::*;
 use serde::Deserialize;
 

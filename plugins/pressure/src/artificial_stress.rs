@@ -19,7 +19,7 @@
 //! 159, 290–311.
 
 use crate::{add_pressure_like, is_corrected, neighbour_lanes, owner_factor};
-use dualsph_core::integrator::ensure_energy_equation;
+use dualsph_core::integrate::ensure_energy_equation;
 use dualsph_core::prelude::*;
 use serde::Deserialize;
 

@@ -12,7 +12,7 @@
 mod artificial_stress;
 pub use artificial_stress::{ArtificialStress, ArtificialStressTerm};
 
-use dualsph_core::integrator::ensure_energy_equation;
+use dualsph_core::integrate::ensure_energy_equation;
 use dualsph_core::prelude::*;
 use serde::Deserialize;
 

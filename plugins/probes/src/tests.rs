@@ -40,6 +40,8 @@ fn block_sim(depth: Real, dx: Real) -> Sim<DVec2> {
         })
         .collect();
     sim.spawn_particles(&parts);
+    let integrator: &dyn PluginConfig = &dualsph_integrator::LeapfrogPC {};
+    sim.build_plugin(integrator).unwrap();
     sim
 }
 

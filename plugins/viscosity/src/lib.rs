@@ -12,7 +12,7 @@
 //!   being symmetric, angular momentum is conserved exactly.
 #![warn(missing_docs)]
 
-use dualsph_core::integrator::ensure_energy_equation;
+use dualsph_core::integrate::ensure_energy_equation;
 use dualsph_core::prelude::*;
 use dualsph_core::sim::MaxViscosity;
 use dualsph_kernel_correction::ensure_velocity_gradient;

@@ -20,7 +20,6 @@ impl<V: Vector> Sim<V> {
             cols.register::<V, Density>(S::state("density", "rho")),
             cols.register::<V, SmoothingLength>(S::state("smoothing_length", "h")),
             cols.register::<V, Acceleration<V>>(S::restart_only("acceleration")),
-            cols.register::<V, Kinematics<V>>(S::restart_only("kinematics")),
             cols.register::<V, BodyId>(S::state("body", "body")),
         ];
         for r in core {
@@ -41,10 +40,6 @@ impl<V: Vector> Sim<V> {
                 Density(p.density),
                 SmoothingLength(p.h),
                 Acceleration(V::zero()),
-                Kinematics {
-                    v0: p.vel,
-                    a0: V::zero(),
-                },
                 BodyId(p.body),
             ));
             eps.push(p.internal_energy);

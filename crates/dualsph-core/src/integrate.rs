@@ -1,0 +1,390 @@
+//! What is integrated in time, as data: the registry of integrated quantities and the slot of
+//! the one time-integration scheme. The schemes themselves are plugins (the `dualsph-integrator`
+//! crate: the leapfrog predictor–corrector of §6 and a position Verlet); the core holds no
+//! update formula.
+//!
+//! **Quantities.** Position (advanced by the velocity) and velocity (by the acceleration) are
+//! integrated in every simulation: a scheme updates [`Position`], [`Velocity`] and
+//! [`Acceleration`] itself. Any other per-particle scalar `x` with `dx/dt = ẋ` is declared by
+//! the plugin that needs it, [`Sim::integrate`]`::<S, R>()`: the column `S` is advanced by the
+//! rate `R` that the step's systems compute (the continuity equation's `Density` by
+//! `DensityRate`, the energy equation's `InternalEnergy` by `EnergyRate`: see
+//! [`ensure_density_integration`] and [`ensure_energy_equation`]).
+//!
+//! **Schemes.** A scheme is a [`Scheme`] set once per simulation ([`Sim::set_integrator`]; a
+//! second one is an error naming both). It adds its own systems for the kinematics, and for
+//! every declared scalar — declared before or after it is set — it is handed a
+//! [`ScalarEquation`], through which it adds systems that run a per-block kernel
+//! ([`ScalarKernel`]) over the scalar's values, rates and two registers per particle
+//! ([`Registers`], a column the scheme adds and owns: its start-of-step values).
+//!
+//! The scalar systems copy each block of up to [`BLOCK`] particles into arrays of reals, run
+//! the scheme's kernel on them and copy the values and registers back: the scheme's loop is a
+//! plain array loop, compiled once, whatever the column's type. Each particle is updated from
+//! its own data, so the result does not depend on the number of threads.
+
+use crate::chunks::{DENSE, MIN_LEN};
+use crate::columns::{ColumnSpec, ColumnValue, Shape};
+use crate::components::*;
+use crate::math::{Real, Vector};
+use crate::neighbours::Neighbours;
+use crate::sim::{InitialInternalEnergy, Sim, SimClock, SimError, StepSet, SystemOrder};
+use crate::store::single_table;
+use bevy_ecs::component::Mutable;
+use bevy_ecs::prelude::*;
+use rayon::prelude::*;
+use std::any::TypeId;
+use std::marker::PhantomData;
+use std::sync::Arc;
+
+/// A per-particle scalar that can be integrated in time (the `x` of `dx/dt = ẋ`).
+pub trait ScalarState: Component<Mutability = Mutable> {
+    /// The value.
+    fn value(&self) -> Real;
+    /// Sets the value.
+    fn set_value(&mut self, x: Real);
+}
+
+/// A per-particle rate `ẋ` of an integrated scalar, written by the step's systems.
+pub trait ScalarRate: Component {
+    /// The rate from the last evaluation.
+    fn rate(&self) -> Real;
+}
+
+macro_rules! scalar_state {
+    ($($t:ty),*) => {$(
+        impl ScalarState for $t {
+            #[inline(always)]
+            fn value(&self) -> Real {
+                self.0
+            }
+            #[inline(always)]
+            fn set_value(&mut self, x: Real) {
+                self.0 = x
+            }
+        }
+    )*};
+}
+scalar_state!(Density, InternalEnergy);
+
+macro_rules! scalar_rate {
+    ($($t:ty),*) => {$(
+        impl ScalarRate for $t {
+            #[inline(always)]
+            fn rate(&self) -> Real {
+                self.rate
+            }
+        }
+    )*};
+}
+scalar_rate!(DensityRate, EnergyRate);
+
+/// Two reals per particle that a scheme keeps for the integrated scalar `S` (e.g. its value
+/// and rate at the start of the step). Added, as a column, by the scheme that uses them
+/// ([`ScalarEquation::add_registers`]); no other system reads them.
+#[derive(Component)]
+pub struct Registers<S: Send + Sync + 'static> {
+    /// The values, in the scheme's own meaning.
+    pub values: [Real; 2],
+    _of: PhantomData<fn() -> S>,
+}
+
+impl<S: Send + Sync + 'static> Default for Registers<S> {
+    fn default() -> Self {
+        Registers {
+            values: [0.0; 2],
+            _of: PhantomData,
+        }
+    }
+}
+
+impl<S: Send + Sync + 'static> std::fmt::Debug for Registers<S> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "Registers({:?})", self.values)
+    }
+}
+
+impl<V: Vector, S: Send + Sync + 'static> ColumnValue<V> for Registers<S> {
+    const SHAPE: Shape = Shape::Record;
+    fn width() -> usize {
+        2
+    }
+    fn put(&self, out: &mut Vec<Real>) {
+        out.extend(self.values);
+    }
+    fn take(&mut self, values: &[Real]) {
+        self.values = [values[0], values[1]];
+    }
+}
+
+/// Particles updated per call of a [`ScalarKernel`] (the last block of a table may be
+/// shorter).
+pub const BLOCK: usize = 512;
+
+/// One block of particles of an integrated scalar, as arrays of reals of equal length.
+#[derive(Debug)]
+pub struct ScalarRows<'a> {
+    /// The values `x_i`; what the kernel leaves here is the new value.
+    pub value: &'a mut [Real],
+    /// The rates `ẋ_i` from the last evaluation.
+    pub rate: &'a [Real],
+    /// The scheme's [`Registers`] of each particle, kept from step to step.
+    pub registers: &'a mut [[Real; 2]],
+}
+
+/// A scheme's update of one block of an integrated scalar (the clock gives dt).
+pub type ScalarKernel = Arc<dyn Fn(&SimClock, ScalarRows<'_>) + Send + Sync>;
+
+/// An integrated scalar with its types erased: what a [`Scheme`] needs to update it.
+pub trait ScalarEquation<V: Vector>: Send + Sync {
+    /// The name of the quantity (`density`, `internal_energy`), for system labels.
+    fn name(&self) -> &'static str;
+    /// Adds the [`Registers`] column of this scalar to every particle (zeros), named
+    /// `<name>_registers`: kept in checkpoints when `restart` (values that a step reads before
+    /// it writes them), scratch otherwise.
+    fn add_registers(&self, sim: &mut Sim<V>, restart: bool) -> Result<(), SimError>;
+    /// Adds a system to `set` that runs `kernel` over every block of particles.
+    fn add_system<'s>(
+        &self,
+        sim: &'s mut Sim<V>,
+        set: StepSet,
+        label: String,
+        kernel: ScalarKernel,
+    ) -> SystemOrder<'s>;
+}
+
+/// The equation `dS/dt = R`.
+struct Equation<S, R> {
+    name: &'static str,
+    registers: &'static str,
+    _types: PhantomData<fn() -> (S, R)>,
+}
+
+impl<V: Vector, S: ScalarState, R: ScalarRate> ScalarEquation<V> for Equation<S, R> {
+    fn name(&self) -> &'static str {
+        self.name
+    }
+
+    fn add_registers(&self, sim: &mut Sim<V>, restart: bool) -> Result<(), SimError> {
+        let spec = match restart {
+            true => ColumnSpec::restart_only(self.registers),
+            false => ColumnSpec::scratch(self.registers),
+        };
+        sim.add_column(spec, |_| Registers::<S>::default())
+    }
+
+    fn add_system<'s>(
+        &self,
+        sim: &'s mut Sim<V>,
+        set: StepSet,
+        label: String,
+        kernel: ScalarKernel,
+    ) -> SystemOrder<'s> {
+        let system = move |clock: Res<SimClock>, q: Query<(&mut S, &R, &mut Registers<S>)>| {
+            run_blocks(&clock, q, &*kernel)
+        };
+        sim.add_system(set, label, system)
+    }
+}
+
+/// Runs `kernel` over the particles in blocks of [`BLOCK`], in parallel over blocks.
+#[inline(never)] // a frame of its own in profiles
+fn run_blocks<S: ScalarState, R: ScalarRate>(
+    clock: &SimClock,
+    mut q: Query<(&mut S, &R, &mut Registers<S>)>,
+    kernel: &(dyn Fn(&SimClock, ScalarRows<'_>) + Send + Sync),
+) {
+    for (mut s, r, mut regs) in q.contiguous_iter_mut().expect(DENSE) {
+        let (s, regs): (&mut [S], &mut [Registers<S>]) = (&mut s, &mut regs);
+        let blocks = s.par_chunks_mut(BLOCK).zip(r.par_chunks(BLOCK));
+        let blocks = blocks.zip(regs.par_chunks_mut(BLOCK));
+        let blocks = blocks.with_min_len(MIN_LEN.div_ceil(BLOCK));
+        blocks.for_each(|((s, r), regs)| {
+            let n = s.len();
+            let (mut value, mut rate) = ([0.0; BLOCK], [0.0; BLOCK]);
+            let mut registers = [[0.0; 2]; BLOCK];
+            for k in 0..n {
+                (value[k], rate[k]) = (s[k].value(), r[k].rate());
+                registers[k] = regs[k].values;
+            }
+            let rows = ScalarRows {
+                value: &mut value[..n],
+                rate: &rate[..n],
+                registers: &mut registers[..n],
+            };
+            kernel(clock, rows);
+            for k in 0..n {
+                s[k].set_value(value[k]);
+                regs[k].values = registers[k];
+            }
+        });
+    }
+}
+
+/// `s` as a `&'static str`, leaked once per distinct string of the process (column names are
+/// static; a scalar's registers are named after it).
+fn intern(s: String) -> &'static str {
+    use std::collections::BTreeSet;
+    use std::sync::{Mutex, OnceLock};
+    static NAMES: OnceLock<Mutex<BTreeSet<&'static str>>> = OnceLock::new();
+    let mut names = NAMES
+        .get_or_init(Default::default)
+        .lock()
+        .unwrap_or_else(|e| e.into_inner());
+    if let Some(known) = names.get(s.as_str()) {
+        return known;
+    }
+    let name: &'static str = Box::leak(s.into_boxed_str());
+    names.insert(name);
+    name
+}
+
+/// A time-integration scheme: the one plugin of a simulation that advances its state.
+pub trait Scheme<V: Vector>: Send + Sync + 'static {
+    /// The plugin's name (`LeapfrogPC`), for messages and the plan.
+    fn name(&self) -> &'static str;
+    /// Adds the scheme's systems for one declared scalar (called once per scalar, whenever
+    /// it is declared; the systems are attributed to the scheme's plugin).
+    fn integrate_scalar(
+        &self,
+        sim: &mut Sim<V>,
+        equation: &dyn ScalarEquation<V>,
+    ) -> Result<(), SimError>;
+}
+
+/// The integrated scalars and the scheme of a simulation.
+pub(crate) struct Integration<V: Vector> {
+    /// The declared scalars, in declaration order, with the type of their column.
+    equations: Vec<(TypeId, Arc<dyn ScalarEquation<V>>)>,
+    /// The scheme, once set.
+    scheme: Option<Arc<dyn Scheme<V>>>,
+}
+
+impl<V: Vector> Default for Integration<V> {
+    fn default() -> Self {
+        Integration {
+            equations: Vec::new(),
+            scheme: None,
+        }
+    }
+}
+
+impl<V: Vector> Sim<V> {
+    /// Declares that column `S` is advanced in time by the rate `R` (`name` labels the
+    /// scheme's systems). Declaring the same `S` again does nothing; returns true the first
+    /// time. The columns themselves are added by the caller ([`Sim::add_column`]).
+    pub fn integrate<S: ScalarState, R: ScalarRate>(
+        &mut self,
+        name: &'static str,
+    ) -> Result<bool, SimError> {
+        let id = TypeId::of::<S>();
+        if self.integration.equations.iter().any(|(t, _)| *t == id) {
+            return Ok(false);
+        }
+        let equation: Arc<dyn ScalarEquation<V>> = Arc::new(Equation::<S, R> {
+            name,
+            registers: intern(format!("{name}_registers")),
+            _types: PhantomData,
+        });
+        self.integration.equations.push((id, equation.clone()));
+        if let Some(scheme) = self.integration.scheme.clone() {
+            self.as_plugin(scheme.name(), |sim| {
+                scheme.integrate_scalar(sim, &*equation)
+            })?;
+        }
+        Ok(true)
+    }
+
+    /// The names of the declared scalars, in declaration order.
+    pub fn integrated_scalars(&self) -> Vec<&'static str> {
+        let eqs = &self.integration.equations;
+        eqs.iter().map(|(_, e)| e.name()).collect()
+    }
+
+    /// Sets the time-integration scheme (called by its plugin's `build`) and lets it add its
+    /// systems for the scalars declared so far. A simulation has one scheme: a second is an
+    /// error that names both.
+    pub fn set_integrator(&mut self, scheme: impl Scheme<V>) -> Result<(), SimError> {
+        if let Some(first) = &self.integration.scheme {
+            return Err(SimError::Build(format!(
+                "two integrators, {} and {}: a simulation is advanced by one (remove one of them)",
+                first.name(),
+                scheme.name()
+            )));
+        }
+        let scheme: Arc<dyn Scheme<V>> = Arc::new(scheme);
+        self.integration.scheme = Some(scheme.clone());
+        let equations: Vec<_> = self.integration.equations.to_vec();
+        self.as_plugin(scheme.name(), |sim| {
+            for (_, equation) in &equations {
+                scheme.integrate_scalar(sim, &**equation)?;
+            }
+            Ok(())
+        })
+    }
+
+    /// The name of the scheme, once set.
+    pub fn integrator(&self) -> Option<&'static str> {
+        self.integration.scheme.as_ref().map(|s| s.name())
+    }
+}
+
+/// Adds the internal-energy equation once: `InternalEnergy` (initial ε from the scene) and
+/// `EnergyRate` on every particle, and declares `dε/dt` integrated.
+pub fn ensure_energy_equation<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimError> {
+    if !sim.enable_feature("energy_equation") {
+        return Ok(());
+    }
+    let eps = sim.world.resource::<InitialInternalEnergy>().0.clone();
+    let spec = ColumnSpec::state("internal_energy", "e");
+    sim.add_column(spec, move |id| InternalEnergy(eps[id as usize]))?;
+    let spec = ColumnSpec::restart_only("energy_rate");
+    sim.add_column(spec, move |_| EnergyRate { rate: 0.0 })?;
+    sim.integrate::<InternalEnergy, EnergyRate>("internal_energy")?;
+    Ok(())
+}
+
+/// Adds the integrated density (continuity) once: `DensityRate` on every particle, and
+/// declares `dρ/dt` integrated.
+pub fn ensure_density_integration<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimError> {
+    if !sim.enable_feature("density_integration") {
+        return Ok(());
+    }
+    let spec = ColumnSpec::restart_only("density_rate");
+    sim.add_column(spec, move |_| DensityRate { rate: 0.0 })?;
+    sim.integrate::<Density, DensityRate>("density")?;
+    Ok(())
+}
+
+/// Rebuilds the neighbour lists when the skin rule requires it.
+#[inline(never)] // a frame of its own in profiles
+pub fn update_neighbours<V: Vector>(
+    mut nb: ResMut<Neighbours<V>>,
+    q: Query<(&Position<V>, &SmoothingLength)>,
+) {
+    let (pos, h) = single_table(q.contiguous_iter().expect(DENSE)).unwrap_or((&[], &[]));
+    nb.update_with(
+        pos.len(),
+        |i| pos[i].0,
+        |p, r| {
+            p.extend(pos.iter().map(|x| x.0));
+            r.extend(h.iter().map(|x| x.0));
+        },
+    );
+}
+
+/// Advances the clock after a completed step.
+pub fn advance_clock(mut clock: ResMut<SimClock>) {
+    clock.t += clock.dt;
+    clock.step += 1;
+}
+
+/// The systems of every simulation, whatever its plugins: the neighbour lists and the clock.
+pub(crate) fn add_core_systems<V: Vector>(sim: &mut Sim<V>) {
+    sim.add_system(
+        StepSet::Neighbours,
+        "update_neighbours (Verlet skin)",
+        update_neighbours::<V>,
+    );
+    sim.add_system(StepSet::Advance, "advance_clock", advance_clock);
+}

@@ -1,0 +1,89 @@
+//! `Diagnostics()`: the conservation diagnostics and the health check of a run, installed by
+//! default (a scene that names none gets it).
+//!
+//! * [`totals`]: mass, momentum, angular momentum and energies, per body and in all, and the
+//!   largest density variation ([`Diagnostics`], every `output.diagnostics_every` steps and
+//!   on demand, [`SimDiagnostics::diagnostics`]).
+//! * [`health`]: the first non-finite or unphysical value of the state, a density or h
+//!   outside its sane range, a particle far outside the domain ([`Health`], every step): what
+//!   the runner stops a blown-up run on.
+//! * [`balance`]: the relative net force and torque of the pair sweep ([`PairBalance`], on
+//!   request).
+//!
+//! The potential energy is that of the body forces declared in the core's
+//! [`ExternalPotentials`](dualsph_core::potentials::ExternalPotentials) (gravity's).
+#![warn(missing_docs)]
+
+pub mod balance;
+pub mod health;
+pub mod totals;
+
+pub use balance::{PairBalance, pair_balance, track_pair_balance};
+pub use health::*;
+pub use totals::*;
+
+use dualsph_core::bevy_ecs::system::RunSystemOnce;
+use dualsph_core::prelude::*;
+use serde::Deserialize;
+
+/// `Diagnostics()`: the plugin (no settings; the cadence is the scene's
+/// `output.diagnostics_every`, the health factors its `health` section).
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DiagnosticsPlugin {}
+
+impl SimPlugin for DiagnosticsPlugin {
+    const NAME: &'static str = "Diagnostics";
+    const SUMMARY: &'static str =
+        "conservation totals (per body and in all) and the health check of the state (default)";
+    const ROLE: Role = Role::Diagnostics;
+
+    fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
+        install(sim);
+        Ok(())
+    }
+}
+
+/// Adds the resources and the systems: [`check_health`] and [`compute_diagnostics`], in
+/// `Diagnostics`.
+pub fn install<V: Vector>(sim: &mut Sim<V>) {
+    sim.world.init_resource::<Diagnostics>();
+    sim.world.init_resource::<InitialDensity>();
+    sim.world.init_resource::<Health>();
+    sim.world.init_resource::<HealthBounds>();
+    sim.world.init_resource::<DiagnosticsEvery>();
+    sim.add_system(StepSet::Diagnostics, "check_health", check_health::<V>);
+    sim.add_system(
+        StepSet::Diagnostics,
+        "compute_diagnostics (every diagnostics_every steps)",
+        compute_diagnostics::<V>,
+    );
+}
+
+/// The diagnostics of a [`Sim`], on demand.
+pub trait SimDiagnostics {
+    /// The diagnostics of the current state, computed now if the last evaluation is older
+    /// (see [`DiagnosticsEvery`]). Works without the plugin too (then always computed now,
+    /// with the densities of the first call as the initial ones).
+    fn diagnostics(&mut self) -> Diagnostics;
+    /// Evaluates the diagnostics only every `every` steps (and at t = 0).
+    fn set_diagnostics_every(&mut self, every: u64);
+}
+
+impl<V: Vector> SimDiagnostics for Sim<V> {
+    fn diagnostics(&mut self) -> Diagnostics {
+        let clock = self.clock();
+        self.world.init_resource::<Diagnostics>();
+        self.world.init_resource::<InitialDensity>();
+        let d = self.world.resource::<Diagnostics>();
+        if d.step != clock.step || d.t != clock.t || d.n == 0 {
+            // the system's parameters are resources that exist (above, and the core's)
+            let _ = self.world.run_system_once(compute_diagnostics_now::<V>);
+        }
+        self.world.resource::<Diagnostics>().clone()
+    }
+
+    fn set_diagnostics_every(&mut self, every: u64) {
+        self.world.insert_resource(DiagnosticsEvery(every.max(1)));
+    }
+}

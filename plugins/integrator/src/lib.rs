@@ -1,0 +1,74 @@
+//! Time integration as plugins. A scene names its scheme among its plugins — `LeapfrogPC()`
+//! (the default, installed when the scene names none) or `PositionVerlet()` — and a scene
+//! with two is refused, naming both.
+//!
+//! * [`LeapfrogPC`] ([`leapfrog`]): the leapfrog predictor–corrector of [RenDSSPH] §6, forces
+//!   at the end of the step.
+//! * [`PositionVerlet`] ([`verlet`]): the Störmer–Verlet scheme in drift–kick–drift form,
+//!   forces at the middle of the step, with a predicted mid-step velocity for
+//!   velocity-dependent forces.
+//!
+//! A scheme advances position and velocity, and every scalar the scene's plugins declare
+//! with `Sim::integrate` (density with the continuity equation, internal energy with the
+//! energy equation; see [`dualsph_core::integrate`]). Both install the time-step rule of
+//! [`time_step`] (`choose_dt`, `check_time_step`). A scheme from another crate is written the
+//! same way: a [`Scheme`](dualsph_core::integrate::Scheme) set by its plugin's `build`, with
+//! `ROLE = Role::Integrator`.
+#![warn(missing_docs)]
+
+pub mod leapfrog;
+pub mod time_step;
+pub mod verlet;
+
+use dualsph_core::prelude::*;
+use serde::Deserialize;
+
+/// The registered name of [`LeapfrogPC`].
+pub const LEAPFROG_PC: &str = "LeapfrogPC";
+/// The registered name of [`PositionVerlet`].
+pub const POSITION_VERLET: &str = "PositionVerlet";
+
+/// Refuses a second scheme before anything of this one is added.
+fn only_scheme<V: Vector>(sim: &Sim<V>, name: &str) -> Result<(), SimError> {
+    match sim.integrator() {
+        Some(first) => Err(SimError::Build(format!(
+            "two integrators, {first} and {name}: a simulation is advanced by one (remove one \
+             of them)"
+        ))),
+        None => Ok(()),
+    }
+}
+
+/// `LeapfrogPC()`: the leapfrog predictor–corrector of [RenDSSPH] §6 (see [`leapfrog`]).
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LeapfrogPC {}
+
+impl SimPlugin for LeapfrogPC {
+    const NAME: &'static str = LEAPFROG_PC;
+    const SUMMARY: &'static str =
+        "time integration: leapfrog predictor-corrector, forces at the end of the step (default)";
+    const ROLE: Role = Role::Integrator;
+
+    fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
+        only_scheme(sim, Self::NAME)?;
+        leapfrog::install(sim)
+    }
+}
+
+/// `PositionVerlet()`: the Störmer–Verlet scheme in drift–kick–drift form (see [`verlet`]).
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PositionVerlet {}
+
+impl SimPlugin for PositionVerlet {
+    const NAME: &'static str = POSITION_VERLET;
+    const SUMMARY: &'static str =
+        "time integration: Stormer-Verlet drift-kick-drift, forces at the middle of the step";
+    const ROLE: Role = Role::Integrator;
+
+    fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
+        only_scheme(sim, Self::NAME)?;
+        verlet::install(sim)
+    }
+}
