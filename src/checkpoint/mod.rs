@@ -26,8 +26,9 @@ use std::path::{Path, PathBuf};
 
 /// First bytes of every checkpoint file.
 pub const MAGIC: &[u8; 8] = b"DSPHCKPT";
-/// Version of the layout written by this build.
-pub const FORMAT_VERSION: u32 = 2;
+/// Version of the layout written by this build (of the file and of the columns it carries); a
+/// file of another version is refused.
+pub const FORMAT_VERSION: u32 = 3;
 const HEADER_LEN: usize = 8 + 4 + 8 + 8;
 
 /// One particle component: `width` reals per particle, particles in id order.

@@ -17,6 +17,8 @@ use bevy_ecs::system::ScheduleSystem;
 use std::collections::BTreeSet;
 
 mod particles;
+mod plan;
+pub use plan::Plan;
 use std::marker::PhantomData;
 
 /// Errors from building or running a simulation.
@@ -227,19 +229,6 @@ impl SystemOrder<'_> {
     }
 }
 
-/// What a scene will run: the systems in order and the particle components.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Plan {
-    /// `(set, label, plugin)` in execution order; the plugin that added the system (`core`
-    /// for the engine's own).
-    pub systems: Vec<(StepSet, String, String)>,
-    /// The particles' columns in registration order: type, name, output labels, whether
-    /// checkpointed.
-    pub components: Vec<String>,
-    /// Pair terms as `sweep: term`, sweep by sweep, in order.
-    pub pair_terms: Vec<String>,
-}
-
 /// Puts one column's value on a particle (given its id).
 type PendingColumn = Box<dyn Fn(&mut EntityWorldMut<'_>, u32) + Send + Sync>;
 
@@ -395,51 +384,6 @@ impl<V: Vector> Sim<V> {
             out.extend(inside.into_iter().map(|i| members[i]));
         }
         Ok(out)
-    }
-
-    /// The systems in execution order, the particle components and the pair terms.
-    pub fn plan(&mut self) -> Plan {
-        let order = self
-            .ordered()
-            .unwrap_or_else(|_| (0..self.systems.len()).collect());
-        let systems = order
-            .into_iter()
-            .map(|k| {
-                let place = &self.systems[k].place;
-                (
-                    self.systems[k].set,
-                    place.label.clone(),
-                    place.plugin.clone(),
-                )
-            })
-            .collect();
-        let components = std::iter::once("ParticleId (id)".to_string())
-            .chain(self.world.resource::<Columns>().iter().map(|c| {
-                let output = if c.spec.output {
-                    format!("output {}", c.labels(V::DIM).join(","))
-                } else {
-                    "not output".into()
-                };
-                let restart = if c.spec.restart {
-                    "checkpointed"
-                } else {
-                    "scratch"
-                };
-                format!("{} ({}: {output}; {restart})", c.type_name, c.spec.name)
-            }))
-            .collect();
-        let pair_terms = self
-            .world
-            .resource::<PairSweeps<V>>()
-            .sweeps
-            .iter()
-            .flat_map(|s| s.terms.iter().map(|t| format!("{}: {}", s.name, t.name())))
-            .collect();
-        Plan {
-            systems,
-            components,
-            pair_terms,
-        }
     }
 
     /// Checks that an integrator is set ([`Sim::set_integrator`]), the plugin requirements,

@@ -1,5 +1,6 @@
-//! `LeapfrogPC()`: the leapfrog predictor–corrector of [RenDSSPH] §6, one force evaluation per
-//! step (the default scheme).
+//! `LeapfrogPC()`: the leapfrog predictor–corrector of Ren, Dai, Zhuang & Rabczuk,
+//! *Dual-support Smoothed Particle Hydrodynamics* (preprint; RenDSSPH in
+//! `docs/references.md`), §6 steps 1–3, one force evaluation per step (the default scheme).
 //!
 //! Predictor (in `Predict`):
 //! `r^{t+Δt} = r^t + Δt v^t + Δt²/2 a^t`, `v^p = v^t + Δt a^t`, `x^p = x^t + Δt ẋ^t` for every

@@ -2,7 +2,7 @@
 //! (the default, installed when the scene names none) or `PositionVerlet()` — and a scene
 //! with two is refused, naming both.
 //!
-//! * [`LeapfrogPC`] ([`leapfrog`]): the leapfrog predictor–corrector of [RenDSSPH] §6, forces
+//! * [`LeapfrogPC`] ([`leapfrog`]): the leapfrog predictor–corrector of RenDSSPH §6, forces
 //!   at the end of the step.
 //! * [`PositionVerlet`] ([`verlet`]): the Störmer–Verlet scheme in drift–kick–drift form,
 //!   forces at the middle of the step, with a predicted mid-step velocity for
@@ -39,7 +39,7 @@ fn only_scheme<V: Vector>(sim: &Sim<V>, name: &str) -> Result<(), SimError> {
     }
 }
 
-/// `LeapfrogPC()`: the leapfrog predictor–corrector of [RenDSSPH] §6 (see [`leapfrog`]).
+/// `LeapfrogPC()`: the leapfrog predictor–corrector of RenDSSPH §6 (see [`leapfrog`]).
 #[derive(Debug, Clone, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LeapfrogPC {}

@@ -36,8 +36,10 @@ fn limit(coefficients: (Real, Real, Real), visc: Real, s: (Real, Real, Real, Rea
     dt
 }
 
-/// Chooses dt for this step: fixed, or the smallest particle limit (see [`limit`]) capped by
-/// `max_dt`; shortened to land on the end time.
+/// Chooses dt for this step: fixed, or the smallest over the particles of
+/// `min(C_cfl h/(c + |v|), C_f √(h/|a|), C_v ρ h²/μ)` (the acoustic, force and viscous
+/// criteria, each with the particle's own support radius h) capped by `max_dt`; shortened to
+/// land on the end time.
 #[inline(never)] // a frame of its own in profiles
 pub fn choose_dt<V: Vector>(
     mut clock: ResMut<SimClock>,

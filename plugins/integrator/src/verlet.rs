@@ -13,20 +13,22 @@
 //! * (V4) `v^{n+1} = v^n + Δt a^{n+½}`, `x^{n+1} = x^n + Δt ẋ^{n+½}` — kick, in `Correct`;
 //! * (V5) `r^{n+1} = r^{n+½} + Δt/2 v^{n+1}` — drift, in `Correct`.
 //!
-//! For forces that depend on position only, (V1), (V4), (V5) are the position Verlet of
-//! Hairer, Lubich & Wanner, *Geometric numerical integration illustrated by the Störmer–Verlet
-//! method*, Acta Numerica 12 (2003) 399–450 (§1, the Störmer–Verlet method and its adjoint
-//! form): symplectic, time-reversible and of second order; (V2) is not used then. With
-//! velocity-dependent forces and integrated scalars the rates at the mid-step come from
-//! the state predicted by (V2), lagging by half a step: its error is O(Δt²), so the kick (a
-//! midpoint rule) keeps second order — the same construction as the "Symplectic" scheme of
+//! For forces that depend on position only, (V1), (V4), (V5) are the Störmer–Verlet method in
+//! its position form (Hairer, Lubich & Wanner, *Geometric numerical integration illustrated
+//! by the Störmer–Verlet method*, Acta Numerica 12 (2003) 399–450; Hairer2003 in
+//! `docs/references.md`): symplectic, time-reversible and of second order, and (V2) changes
+//! nothing. With velocity-dependent forces and integrated scalars the rates at the middle of
+//! the step come from the state predicted by (V2) with the rates of the last evaluation, half
+//! a step old: its error is O(Δt²), so the kick, a midpoint rule, keeps second order (without
+//! (V2) the order falls to one, `tests/schemes.rs`). This is the "Symplectic" time stepping of
 //! DualSPHysics (Domínguez et al., *DualSPHysics: from fluid dynamics to multiphysics
-//! problems*, Comput. Part. Mech. 9 (2022) 867–895), whose density update is the plain
-//! midpoint rule here.
+//! problems*, Comput. Part. Mech. 9 (2022) 867–895; Domínguez2022), here with the plain
+//! midpoint rule for the density.
 //!
 //! Compared with [`crate::LeapfrogPC`], which evaluates the forces at the end of the step
-//! (`r^{n+1}`), the forces here are evaluated at `r^{n+½}`: the two agree to second order and
-//! differ in their errors (`tests/schemes.rs` measures both). The start-of-step values `v^n`
+//! (`r^{n+1}`; for position-only forces it is the velocity form of Störmer–Verlet), the forces
+//! here are evaluated at `r^{n+½}`: the two agree to second order and differ in their errors
+//! (`tests/schemes.rs` measures both). The start-of-step values `v^n`
 //! and `x^n` are the scheme's own columns, written in `Predict` before `Correct` reads them,
 //! so they are not kept in checkpoints.
 
