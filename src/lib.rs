@@ -127,8 +127,11 @@ fn vector<V: Vector>(x: &[Real], what: &str) -> Result<V, SimError> {
     })
 }
 
-/// Builds a simulation of dimension `V::DIM` from a validated scene: core resources,
-/// particles from the generators, then each plugin in the order listed.
+/// Builds a simulation of dimension `V::DIM` from a validated scene: core resources, the
+/// integrator and the diagnostics (the scene's, or [`LeapfrogPC`](plugins::LeapfrogPC) and
+/// [`DiagnosticsPlugin`](plugins::DiagnosticsPlugin) when it names none; two integrators are
+/// an error naming both), particles from the generators and their bodies, then each other
+/// plugin in the order listed.
 pub fn build_sim<V: Vector>(scene: &Scene) -> Result<Sim<V>, SimError> {
     let domain = Domain {
         min: vector::<V>(&scene.domain.min, "domain.min")?,

@@ -261,7 +261,7 @@ pub fn restore<V: Vector>(sim: &mut Sim<V>, c: &Checkpoint) -> Result<(), String
     }
     restore_columns(world, &c.components, n)?;
     restore_neighbours(&mut world.resource_mut::<Neighbours<V>>(), &c.neighbours, n)?;
-    world.resource_mut::<InitialDensity>().0 = c.initial_density.clone();
+    world.insert_resource(InitialDensity(c.initial_density.clone()));
     if let (Some(mut p), Some(rows)) = (world.get_resource_mut::<ProbeState<V>>(), &c.probe_rows) {
         p.rows = rows.clone();
     }

@@ -18,10 +18,11 @@
 //! ([`ScalarKernel`]) over the scalar's values, rates and two registers per particle
 //! ([`Registers`], a column the scheme adds and owns: its start-of-step values).
 //!
-//! The scalar systems copy each block of up to [`BLOCK`] particles into arrays of reals, run
-//! the scheme's kernel on them and copy the values and registers back: the scheme's loop is a
-//! plain array loop, compiled once, whatever the column's type. Each particle is updated from
-//! its own data, so the result does not depend on the number of threads.
+//! The scalar systems copy each block of up to [`BLOCK`] particles into arrays of reals (a
+//! thread's own, reused), run the scheme's kernel on them and copy the values and registers
+//! back: the scheme's loop is a plain array loop, compiled once, whatever the column's type.
+//! Each particle is updated from its own data, so the result does not depend on the number of
+//! threads.
 
 use crate::chunks::{DENSE, MIN_LEN};
 use crate::columns::{ColumnSpec, ColumnValue, Shape};
@@ -34,6 +35,7 @@ use bevy_ecs::component::Mutable;
 use bevy_ecs::prelude::*;
 use rayon::prelude::*;
 use std::any::TypeId;
+use std::cell::RefCell;
 use std::marker::PhantomData;
 use std::sync::Arc;
 
@@ -187,6 +189,19 @@ impl<V: Vector, S: ScalarState, R: ScalarRate> ScalarEquation<V> for Equation<S,
     }
 }
 
+/// A thread's arrays for one block (reused from block to block: no allocation and no zeroing
+/// per block).
+#[derive(Default)]
+struct Scratch {
+    value: Vec<Real>,
+    rate: Vec<Real>,
+    registers: Vec<[Real; 2]>,
+}
+
+thread_local! {
+    static SCRATCH: RefCell<Scratch> = RefCell::new(Scratch::default());
+}
+
 /// Runs `kernel` over the particles in blocks of [`BLOCK`], in parallel over blocks.
 #[inline(never)] // a frame of its own in profiles
 fn run_blocks<S: ScalarState, R: ScalarRate>(
@@ -200,23 +215,29 @@ fn run_blocks<S: ScalarState, R: ScalarRate>(
         let blocks = blocks.zip(regs.par_chunks_mut(BLOCK));
         let blocks = blocks.with_min_len(MIN_LEN.div_ceil(BLOCK));
         blocks.for_each(|((s, r), regs)| {
-            let n = s.len();
-            let (mut value, mut rate) = ([0.0; BLOCK], [0.0; BLOCK]);
-            let mut registers = [[0.0; 2]; BLOCK];
-            for k in 0..n {
-                (value[k], rate[k]) = (s[k].value(), r[k].rate());
-                registers[k] = regs[k].values;
-            }
-            let rows = ScalarRows {
-                value: &mut value[..n],
-                rate: &rate[..n],
-                registers: &mut registers[..n],
-            };
-            kernel(clock, rows);
-            for k in 0..n {
-                s[k].set_value(value[k]);
-                regs[k].values = registers[k];
-            }
+            SCRATCH.with(|scratch| {
+                // the kernel does not enter rayon, so no other block runs on this thread
+                // while the scratch is borrowed
+                let a = &mut *scratch.borrow_mut();
+                a.value.clear();
+                a.value.extend(s.iter().map(|x| x.value()));
+                a.rate.clear();
+                a.rate.extend(r.iter().map(|x| x.rate()));
+                a.registers.clear();
+                a.registers.extend(regs.iter().map(|k| k.values));
+                let rows = ScalarRows {
+                    value: &mut a.value,
+                    rate: &a.rate,
+                    registers: &mut a.registers,
+                };
+                kernel(clock, rows);
+                for (s, x) in s.iter_mut().zip(&a.value) {
+                    s.set_value(*x);
+                }
+                for (k, v) in regs.iter_mut().zip(&a.registers) {
+                    k.values = *v;
+                }
+            })
         });
     }
 }

@@ -38,7 +38,7 @@
 //! matrix) without exactly `dimension` finite components; domain or block `max <= min` on an
 //! axis; non-positive or non-finite spacing, density, h_factor, radius, end_time or fixed dt;
 //! adaptive coefficients outside (0, 1]; negative skin; `diagnostics_every == 0`; a plugin's
-//! own `validate`; more than [`MAX_PARTICLES`] particles (estimated before generating); a
+//! own `validate`; two integrators (or two diagnostics plugins), naming both; more than [`MAX_PARTICLES`] particles (estimated before generating); a
 //! generator that yields no particles; a particle outside the domain; two generators whose
 //! particles come closer than half the smaller spacing; a body declared twice or with an
 //! empty name, a generator naming a body the scene does not declare, or a generator without

@@ -87,3 +87,55 @@ impl<V: Vector> SimDiagnostics for Sim<V> {
         self.world.insert_resource(DiagnosticsEvery(every.max(1)));
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use dualsph_core::sim::{Domain, ParticleInit, SimConfig};
+    use glam::DVec2;
+
+    /// Two particles moving apart, with or without the plugin.
+    fn sim(with_plugin: bool) -> Sim<DVec2> {
+        let mut sim = Sim::<DVec2>::new(SimConfig {
+            kernel: KernelKind::CubicSpline,
+            formulation: Formulation::DualSupport,
+            domain: Domain {
+                min: DVec2::splat(-10.0),
+                max: DVec2::splat(10.0),
+            },
+            skin: 0.1,
+            skin_rule: SkinRule::Fixed,
+            time_stepping: TimeStepping::Fixed(1e-3),
+        });
+        let p = |x: f64, v: f64| ParticleInit {
+            pos: DVec2::new(x, 0.0),
+            vel: DVec2::new(v, 0.0),
+            mass: 2.0,
+            density: 1000.0,
+            h: 0.1,
+            internal_energy: 0.0,
+            body: 0,
+        };
+        sim.spawn_particles(&[p(-1.0, -1.0), p(1.0, 3.0)]);
+        let integrator: &dyn PluginConfig = &dualsph_integrator::LeapfrogPC {};
+        sim.build_plugin(integrator).unwrap();
+        if with_plugin {
+            sim.build_plugin(&DiagnosticsPlugin {}).unwrap();
+        }
+        sim.initialize().unwrap();
+        sim
+    }
+
+    #[test]
+    fn diagnostics_on_demand_work_with_and_without_the_plugin() {
+        for with_plugin in [true, false] {
+            let mut s = sim(with_plugin);
+            s.step().unwrap();
+            let d = s.diagnostics();
+            assert_eq!((d.n, d.step, d.mass), (2, 1, 4.0), "plugin: {with_plugin}");
+            assert_eq!(d.momentum, [4.0, 0.0, 0.0]);
+            assert_eq!(d.e_kin, 0.5 * 2.0 * (1.0 + 9.0));
+            assert_eq!(s.world.contains_resource::<Health>(), with_plugin);
+        }
+    }
+}
