@@ -157,3 +157,42 @@ pub(crate) fn install<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimError> {
     .before("pin_fixed");
     sim.set_integrator(Leapfrog)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn clock(dt: Real) -> SimClock {
+        SimClock {
+            t: 0.0,
+            step: 0,
+            dt,
+            initializing: false,
+            t_end: Real::INFINITY,
+        }
+    }
+
+    #[test]
+    fn the_scalar_predictor_and_corrector_are_the_formulas_of_section_6() {
+        let (dt, x0, r0, r1) = (0.1, 2.0, -3.0, 5.0);
+        let (mut x, mut k) = ([x0], [[0.0; 2]]);
+        predict_scalar(
+            &clock(dt),
+            ScalarRows {
+                value: &mut x,
+                rate: &[r0],
+                registers: &mut k,
+            },
+        );
+        assert_eq!((x[0], k[0]), (x0 + dt * r0, [x0, r0]));
+        correct_scalar(
+            &clock(dt),
+            ScalarRows {
+                value: &mut x,
+                rate: &[r1],
+                registers: &mut k,
+            },
+        );
+        assert_eq!(x[0], x0 + 0.5 * dt * (r0 + r1));
+    }
+}

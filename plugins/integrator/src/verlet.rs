@@ -160,3 +160,39 @@ pub(crate) fn install<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimError> {
     .before("pin_fixed");
     sim.set_integrator(Verlet)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_scalar_half_drift_and_kick_are_v2_and_v4() {
+        let clock = SimClock {
+            t: 0.0,
+            step: 0,
+            dt: 0.1,
+            initializing: false,
+            t_end: Real::INFINITY,
+        };
+        let (x0, r_old, r_mid) = (2.0, -3.0, 5.0);
+        let (mut x, mut k) = ([x0], [[0.0; 2]]);
+        predict_scalar(
+            &clock,
+            ScalarRows {
+                value: &mut x,
+                rate: &[r_old],
+                registers: &mut k,
+            },
+        );
+        assert_eq!((x[0], k[0][0]), (x0 + 0.5 * 0.1 * r_old, x0));
+        kick_scalar(
+            &clock,
+            ScalarRows {
+                value: &mut x,
+                rate: &[r_mid],
+                registers: &mut k,
+            },
+        );
+        assert_eq!(x[0], x0 + 0.1 * r_mid);
+    }
+}
