@@ -304,11 +304,17 @@ fn write_column<C: Component<Mutability = Mutable>>(
     let Some((mass, mut cols)) = single_table(tables) else {
         return true;
     };
-    cols.par_iter_mut()
-        .zip(sums.par_chunks_exact(stride))
-        .zip(mass)
-        .with_min_len(crate::chunks::MIN_LEN)
-        .for_each(|((c, s), m)| finish(c, &s[at..at + width], m.0));
+    // pieces of MIN_LEN particles, each a plain loop (rayon's per-item calls cost more than
+    // the finish itself)
+    let piece = crate::chunks::MIN_LEN;
+    cols.par_chunks_mut(piece)
+        .zip(sums.par_chunks(stride * piece))
+        .zip(mass.par_chunks(piece))
+        .for_each(|((cols, sums), mass)| {
+            for ((c, s), m) in cols.iter_mut().zip(sums.chunks_exact(stride)).zip(mass) {
+                finish(c, &s[at..at + width], m.0);
+            }
+        });
     true
 }
 

@@ -290,7 +290,7 @@ fn dual_sum_fixed<const R: usize>(
 }
 
 /// [`dual_sum_fixed`] for any number of reaction channels.
-#[inline]
+#[inline(always)]
 fn dual_sum(
     slots: &[u32],
     reactions: &[Real],

@@ -141,13 +141,15 @@ impl<V: Vector> RowScratch<V> {
     }
 }
 
-/// i's sums before any pair: zero, then every term's [`crate::pair::BoundTerm::initialize`].
+/// i's sums before any pair: every term's [`crate::pair::BoundTerm::initialize`] added to `sums`, which
+/// arrive zeroed.
 pub(super) fn initialize<V: Vector>(
     (terms, layout): (&Terms<'_, '_, V>, &Layout),
     i: usize,
     sums: &mut [Real],
 ) {
-    sums.fill(0.0);
+    // the sweep hands over every particle's sums zeroed (see `evaluate`)
+    debug_assert!(sums.iter().all(|&x| x == 0.0));
     let mut o = OwnerSums::new(sums, layout);
     for t in terms.iter().filter(|t| t.initializes()) {
         t.initialize(i, &mut o);
