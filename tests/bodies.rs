@@ -136,32 +136,7 @@ fn a_fixed_body_holds_still_under_a_fluid() {
 /// the total is 0.74 of Stokes' first problem for a plate of the lid's length.
 #[test]
 fn a_prescribed_lid_moves_by_its_law_and_drags_the_water() {
-    let scene = load(
-        r#"Scene(
-    name: "moving lid",
-    dimension: 2,
-    domain: (min: [0.0, -0.01], max: [0.3, 0.2]),
-    kernel: CubicSpline,
-    formulation: DualSupport,
-    bodies: [Body(name: "lid", kind: Prescribed(Translate(velocity: [0.2, 0.0]))), Body(name: "water")],
-    particles: [
-        Block(min: [0.0, 0.1], max: [0.2, 0.13], spacing: 0.01, lattice: Square,
-              density: 1000.0, h_factor: 2.0, body: "lid"),
-        Block(min: [0.0, 0.0], max: [0.3, 0.1], spacing: 0.01, lattice: Square,
-              density: 1000.0, h_factor: 2.0, body: "water"),
-    ],
-    plugins: [
-        ContinuityDensity(form: Pairwise),
-        TaitEos(rho0: 1000.0, gamma: 7.0, c0: 10.0),
-        PressureForce(),
-        PhysicalViscosity(mu: 1.0),
-        SpecularWalls(clearance: 0.25),
-    ],
-    integrator: (dt: Adaptive(courant: 0.1, force: 0.25, viscous: 0.125)),
-    end_time: 0.1,
-    output: (snapshot_every: 0),
-)"#,
-    );
+    let scene = load(&lid_scene("PhysicalViscosity(mu: 1.0)"));
     let first = scene.generate();
     let (dir, s) = run(&scene);
     let last = read_particles_csv(&dir.path().join("final.csv")).unwrap();
@@ -207,4 +182,52 @@ fn a_prescribed_lid_moves_by_its_law_and_drags_the_water() {
     // below 1: a lid of finite length (the water past its ends is not driven), a wall whose
     // position is uncertain by Δx/2 against a layer 2√(νt) = 2Δx thick, weak compressibility
     assert!((0.65..0.85).contains(&ratio), "{ratio} of Stokes' solution");
+}
+
+/// The lid of [`a_prescribed_lid_moves_by_its_law_and_drags_the_water`] with `viscosity`.
+fn lid_scene(viscosity: &str) -> String {
+    format!(
+        r#"Scene(
+    name: "moving lid",
+    dimension: 2,
+    domain: (min: [0.0, -0.01], max: [0.3, 0.2]),
+    kernel: CubicSpline,
+    formulation: DualSupport,
+    bodies: [Body(name: "lid", kind: Prescribed(Translate(velocity: [0.2, 0.0]))), Body(name: "water")],
+    particles: [
+        Block(min: [0.0, 0.1], max: [0.2, 0.13], spacing: 0.01, lattice: Square,
+              density: 1000.0, h_factor: 2.0, body: "lid"),
+        Block(min: [0.0, 0.0], max: [0.3, 0.1], spacing: 0.01, lattice: Square,
+              density: 1000.0, h_factor: 2.0, body: "water"),
+    ],
+    plugins: [
+        ContinuityDensity(form: Pairwise),
+        TaitEos(rho0: 1000.0, gamma: 7.0, c0: 10.0),
+        PressureForce(),
+        {viscosity},
+        SpecularWalls(clearance: 0.25),
+    ],
+    integrator: (dt: Adaptive(courant: 0.1, force: 0.25, viscous: 0.125)),
+    end_time: 0.1,
+    output: (snapshot_every: 0),
+)"#
+    )
+}
+
+/// A viscosity given per body, every body the same value as the uniform one, gives bitwise
+/// the same run as the uniform viscosity (each pair takes its owner's μ_i or α_i, β_i).
+#[test]
+fn viscosities_given_per_body_equal_to_the_uniform_one_give_the_same_run() {
+    let final_of = |viscosity: &str| {
+        let (dir, _) = run(&load(&lid_scene(viscosity)));
+        std::fs::read(dir.path().join("final.csv")).unwrap()
+    };
+    let uniform =
+        final_of("PhysicalViscosity(mu: 1.0), ArtificialViscosity(alpha: 0.1, beta: 0.0)");
+    let per_body = final_of(
+        "PhysicalViscosity(mu: 0.0, materials: [(body: \"lid\", mu: 1.0), (body: \"water\", mu: 1.0)]), \
+         ArtificialViscosity(alpha: 0.3, beta: 1.0, materials: [(body: \"lid\", alpha: 0.1, beta: 0.0), \
+         (body: \"water\", alpha: 0.1, beta: 0.0)])",
+    );
+    assert!(uniform == per_body, "the runs differ");
 }

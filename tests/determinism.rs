@@ -28,6 +28,7 @@ fn run_steps(threads: usize) -> Vec<(Real, DVec2, DVec2, DVec2, Real)> {
                 alpha: 1.0,
                 beta: 2.0,
                 eta_factor: 0.1,
+                materials: Vec::new(),
             },
             HeatConduction {
                 conductivity: 0.7,
