@@ -19,6 +19,7 @@ fn pressure_av_heat_case<V: Vector>(f: Formulation, side: usize) -> (Real, Real,
             alpha: 1.0,
             beta: 2.0,
             eta_factor: 0.1,
+            materials: Vec::new(),
         },
         HeatConduction {
             conductivity: 0.7,
@@ -125,7 +126,10 @@ fn physical_viscosity_conserves_momentum_and_energy() {
     let (eos, pf, visc, cont) = (
         tait(),
         PressureForce {},
-        PhysicalViscosity { mu: 0.3 },
+        PhysicalViscosity {
+            mu: 0.3,
+            materials: Vec::new(),
+        },
         ContinuityDensity {
             form: ContinuityForm::Pairwise,
         },
@@ -148,6 +152,7 @@ fn equal_h_rates(f: Formulation) -> Vec<(Real, DVec2, DVec2, DVec2, Real)> {
             alpha: 1.0,
             beta: 2.0,
             eta_factor: 0.1,
+            materials: Vec::new(),
         },
         HeatConduction {
             conductivity: 0.7,

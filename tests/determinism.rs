@@ -36,6 +36,7 @@ fn run_steps_with(
                 alpha: 1.0,
                 beta: 2.0,
                 eta_factor: 0.1,
+                materials: Vec::new(),
             },
             HeatConduction {
                 conductivity: 0.7,

@@ -103,6 +103,7 @@ fn drop_sim(
             alpha: 0.05,
             beta: 0.0,
             eta_factor: 0.1,
+            materials: Vec::new(),
         },
         &SurfaceTension { sigma },
     ];

@@ -135,8 +135,24 @@ pub struct ReactionChannel {
 }
 
 impl Layout {
-    /// The reaction channels stored per support slot, in layout order.
+    /// The reaction channels stored per support slot: the standard ones first (the force's
+    /// components, the power, the density rate), then the others in layout order — so that
+    /// a sweep of standard sums has its channels at fixed places (see
+    /// [`crate::sweep::row::RowPlan`]).
     pub fn reactions<V: Vector>(&self) -> Vec<ReactionChannel> {
+        let mut out = self.reactions_in_slot_order::<V>();
+        let rank = |r: &ReactionChannel| match r.source {
+            Source::Force(c) => c,
+            Source::Power => 3,
+            Source::Rate => 4,
+            Source::Owner(_) | Source::Neighbour(_) => 5,
+        };
+        // stable: the others keep their order
+        out.sort_by_key(rank);
+        out
+    }
+
+    fn reactions_in_slot_order<V: Vector>(&self) -> Vec<ReactionChannel> {
         let mut out = Vec::new();
         for s in &self.slots {
             for c in 0..s.width {
@@ -288,12 +304,16 @@ fn write_column<C: Component<Mutability = Mutable>>(
     let Some((mass, mut cols)) = single_table(tables) else {
         return true;
     };
-    cols.par_iter_mut()
-        .enumerate()
-        .with_min_len(crate::chunks::MIN_LEN)
-        .for_each(|(k, c)| {
-            let s = k * stride + at;
-            finish(c, &sums[s..s + width], mass[k].0);
+    // pieces of MIN_LEN particles, each a plain loop (rayon's per-item calls cost more than
+    // the finish itself)
+    let piece = crate::chunks::MIN_LEN;
+    cols.par_chunks_mut(piece)
+        .zip(sums.par_chunks(stride * piece))
+        .zip(mass.par_chunks(piece))
+        .for_each(|((cols, sums), mass)| {
+            for ((c, s), m) in cols.iter_mut().zip(sums.chunks_exact(stride)).zip(mass) {
+                finish(c, &s[at..at + width], m.0);
+            }
         });
     true
 }

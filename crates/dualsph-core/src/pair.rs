@@ -33,6 +33,8 @@ pub struct PairLanes<'a, T: Lanes, V: Vector> {
     w: Option<T>,
     kernel: OwnerKernel,
     data: &'a ParticleData<'a, V>,
+    /// The particle count, to which every gathered column is cut (see [`Self::gather`]).
+    n: usize,
 }
 
 /// The geometry of `T::N` pairs of one owner: `(r_ij, |r_ij|, v_ij, ∇_iW_ij, L_i∇_iW_ij)`.
@@ -60,7 +62,17 @@ impl<'a, T: Lanes, V: Vector> PairLanes<'a, T, V> {
             w,
             kernel,
             data,
+            n: data.len(),
         }
+    }
+
+    /// The same pairs with the particle count `n` given by the caller (`data.len()`, read
+    /// once per row), so that the gathers of a whole row check against one value.
+    #[inline(always)]
+    pub(crate) fn with_len(mut self, n: usize) -> Self {
+        debug_assert_eq!(n, self.data.len());
+        self.n = n;
+        self
     }
 
     /// The owner i.
@@ -134,14 +146,20 @@ impl<'a, T: Lanes, V: Vector> PairLanes<'a, T, V> {
     }
 
     /// `f(column[j])` in every lane: a gather of any column at the lanes' neighbours.
+    ///
+    /// The column is first cut to the particle count, so that every gather of a row checks
+    /// j against the same length: the compiler keeps one bounds check per neighbour for all
+    /// the columns a sweep reads, and the cut itself is the same for every pair of the row.
     #[inline(always)]
     pub fn gather<C>(&self, column: &[C], f: impl Fn(&C) -> Real) -> T {
+        let column = &column[..self.n];
         T::from_fn(|l| f(&column[self.j[l] as usize]))
     }
 
-    /// `f(column[j])` in every lane, for a vector-valued column.
+    /// `f(column[j])` in every lane, for a vector-valued column (see [`Self::gather`]).
     #[inline(always)]
     pub fn gather_vec<C>(&self, column: &[C], f: impl Fn(&C) -> V) -> LaneVec<T> {
+        let column = &column[..self.n];
         LaneVec::from_fn(|l| f(&column[self.j[l] as usize]))
     }
 

@@ -277,9 +277,9 @@ fn dual_sum_fixed<const R: usize>(
     sums: &mut [Real],
 ) {
     let mut acc = [0.0; R];
+    let (records, _) = reactions.as_chunks::<R>();
     for &slot in slots {
-        let at = (slot as usize - base) * R;
-        let r = &reactions[at..at + R];
+        let r = &records[slot as usize - base];
         for c in 0..R {
             acc[c] += r[c];
         }
@@ -290,7 +290,7 @@ fn dual_sum_fixed<const R: usize>(
 }
 
 /// [`dual_sum_fixed`] for any number of reaction channels.
-#[inline]
+#[inline(always)]
 fn dual_sum(
     slots: &[u32],
     reactions: &[Real],
@@ -444,21 +444,15 @@ fn dual_support<V: Vector>(
     // the particles with owners in other blocks, now that every row is done
     let later: Vec<u32> = later.concat();
     let reactions = &buf.reactions;
-    let sums: Vec<Vec<Real>> = later
-        .par_iter()
-        .map(|&j| {
-            let mut own = vec![0.0; owner];
-            dual_sum(
-                &nb.dual_slot[nb.dual.slots(j as usize)],
-                reactions,
-                0,
-                &react,
-                &mut own,
-            );
-            own
-        })
-        .collect();
-    for (&j, add) in later.iter().zip(sums) {
+    let mut sums = vec![0.0; later.len() * owner];
+    sums.par_chunks_mut(owner)
+        .zip(&later)
+        .with_min_len(64)
+        .for_each(|(own, &j)| {
+            let slots = &nb.dual_slot[nb.dual.slots(j as usize)];
+            dual_sum(slots, reactions, 0, &react, own)
+        });
+    for (&j, add) in later.iter().zip(sums.chunks_exact(owner)) {
         let own = &mut buf.sums[j as usize * owner..(j as usize + 1) * owner];
         for rc in &react {
             own[rc.target] += add[rc.target];

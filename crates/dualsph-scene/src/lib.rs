@@ -57,7 +57,8 @@ pub use error::SceneError;
 pub use generate::{MAX_PARTICLES, ParticleSpec};
 pub use schema::{
     Block, BodyKind, BodySettings, BoxRegion, Disk, Domain, Formulation, Generator, HealthSettings,
-    IntegratorSettings, Lattice, NeighbourSettings, OutputSettings, TimeStep, Velocity,
+    IntegratorSettings, Lattice, MotionSettings, NeighbourSettings, OutputSettings, TimeStep,
+    Velocity,
 };
 
 use ron::extensions::Extensions;

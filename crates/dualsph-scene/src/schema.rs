@@ -143,17 +143,53 @@ pub struct Disk {
 }
 
 /// What moves a body's particles.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Default, Deserialize)]
 pub enum BodyKind {
     /// Integrated in time by the forces on them (the default).
     #[default]
     Fluid,
     /// Held at their initial positions with zero velocity: a wall or a fixed obstacle.
     Fixed,
+    /// Moved by a law of time whatever the forces (a piston, a flap, a lid):
+    /// `Prescribed(Translate(velocity: [1.0, 0.0]))`.
+    Prescribed(MotionSettings),
+}
+
+/// A prescribed body's law of motion (time from the start of the run; vectors with the
+/// scene's dimension).
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum MotionSettings {
+    /// `x = x_0 + velocity·t`.
+    Translate {
+        /// Velocity (m/s).
+        velocity: Vec<f64>,
+    },
+    /// `x = x_0 + amplitude (sin(2π frequency t + phase) − sin(phase))`.
+    Oscillate {
+        /// Amplitude vector (m).
+        amplitude: Vec<f64>,
+        /// Frequency (Hz).
+        frequency: f64,
+        /// Phase (rad, default 0).
+        #[serde(default)]
+        phase: f64,
+    },
+    /// A rotation at `omega` (rad/s, counter-clockwise) about `center`, about the z axis in
+    /// 2-D and about `axis` in 3-D.
+    Rotate {
+        /// The point on the axis.
+        center: Vec<f64>,
+        /// The axis direction (3-D only).
+        #[serde(default)]
+        axis: Option<Vec<f64>>,
+        /// Angular velocity (rad/s).
+        omega: f64,
+    },
 }
 
 /// A named body: `Body(name: "water")`, `Body(name: "tank", kind: Fixed)`.
-#[derive(Clone, Debug, PartialEq, Eq, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields, rename = "Body")]
 pub struct BodySettings {
     /// The name generators and plugins refer to it by.

@@ -148,13 +148,13 @@ pub(crate) fn install<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimError> {
         "predict_kinematics",
         predict_kinematics::<V>,
     )
-    .before("pin_fixed");
+    .before("drive_bodies");
     sim.add_system(
         StepSet::Correct,
         "correct_kinematics",
         correct_kinematics::<V>,
     )
-    .before("pin_fixed");
+    .before("drive_bodies");
     sim.set_integrator(Leapfrog)
 }
 

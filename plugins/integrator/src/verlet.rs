@@ -151,13 +151,13 @@ pub(crate) fn install<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimError> {
         "drift_and_predict (position Verlet, first half)",
         drift_and_predict::<V>,
     )
-    .before("pin_fixed");
+    .before("drive_bodies");
     sim.add_system(
         StepSet::Correct,
         "kick_and_drift (position Verlet, second half)",
         kick_and_drift::<V>,
     )
-    .before("pin_fixed");
+    .before("drive_bodies");
     sim.set_integrator(Verlet)
 }
 

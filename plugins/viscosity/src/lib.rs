@@ -5,6 +5,11 @@
 //!   is shared ½/½ as internal energy (Eq. 4.20).
 //! * `PhysicalViscosity(mu)` — Eq. 4.23: `f_ij = m_i m_j (μ/ρ_i²) (r_ij·∇_iW_ij)/(r_ij²+η²) v_ij`,
 //!   `η = 0.1 h_i`, work shared ½/½ (Eq. 4.24).
+//!
+//! Both take their coefficients per body (`materials: [(body: "oil", …)]`, the others keeping
+//! the plugin's own): a pair is evaluated in its owner i's support with i's coefficients (α_i,
+//! β_i or μ_i), as Eq. 4.23 already takes i's ρ_i and h_i, and its reaction goes to j through
+//! j's dual-support — so momentum and the pair's energy stay exact across a material interface.
 //! * `NewtonianViscosity(mu, lambda)` — the viscous part of the Newtonian stress (Eq. 4.6),
 //!   `τ_i = μ(G_i + G_iᵀ) + λ tr(G_i) I` with the velocity gradient G of Eq. 7.4, in the
 //!   general dual form Eq. 4.13 with `1/(ρ_iρ_j)` (§5.2): `f_ij = m_i m_j/(ρ_iρ_j) τ_i·∇̃_iW_ij`
@@ -29,6 +34,21 @@ pub struct ArtificialViscosity {
     /// η = eta_factor · h̄ (default 0.1).
     #[serde(default = "default_eta")]
     pub eta_factor: Real,
+    /// Other coefficients by body: `materials: [(body: "oil", alpha: 0.1, beta: 0.0)]`.
+    #[serde(default)]
+    pub materials: Vec<AvMaterial>,
+}
+
+/// A body's own artificial-viscosity coefficients (see [`ArtificialViscosity::materials`]).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AvMaterial {
+    /// The body's name.
+    pub body: String,
+    /// α.
+    pub alpha: Real,
+    /// β.
+    pub beta: Real,
 }
 
 fn default_eta() -> Real {
@@ -36,7 +56,7 @@ fn default_eta() -> Real {
 }
 
 /// The artificial-viscosity pair term.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct ArtificialViscosityTerm {
     /// α.
     pub alpha: Real,
@@ -44,6 +64,9 @@ pub struct ArtificialViscosityTerm {
     pub beta: Real,
     /// η / h̄.
     pub eta_factor: Real,
+    /// `(α, β)` of every body by [`BodyId`] when the bodies differ; empty when every particle
+    /// has the plugin's `(alpha, beta)`.
+    pub by_body: Vec<(Real, Real)>,
 }
 
 /// One particle's values in the artificial viscosity: `(h, c, ρ)`.
@@ -77,9 +100,10 @@ pub fn pi_parts<T: Lanes>(
 /// [`ArtificialViscosityTerm`] bound to the sound-speed column and its sums.
 #[derive(Clone, Copy, Debug)]
 pub struct BoundAv<'w, V: Vector> {
-    term: ArtificialViscosityTerm,
+    term: &'w ArtificialViscosityTerm,
     data: ParticleData<'w, V>,
     sound: &'w [SoundSpeed],
+    body: Option<&'w [BodyId]>,
 }
 
 impl<V: Vector> PairTerm<V> for ArtificialViscosityTerm {
@@ -92,38 +116,49 @@ impl<V: Vector> PairTerm<V> for ArtificialViscosityTerm {
     fn bind<'w>(&'w self, b: &mut Binder<'_, 'w, V>) -> Result<BoundAv<'w, V>, String> {
         b.force()?;
         b.power()?;
+        let body = if self.by_body.is_empty() {
+            None
+        } else {
+            Some(b.require::<BodyId>()?)
+        };
         Ok(BoundAv {
-            term: *self,
+            term: self,
             data: b.data(),
             sound: b.require()?,
+            body,
         })
     }
 }
 
 impl<V: Vector> BoundTerm<V> for BoundAv<'_, V> {
-    /// `(m_i, (h_i, c_i, ρ_i))`.
-    type Owner = (Real, AvSide<Real>);
+    /// `(m_i, (h_i, c_i, ρ_i), (α_i, β_i))`.
+    type Owner = (Real, AvSide<Real>, (Real, Real));
 
     #[inline(always)]
     fn owner(&self, i: usize) -> Self::Owner {
         let d = &self.data;
-        (d.mass[i].0, (d.h[i].0, self.sound[i].0, d.rho[i].0))
+        let t = self.term;
+        let coefs = match self.body {
+            None => (t.alpha, t.beta),
+            Some(b) => t.by_body[b[i].0 as usize],
+        };
+        (d.mass[i].0, (d.h[i].0, self.sound[i].0, d.rho[i].0), coefs)
     }
 
     /// The pair's force `−m_i m_j (Π_ij/2) ∇_iW_ij` and its heat, half to each (Eqs. 4.17,
     /// 4.20); a receding pair adds zeros.
     #[inline(always)]
     fn interact<T: Lanes>(&self, o: &Self::Owner, p: &PairLanes<'_, T, V>, out: &mut Out<'_, T>) {
-        let (d, t) = (p.data(), &self.term);
+        let (d, t) = (p.data(), self.term);
         let c = T::splat;
-        let (m_i, (h_i, c_i, rho_i)) = *o;
+        let (m_i, (h_i, c_i, rho_i), (alpha, beta)) = *o;
         let side_j = (
             p.gather(d.h, |h| h.0),
             p.gather(self.sound, |s| s.0),
             p.rho_j(),
         );
         let (vij, g) = (p.vij(), p.grad_raw());
-        let coefs = (t.alpha, t.beta, t.eta_factor);
+        let coefs = (alpha, beta, t.eta_factor);
         let side_i = (c(h_i), c(c_i), c(rho_i));
         let (num, den) = pi_parts(coefs, side_i, side_j, vij.dot::<V>(p.rij()), p.r());
         // m_i m_j Π/2 = m_i m_j num/den
@@ -139,15 +174,19 @@ impl SimPlugin for ArtificialViscosity {
     const NAME: &'static str = "ArtificialViscosity";
     const SUMMARY: &'static str = "Monaghan artificial viscosity (Eq. 4.17) in dual-support form";
 
-    fn validate(&self, _info: &SceneInfo) -> Result<(), String> {
+    fn validate(&self, info: &SceneInfo) -> Result<(), String> {
         for (n, x) in [
             ("alpha", self.alpha),
             ("beta", self.beta),
             ("eta_factor", self.eta_factor),
         ] {
-            if !(x.is_finite() && x >= 0.0) {
-                return Err(format!("{n}: must be >= 0, got {x}"));
-            }
+            non_negative(n, x)?;
+        }
+        let bodies: Vec<&str> = self.materials.iter().map(|m| m.body.as_str()).collect();
+        check_bodies(&bodies, info)?;
+        for (k, m) in self.materials.iter().enumerate() {
+            non_negative(&format!("materials[{k}].alpha"), m.alpha)?;
+            non_negative(&format!("materials[{k}].beta"), m.beta)?;
         }
         Ok(())
     }
@@ -158,10 +197,16 @@ impl SimPlugin for ArtificialViscosity {
             "ArtificialViscosity needs an equation of state for the sound speed",
         );
         ensure_energy_equation(sim)?;
+        let own = self
+            .materials
+            .iter()
+            .map(|m| (m.body.as_str(), (m.alpha, m.beta)));
+        let by_body = by_body(sim, (self.alpha, self.beta), own);
         sim.add_pair_term(ArtificialViscosityTerm {
             alpha: self.alpha,
             beta: self.beta,
             eta_factor: self.eta_factor,
+            by_body,
         });
         Ok(())
     }
@@ -173,49 +218,77 @@ impl SimPlugin for ArtificialViscosity {
 pub struct PhysicalViscosity {
     /// Dynamic viscosity μ.
     pub mu: Real,
+    /// Other viscosities by body: `materials: [(body: "oil", mu: 0.05)]`.
+    #[serde(default)]
+    pub materials: Vec<MuMaterial>,
 }
 
-/// The physical-viscosity pair term (Eq. 4.23).
-#[derive(Debug, Clone, Copy)]
-pub struct PhysicalViscosityTerm {
+/// A body's own dynamic viscosity (see [`PhysicalViscosity::materials`]).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MuMaterial {
+    /// The body's name.
+    pub body: String,
     /// μ.
     pub mu: Real,
 }
 
+/// The physical-viscosity pair term (Eq. 4.23).
+#[derive(Debug, Clone)]
+pub struct PhysicalViscosityTerm {
+    /// μ.
+    pub mu: Real,
+    /// μ of every body by [`BodyId`] when the bodies differ; empty when every particle has
+    /// `mu`.
+    pub by_body: Vec<Real>,
+}
+
 /// [`PhysicalViscosityTerm`] bound to its sums.
 #[derive(Clone, Copy, Debug)]
-pub struct BoundPhysical {
-    mu: Real,
+pub struct BoundPhysical<'w> {
+    term: &'w PhysicalViscosityTerm,
+    body: Option<&'w [BodyId]>,
 }
 
 impl<V: Vector> PairTerm<V> for PhysicalViscosityTerm {
-    type Bound<'w> = BoundPhysical;
+    type Bound<'w> = BoundPhysical<'w>;
 
     fn name(&self) -> &str {
         "physical viscosity (Eq. 4.23)"
     }
 
-    fn bind<'w>(&'w self, b: &mut Binder<'_, 'w, V>) -> Result<BoundPhysical, String> {
+    fn bind<'w>(&'w self, b: &mut Binder<'_, 'w, V>) -> Result<BoundPhysical<'w>, String> {
         b.force()?;
         b.power()?;
-        Ok(BoundPhysical { mu: self.mu })
+        let body = if self.by_body.is_empty() {
+            None
+        } else {
+            Some(b.require::<BodyId>()?)
+        };
+        Ok(BoundPhysical { term: self, body })
     }
 }
 
-impl<V: Vector> BoundTerm<V> for BoundPhysical {
-    type Owner = ();
+impl<V: Vector> BoundTerm<V> for BoundPhysical<'_> {
+    /// `μ_i`.
+    type Owner = Real;
 
     #[inline(always)]
-    fn owner(&self, _: usize) {}
+    fn owner(&self, i: usize) -> Real {
+        match self.body {
+            None => self.term.mu,
+            Some(b) => self.term.by_body[b[i].0 as usize],
+        }
+    }
 
     #[inline(always)]
-    fn interact<T: Lanes>(&self, _: &(), p: &PairLanes<'_, T, V>, out: &mut Out<'_, T>) {
+    fn interact<T: Lanes>(&self, mu: &Real, p: &PairLanes<'_, T, V>, out: &mut Out<'_, T>) {
         let (d, i) = (p.data(), p.i());
         let c = T::splat;
         let eta = 0.1 * d.h[i].0;
         let rho_i = d.rho[i].0;
         let r = p.r();
-        let coef = c(d.mass[i].0) * p.m_j() * c(self.mu) / c(rho_i * rho_i)
+        let coef = c(d.mass[i].0) * p.m_j() * c(*mu) / c(rho_i * rho_i)
             * p.rij().dot::<V>(p.grad_raw())
             / (r * r + c(eta * eta));
         let vij = p.vij();
@@ -230,17 +303,25 @@ impl SimPlugin for PhysicalViscosity {
     const NAME: &'static str = "PhysicalViscosity";
     const SUMMARY: &'static str = "physical viscosity, Morris form in dual-support (Eq. 4.23)";
 
-    fn validate(&self, _info: &SceneInfo) -> Result<(), String> {
-        if !(self.mu.is_finite() && self.mu >= 0.0) {
-            return Err(format!("mu: must be >= 0, got {}", self.mu));
+    fn validate(&self, info: &SceneInfo) -> Result<(), String> {
+        non_negative("mu", self.mu)?;
+        let bodies: Vec<&str> = self.materials.iter().map(|m| m.body.as_str()).collect();
+        check_bodies(&bodies, info)?;
+        for (k, m) in self.materials.iter().enumerate() {
+            non_negative(&format!("materials[{k}].mu"), m.mu)?;
         }
         Ok(())
     }
 
     fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
         ensure_energy_equation(sim)?;
-        raise_viscosity(sim, self.mu);
-        sim.add_pair_term(PhysicalViscosityTerm { mu: self.mu });
+        let own = self.materials.iter().map(|m| (m.body.as_str(), m.mu));
+        let by_body = by_body(sim, self.mu, own);
+        raise_viscosity(sim, by_body.iter().copied().fold(self.mu, Real::max));
+        sim.add_pair_term(PhysicalViscosityTerm {
+            mu: self.mu,
+            by_body,
+        });
         Ok(())
     }
 }
@@ -336,6 +417,55 @@ impl SimPlugin for NewtonianViscosity {
     }
 }
 
+/// `x` finite and `>= 0`, or the error naming `field`.
+fn non_negative(field: &str, x: Real) -> Result<(), String> {
+    if x.is_finite() && x >= 0.0 {
+        Ok(())
+    } else {
+        Err(format!("{field}: must be >= 0, got {x}"))
+    }
+}
+
+/// Every body named in `materials` (`bodies`, in order) exists, and none twice.
+fn check_bodies(bodies: &[&str], info: &SceneInfo) -> Result<(), String> {
+    for (k, b) in bodies.iter().enumerate() {
+        if !info.bodies.iter().any(|n| n == b) {
+            return Err(format!(
+                "materials[{k}].body: no body named `{b}`; the scene's bodies are {}",
+                info.bodies.join(", ")
+            ));
+        }
+        if bodies[..k].contains(b) {
+            return Err(format!("materials[{k}].body: `{b}` is given twice"));
+        }
+    }
+    Ok(())
+}
+
+/// The coefficients of every body by [`BodyId`]: a body's own from `materials`, `default`
+/// for the others; empty when no body has its own (every particle then has `default`).
+fn by_body<'m, V: Vector, C: Copy + PartialEq>(
+    sim: &Sim<V>,
+    default: C,
+    materials: impl Iterator<Item = (&'m str, C)> + Clone,
+) -> Vec<C> {
+    let names = sim.world.resource::<dualsph_core::bodies::Bodies>().names();
+    let all: Vec<C> = names
+        .iter()
+        .map(|n| {
+            materials
+                .clone()
+                .find(|(b, _)| b == n)
+                .map_or(default, |m| m.1)
+        })
+        .collect();
+    if all.iter().all(|&c| c == default) {
+        Vec::new()
+    } else {
+        all
+    }
+}
+
 fn raise_viscosity<V: Vector>(sim: &mut Sim<V>, mu: Real) {
     let mut m = sim.world.resource_mut::<MaxViscosity>();
     m.0 = m.0.max(mu);
@@ -352,9 +482,14 @@ mod tests {
             alpha: 1.0,
             beta: 2.0,
             eta_factor: 0.1,
+            by_body: Vec::new(),
         };
         check_lanes_2d(&av).unwrap();
-        check_lanes_2d(&PhysicalViscosityTerm { mu: 1e-3 }).unwrap();
+        let physical = PhysicalViscosityTerm {
+            mu: 1e-3,
+            by_body: Vec::new(),
+        };
+        check_lanes_2d(&physical).unwrap();
         check_lanes_2d(&ViscousStressTerm {
             mu: 1e-3,
             lambda: 2e-4,

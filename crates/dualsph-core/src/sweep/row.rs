@@ -31,7 +31,18 @@ pub struct RowPlan<'a, 'w, V: Vector> {
     extra_own: Vec<(usize, usize)>,
     extra_react: Vec<(Source, usize)>,
     extra: (usize, usize),
+    records: Records,
     pub(super) pair_terms: &'a Terms<'a, 'w, V>,
+}
+
+/// How a sweep's reaction records are laid out: the standard ones only — the force's `d`
+/// components, the power to j and, when `rate`, the density rate to j, at fixed places (see
+/// [`crate::accum::Layout::reactions`]) — which the row loop writes with no per-pair test,
+/// or any other layout, written channel by channel from the plan.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Records {
+    Standard { rate: bool },
+    General,
 }
 
 impl<'a, 'w, V: Vector> RowPlan<'a, 'w, V> {
@@ -54,7 +65,7 @@ impl<'a, 'w, V: Vector> RowPlan<'a, 'w, V> {
             .filter(|(_, r)| matches!(r.source, Source::Owner(_) | Source::Neighbour(_)))
             .map(|(k, r)| (r.source, k))
             .collect();
-        RowPlan {
+        let mut plan = RowPlan {
             layout,
             owner: layout.owner,
             rw: react.len(),
@@ -64,12 +75,35 @@ impl<'a, 'w, V: Vector> RowPlan<'a, 'w, V> {
             extra_own,
             extra_react,
             extra: (layout.extra_owner, layout.extra_neighbour),
+            records: Records::General,
             pair_terms,
+        };
+        plan.records = plan.records_shape();
+        plan
+    }
+
+    /// [`Records::Standard`] when the sweep's sums are the force, the power with a
+    /// reaction and possibly the density rate, and nothing else.
+    fn records_shape(&self) -> Records {
+        let d = V::DIM;
+        let standard = matches!(self.force, Some((_, 0)))
+            && matches!(self.power, Some((_, Some(r))) if r == d)
+            && self.extra_own.is_empty()
+            && self.extra_react.is_empty()
+            && self.extra == (0, 0);
+        match self.rate {
+            _ if !standard => Records::General,
+            Some((_, Some(r))) if r == d + 1 && self.rw == d + 2 => {
+                Records::Standard { rate: true }
+            }
+            Some((_, None)) | None if self.rw == d + 1 => Records::Standard { rate: false },
+            _ => Records::General,
         }
     }
 }
 
 /// i's standard sums while its row runs (in registers; the others in an array apart).
+#[derive(Clone, Copy)]
 struct RowSums<V: Vector> {
     force: V,
     power: Real,
@@ -107,13 +141,15 @@ impl<V: Vector> RowScratch<V> {
     }
 }
 
-/// i's sums before any pair: zero, then every term's [`crate::pair::BoundTerm::initialize`].
+/// i's sums before any pair: every term's [`crate::pair::BoundTerm::initialize`] added to `sums`, which
+/// arrive zeroed.
 pub(super) fn initialize<V: Vector>(
     (terms, layout): (&Terms<'_, '_, V>, &Layout),
     i: usize,
     sums: &mut [Real],
 ) {
-    sums.fill(0.0);
+    // the sweep hands over every particle's sums zeroed (see `evaluate`)
+    debug_assert!(sums.iter().all(|&x| x == 0.0));
     let mut o = OwnerSums::new(sums, layout);
     for t in terms.iter().filter(|t| t.initializes()) {
         t.initialize(i, &mut o);
@@ -121,35 +157,61 @@ pub(super) fn initialize<V: Vector>(
 }
 
 /// Compacts the candidates with `|r_ij|² < h_i²` into the front of the scratch (`j`, slot,
-/// `r_ij`, `|r_ij|²`) and returns their number. Branch-free: every candidate is written at
+/// `r_ij`, `|r_ij|²`) and returns their number; with `w > 0`, zeroes each candidate's
+/// record of `w` reals in `records` on the way. Branch-free: every candidate is written at
 /// the next free place and the place is kept only if it is inside.
 #[inline(always)]
 fn compact_row<V: Vector>(
     cand: &[u32],
     pos: &[Position<V>],
-    xi: V,
-    h2: Real,
+    (xi, h2): (V, Real),
     s: &mut RowScratch<V>,
+    (records, w): (&mut [Real], usize),
 ) -> usize {
     let m = cand.len();
-    let (js, slots, rijs, r2s) = (
-        &mut s.j[..m],
-        &mut s.slot[..m],
-        &mut s.rij[..m],
-        &mut s.r2[..m],
-    );
-    let mut n = 0;
-    for (slot, &j) in cand.iter().enumerate() {
-        let rij = xi - pos[j as usize].0;
-        let r2 = rij.length_squared();
-        // n <= slot < m: the writes stay in bounds
-        js[n] = j;
-        slots[n] = slot as u32;
-        rijs[n] = rij;
-        r2s[n] = r2;
-        n += (r2 < h2) as usize;
+    let mut at = Compacted {
+        js: &mut s.j[..m],
+        slots: &mut s.slot[..m],
+        rijs: &mut s.rij[..m],
+        r2s: &mut s.r2[..m],
+        n: 0,
+    };
+    if w > 0 {
+        for ((slot, &j), rec) in cand.iter().enumerate().zip(records.chunks_exact_mut(w)) {
+            rec.fill(0.0);
+            at.put(slot, j, xi - pos[j as usize].0, h2);
+        }
+    } else {
+        for (slot, &j) in cand.iter().enumerate() {
+            at.put(slot, j, xi - pos[j as usize].0, h2);
+        }
     }
-    n
+    at.n
+}
+
+/// The front of the scratch being filled by [`compact_row`].
+struct Compacted<'s, V: Vector> {
+    js: &'s mut [u32],
+    slots: &'s mut [u32],
+    rijs: &'s mut [V],
+    r2s: &'s mut [Real],
+    n: usize,
+}
+
+impl<V: Vector> Compacted<'_, V> {
+    /// Writes candidate `slot` (particle j at `r_ij`) at the next free place, kept when
+    /// `|r_ij|² < h²`.
+    #[inline(always)]
+    fn put(&mut self, slot: usize, j: u32, rij: V, h2: Real) {
+        let r2 = rij.length_squared();
+        let n = self.n;
+        // n <= slot < m: the writes stay in bounds
+        self.js[n] = j;
+        self.slots[n] = slot as u32;
+        self.rijs[n] = rij;
+        self.r2s[n] = r2;
+        self.n += (r2 < h2) as usize;
+    }
 }
 
 /// The owner's values the pair geometry needs: i, `v_i`, `L_i` (when corrected), its kernel
@@ -161,6 +223,8 @@ struct Owner<V: Vector> {
     l: Option<V::Mat>,
     kernel: OwnerKernel,
     factor: (KernelKind, Real, Real),
+    /// The particle count.
+    n: usize,
 }
 
 /// The geometry of the `T::N` pairs `js` (with `r_ij`, `|r_ij|²`): `|r_ij|`,
@@ -173,7 +237,8 @@ fn lanes<'a, T: Lanes, V: Vector>(
     rijs: &[V],
     r2s: &[Real],
 ) -> PairLanes<'a, T, V> {
-    let vel = ctx.data.vel;
+    // cut to the particle count, as the terms' gathers are (see [`PairLanes::gather`])
+    let vel = &ctx.data.vel[..o.n];
     let rij = LaneVec::<T>::from_fn(|l| rijs[l]);
     let r = T::from_fn(|l| r2s[l]).sqrt();
     let (kind, g_norm, inv_h) = o.factor;
@@ -191,6 +256,7 @@ fn lanes<'a, T: Lanes, V: Vector>(
         o.kernel,
         &ctx.data,
     )
+    .with_len(o.n)
 }
 
 /// Adds the lanes' pairs to i's sums, pair by pair, writes their reactions into their
@@ -286,16 +352,18 @@ impl<V: Vector, B: BoundTerm<V>> GroupEval<V> for OneTerm<'_, V, B> {
     }
 }
 
-/// Every pair of the compacted row `0..n`, two at a time, through `eval`.
+/// Every pair of the compacted row `0..n`, two at a time, through `eval`; returns i's
+/// standard sums `own` with the pairs added. With `STD` the records are
+/// [`Records::Standard`] (with the density rate to j when `RATE_J`).
 #[inline(always)]
-fn row_pairs<V: Vector, E: GroupEval<V>>(
+fn row_pairs<V: Vector, E: GroupEval<V>, const STD: bool, const RATE_J: bool>(
     ctx: &SweepCtx<'_, V>,
     (plan, eval): (&RowPlan<'_, '_, V>, &E),
     (o, n): (Owner<V>, usize),
     s: &mut RowScratch<V>,
     reactions: &mut [Real],
-    own: &mut RowSums<V>,
-) {
+    mut own: RowSums<V>,
+) -> RowSums<V> {
     let RowScratch {
         extra2,
         extra1,
@@ -314,14 +382,52 @@ fn row_pairs<V: Vector, E: GroupEval<V>>(
     for (((js, slots), rijs), r2s) in js2.iter().zip(slots2).zip(rijs2).zip(r2s2) {
         let p = lanes::<f64x2, V>(ctx, o, js, rijs, r2s);
         eval.two(&p, &mut out);
-        flush(&mut out, slots, plan, (&mut *own, &mut *all), reactions);
+        if STD {
+            flush_standard::<_, V, RATE_J>(&mut out, slots, &mut own, reactions);
+        } else {
+            flush(&mut out, slots, plan, (&mut own, &mut *all), reactions);
+        }
     }
     if !js1.is_empty() {
         let p = lanes::<Real, V>(ctx, o, js1, rijs1, r2s1);
         let mut out = Out::new(extra1);
         eval.one(&p, &mut out);
-        flush(&mut out, slots1, plan, (own, all), reactions);
+        if STD {
+            flush_standard::<_, V, RATE_J>(&mut out, slots1, &mut own, reactions);
+        } else {
+            flush(&mut out, slots1, plan, (&mut own, all), reactions);
+        }
     }
+    own
+}
+
+/// [`flush`] for [`Records::Standard`]: the records have `d + 1 + RATE_J` channels at
+/// fixed places, so nothing is tested per pair.
+#[inline(always)]
+fn flush_standard<T: Lanes, V: Vector, const RATE_J: bool>(
+    out: &mut Out<'_, T>,
+    slots: &[u32],
+    sums: &mut RowSums<V>,
+    reactions: &mut [Real],
+) {
+    let w = V::DIM + 1 + RATE_J as usize;
+    for (l, &slot) in slots.iter().enumerate() {
+        let f: V = out.force.lane(l);
+        sums.force += f;
+        sums.power += out.power.lane(l);
+        sums.rate += out.rate.lane(l);
+        let base = slot as usize * w;
+        let rec = &mut reactions[base..base + w];
+        for (c, x) in rec[..V::DIM].iter_mut().enumerate() {
+            *x = -f.get(c);
+        }
+        rec[V::DIM] = out.power_j.lane(l);
+        if RATE_J {
+            rec[V::DIM + 1] = out.rate_j.lane(l);
+        }
+    }
+    let z = T::splat(0.0);
+    (out.force, out.power, out.power_j, out.rate, out.rate_j) = (LaneVec([z; 3]), z, z, z, z);
 }
 
 /// Pass 1 for one owner i: i's sums (its terms' initial values, then its pairs in `H_i`
@@ -355,12 +461,40 @@ pub(crate) fn pairs_of_row<V: Vector, E: GroupEval<V>>(
     reactions: &mut [Real],
     sums: &mut [Real],
 ) {
-    reactions.fill(0.0);
+    let row = (plan, eval);
+    match plan.records {
+        Records::Standard { rate: false } => {
+            row_of::<V, E, true, false>(ctx, row, (i, s), reactions, sums)
+        }
+        Records::Standard { rate: true } => {
+            row_of::<V, E, true, true>(ctx, row, (i, s), reactions, sums)
+        }
+        Records::General => row_of::<V, E, false, false>(ctx, row, (i, s), reactions, sums),
+    }
+}
+
+/// [`pairs_of_row`] with the records' layout fixed (see [`row_pairs`]).
+#[inline(always)]
+fn row_of<V: Vector, E: GroupEval<V>, const STD: bool, const RATE_J: bool>(
+    ctx: &SweepCtx<'_, V>,
+    (plan, eval): (&RowPlan<'_, '_, V>, &E),
+    (i, s): (usize, &mut RowScratch<V>),
+    reactions: &mut [Real],
+    sums: &mut [Real],
+) {
     let data = &ctx.data;
     let kernel = OwnerKernel::new(ctx.kernel, data.h[i].0);
     let cand = ctx.neighbours.support.row(i);
     s.reserve(cand.len());
-    let n = compact_row(cand, data.pos, data.pos[i].0, kernel.h2, s);
+    let xi = (data.pos[i].0, kernel.h2);
+    let n = if STD {
+        // each candidate's record zeroed as it is compacted (those inside are then written)
+        let w = V::DIM + 1 + RATE_J as usize;
+        compact_row(cand, data.pos, xi, s, (&mut *reactions, w))
+    } else {
+        reactions.fill(0.0);
+        compact_row(cand, data.pos, xi, s, (&mut [], 0))
+    };
     let mut own = RowSums {
         force: plan
             .force
@@ -372,17 +506,15 @@ pub(crate) fn pairs_of_row<V: Vector, E: GroupEval<V>>(
         s.all.clear();
         s.all.extend_from_slice(sums);
     }
-    let (kind, g_norm, inv_h) = kernel.factor_parts();
-    let l = ctx.correction.map(|l| l[i].0);
-    let v = data.vel[i].0;
     let o = Owner {
         i,
-        v,
-        l,
+        v: data.vel[i].0,
+        l: ctx.correction.map(|l| l[i].0),
         kernel,
-        factor: (kind, g_norm, inv_h),
+        factor: kernel.factor_parts(),
+        n: data.len(),
     };
-    row_pairs(ctx, (plan, eval), (o, n), s, reactions, &mut own);
+    own = row_pairs::<V, E, STD, RATE_J>(ctx, (plan, eval), (o, n), s, reactions, own);
     if !plan.extra_own.is_empty() {
         sums.copy_from_slice(&s.all[..plan.owner]);
     }

@@ -12,12 +12,16 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 /// A term with an arbitrary but pair-specific force, owner and neighbour powers and a
-/// one-sided density rate, reading the pressure column it binds.
-struct Probe;
+/// density rate (one-sided, or with its own value for the neighbour when `rate_to_j`),
+/// reading the pressure column it binds.
+struct Probe {
+    rate_to_j: bool,
+}
 
 struct BoundProbe<'w> {
     pressure: &'w [Pressure],
     rho: &'w [crate::components::Density],
+    rate_to_j: bool,
 }
 
 impl PairTerm<DVec2> for Probe {
@@ -28,10 +32,15 @@ impl PairTerm<DVec2> for Probe {
     fn bind<'w>(&'w self, b: &mut Binder<'_, 'w, DVec2>) -> Result<BoundProbe<'w>, String> {
         b.force()?;
         b.power()?;
-        b.density_rate(Reaction::OneSided)?;
+        b.density_rate(if self.rate_to_j {
+            Reaction::Separate
+        } else {
+            Reaction::OneSided
+        })?;
         Ok(BoundProbe {
             pressure: b.require()?,
             rho: b.data().rho,
+            rate_to_j: self.rate_to_j,
         })
     }
 }
@@ -53,16 +62,20 @@ impl BoundTerm<DVec2> for BoundProbe<'_> {
         out.add_power(p.vij().dot::<DVec2>(p.grad_raw()) * m_j);
         out.react_power(p.r() * T::splat(self.rho[p.i()].0));
         out.add_density_rate(m_j * p.vij().dot::<DVec2>(p.grad_raw()));
+        if self.rate_to_j {
+            out.react_density_rate(p.w() * m_j);
+        }
     }
 }
 
-/// The same pair values one pair at a time: `(force on i, power of i, power of j, dρ_i/dt)`.
+/// The same pair values one pair at a time: `(force on i, power of i, power of j, dρ_i/dt,
+/// dρ_j/dt)`.
 fn probe_pair(
     data: &ParticleData<'_, DVec2>,
     pressure: &[Real],
     (i, j): (usize, usize),
     (rij, r, w, g): (DVec2, Real, Real, DVec2),
-) -> (DVec2, Real, Real, Real) {
+) -> (DVec2, Real, Real, Real, Real) {
     let m_j = data.mass[j].0;
     let vij = data.vij(i, j);
     (
@@ -70,6 +83,7 @@ fn probe_pair(
         vij.dot(g) * m_j,
         r * data.rho[i].0,
         m_j * vij.dot(g),
+        w * m_j,
     )
 }
 
@@ -121,7 +135,14 @@ fn lists(c: &Cloud<DVec2>) -> Neighbours<DVec2> {
 #[test]
 fn row_sweep_equals_pairwise_reference_bitwise() {
     let (c, p) = cloud(400);
-    assert_sweep_matches_pairwise(&c, &p);
+    assert_sweep_matches_pairwise(&c, &p, false);
+}
+
+/// The same with a density rate that also reaches the neighbour (a third reaction channel).
+#[test]
+fn row_sweep_with_a_rate_to_the_neighbour_equals_pairwise_reference_bitwise() {
+    let (c, p) = cloud(400);
+    assert_sweep_matches_pairwise(&c, &p, true);
 }
 
 /// The same with several blocks and particles in space order, so that pass 2 runs both
@@ -144,13 +165,14 @@ fn blocked_wavefront_sweep_equals_pairwise_reference_bitwise() {
         inside > n / 2 && outside > 50,
         "both paths: {inside} / {outside}"
     );
-    assert_sweep_matches_pairwise(&c, &p);
+    assert_sweep_matches_pairwise(&c, &p, true);
 }
 
-fn assert_sweep_matches_pairwise(c: &Cloud<DVec2>, pressure: &[Real]) {
+fn assert_sweep_matches_pairwise(c: &Cloud<DVec2>, pressure: &[Real], rate_to_j: bool) {
     let nb = lists(c);
     let kernel = Kernel::new(KernelKind::CubicSpline, 2);
-    let terms: Vec<Arc<dyn DynPairTerm<DVec2>>> = vec![Arc::new(Probe), Arc::new(Probe)];
+    let probe = || Arc::new(Probe { rate_to_j });
+    let terms: Vec<Arc<dyn DynPairTerm<DVec2>>> = vec![probe(), probe()];
     let mut buf = SweepBuffers::default();
     // a first sweep of the particles moved (other pairs inside h) leaves its reactions in
     // the reused slot buffer: the sweep under test must not read any of them
@@ -168,32 +190,38 @@ fn assert_sweep_matches_pairwise(c: &Cloud<DVec2>, pressure: &[Real]) {
     evaluate(&ctx, &terms, &mut buf).unwrap();
     let n = c.pos.len();
     let (mut force, mut power) = (vec![DVec2::ZERO; n], vec![0.0; n]);
+    let mut rate = vec![0.0; n];
     let mut reaction = vec![Vec::new(); n];
     for i in 0..n {
         let (mut fo, mut po, mut ro) = (DVec2::ZERO, 0.0, 0.0);
         ctx.for_each_neighbour(i, |j, rij, r, w, g| {
-            let (f, p_i, p_j, d) = probe_pair(&data, pressure, (i, j), (rij, r, w, g));
+            let (f, p_i, p_j, d, d_j) = probe_pair(&data, pressure, (i, j), (rij, r, w, g));
             // two probes: each pair value is (0 + one) + one
-            let (f, p_i, p_j, d) = (f + f, p_i + p_i, p_j + p_j, d + d);
+            let (f, p_i, p_j, d, d_j) = (f + f, p_i + p_i, p_j + p_j, d + d, d_j + d_j);
             fo += f;
             po += p_i;
             ro += d;
-            reaction[j].push((i, f, p_j));
+            reaction[j].push((i, f, p_j, d_j));
         });
         force[i] = fo;
         power[i] = po;
-        let drho = buf.sum_of::<DensityRate>(i).unwrap()[0];
-        assert_eq!(drho.to_bits(), ro.to_bits(), "dρ/dt of {i}");
+        rate[i] = ro;
     }
     for j in 0..n {
         reaction[j].sort_by_key(|r| r.0);
-        let (mut fd, mut pd) = (DVec2::ZERO, 0.0);
-        for &(_, fr, pr) in &reaction[j] {
+        let (mut fd, mut pd, mut rd) = (DVec2::ZERO, 0.0, 0.0);
+        for &(_, fr, pr, dr) in &reaction[j] {
             fd -= fr;
             pd += pr;
+            rd += dr;
         }
         force[j] += fd;
         power[j] += pd;
+        if rate_to_j {
+            rate[j] += rd;
+        }
+        let drho = buf.sum_of::<DensityRate>(j).unwrap()[0];
+        assert_eq!(drho.to_bits(), rate[j].to_bits(), "dρ/dt of {j}");
         let f = buf.sum_of::<Acceleration<DVec2>>(j).unwrap();
         assert_eq!(DVec2::new(f[0], f[1]), force[j], "force on {j}");
         let p = buf.sum_of::<EnergyRate>(j).unwrap()[0];
