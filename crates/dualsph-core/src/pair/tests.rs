@@ -1,4 +1,5 @@
 use super::*;
+use crate::kernels::{Kernel, KernelKind};
 use glam::{DVec2, DVec3};
 
 #[test]
