@@ -21,7 +21,7 @@
 use crate::time_step::add_time_step_systems;
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::chunks::{DENSE, MIN_LEN};
-use dualsph_core::integrate::{ScalarEquation, ScalarKernel, ScalarRows, Scheme};
+use dualsph_core::integrate::{ScalarEquation, ScalarRows, Scheme};
 use dualsph_core::prelude::*;
 use rayon::prelude::*;
 use std::sync::Arc;
@@ -126,13 +126,12 @@ impl<V: Vector> Scheme<V> for Leapfrog {
         sim: &mut Sim<V>,
         equation: &dyn ScalarEquation<V>,
     ) -> Result<(), SimError> {
-        let name = equation.name();
-        equation.add_registers(sim, false)?;
-        let predict: ScalarKernel = Arc::new(predict_scalar);
-        let correct: ScalarKernel = Arc::new(correct_scalar);
-        equation.add_system(sim, StepSet::Predict, format!("predict_{name}"), predict);
-        equation.add_system(sim, StepSet::Correct, format!("correct_{name}"), correct);
-        Ok(())
+        crate::two_updates(
+            sim,
+            equation,
+            ("predict", Arc::new(predict_scalar)),
+            ("correct", Arc::new(correct_scalar)),
+        )
     }
 }
 

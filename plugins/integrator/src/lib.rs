@@ -20,6 +20,7 @@ pub mod leapfrog;
 pub mod time_step;
 pub mod verlet;
 
+use dualsph_core::integrate::{ScalarEquation, ScalarKernel};
 use dualsph_core::prelude::*;
 use serde::Deserialize;
 
@@ -27,6 +28,22 @@ use serde::Deserialize;
 pub const LEAPFROG_PC: &str = "LeapfrogPC";
 /// The registered name of [`PositionVerlet`].
 pub const POSITION_VERLET: &str = "PositionVerlet";
+
+/// Registers `equation`'s scalar with a scheme of two updates, `(label, update)`: the first
+/// in `Predict`, the second in `Correct`, each labelled `{label}_{name}`, with the registers
+/// the updates share.
+fn two_updates<V: Vector>(
+    sim: &mut Sim<V>,
+    equation: &dyn ScalarEquation<V>,
+    (first, f): (&str, ScalarKernel),
+    (second, g): (&str, ScalarKernel),
+) -> Result<(), SimError> {
+    let name = equation.name();
+    equation.add_registers(sim, false)?;
+    equation.add_system(sim, StepSet::Predict, format!("{first}_{name}"), f);
+    equation.add_system(sim, StepSet::Correct, format!("{second}_{name}"), g);
+    Ok(())
+}
 
 /// Refuses a second scheme before anything of this one is added.
 fn only_scheme<V: Vector>(sim: &Sim<V>, name: &str) -> Result<(), SimError> {

@@ -35,7 +35,7 @@
 use crate::time_step::add_time_step_systems;
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::chunks::{DENSE, MIN_LEN};
-use dualsph_core::integrate::{ScalarEquation, ScalarKernel, ScalarRows, Scheme};
+use dualsph_core::integrate::{ScalarEquation, ScalarRows, Scheme};
 use dualsph_core::prelude::*;
 use rayon::prelude::*;
 use std::sync::Arc;
@@ -129,13 +129,12 @@ impl<V: Vector> Scheme<V> for Verlet {
         sim: &mut Sim<V>,
         equation: &dyn ScalarEquation<V>,
     ) -> Result<(), SimError> {
-        let name = equation.name();
-        equation.add_registers(sim, false)?;
-        let predict: ScalarKernel = Arc::new(predict_scalar);
-        let kick: ScalarKernel = Arc::new(kick_scalar);
-        equation.add_system(sim, StepSet::Predict, format!("predict_{name}"), predict);
-        equation.add_system(sim, StepSet::Correct, format!("kick_{name}"), kick);
-        Ok(())
+        crate::two_updates(
+            sim,
+            equation,
+            ("predict", Arc::new(predict_scalar)),
+            ("kick", Arc::new(kick_scalar)),
+        )
     }
 }
 
