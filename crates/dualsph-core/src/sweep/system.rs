@@ -122,8 +122,11 @@ impl<V: Vector> Sim<V> {
         } else {
             format!("{name} (pair sweep)")
         };
-        self.add_system(set, label, move |world: &mut World| {
-            run_sweep::<V>(world, index)
+        // the sweep is the engine's, whichever plugin's term comes first
+        self.as_plugin("core", |sim| {
+            sim.add_system(set, label, move |world: &mut World| {
+                run_sweep::<V>(world, index)
+            });
         });
         Ok(())
     }
