@@ -47,9 +47,9 @@ impl<V: Vector> Sim<V> {
         self.world.resource_mut::<InitialInternalEnergy>().0 = eps;
     }
 
-    /// Number of particles.
+    /// Number of particles (counted in the store).
     pub fn particle_count(&self) -> usize {
-        self.world.resource::<InitialInternalEnergy>().0.len()
+        crate::store::particle_count(&self.world)
     }
 
     /// Adds column `C` to every particle, with the value `init(id)`, and registers it (see
