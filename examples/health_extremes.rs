@@ -33,10 +33,12 @@ fn run<V: Vector>(scene: &Scene) -> Result<String, SimError> {
     }
     sim.initialize()?;
     let rho0 = {
-        let init = &sim.world.resource::<InitialDensity>().0;
-        init.iter().fold((Real::INFINITY, 0.0 as Real), |r, &x| {
-            (r.0.min(x), r.1.max(x))
-        })
+        let init = dualsph::core::store::column::<InitialDensity>(&sim.world).unwrap_or(&[]);
+        init.iter()
+            .map(|r| r.0)
+            .fold((Real::INFINITY, 0.0 as Real), |r, x| {
+                (r.0.min(x), r.1.max(x))
+            })
     };
     let h0 = extremes(&mut sim).1;
     // [ρ below, ρ above, h below, h above]: the factor beyond the initial range reached

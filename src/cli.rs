@@ -252,6 +252,9 @@ pub fn main(registry: Registry) -> ExitCode {
                 summary.skin,
                 out.display()
             );
+            if summary.added + summary.removed > 0 {
+                say!("particles: {} added and {} removed during the run", summary.added, summary.removed);
+            }
             let (a, b) = (&summary.initial, &summary.last);
             say!(
                 "conservation: mass {:.3e} → {:.3e}, momentum [{:.3e}, {:.3e}, {:.3e}], E_tot {:.6e} → {:.6e}",

@@ -46,6 +46,7 @@ pub mod plugins {
     pub use dualsph_eos::{IdealGas, TaitEos};
     pub use dualsph_gravity::Gravity;
     pub use dualsph_heat::HeatConduction;
+    pub use dualsph_inout::{Inlet, Outlet};
     pub use dualsph_integrator::{LeapfrogPC, PositionVerlet};
     pub use dualsph_kernel_correction::KernelCorrection;
     pub use dualsph_pressure::{ArtificialStress, PressureForce};
@@ -78,6 +79,8 @@ pub fn default_registry() -> Registry {
         .register::<SmoothingLengthUpdate>()
         .register::<Gravity>()
         .register::<SpecularWalls>()
+        .register::<Inlet>()
+        .register::<Outlet>()
         .register::<Probes>()
         .register::<SurfaceTension>();
     r
@@ -220,7 +223,7 @@ pub fn build_sim<V: Vector>(scene: &Scene) -> Result<Sim<V>, SimError> {
             first.h, other.h
         )));
     }
-    sim.spawn_particles(&particles);
+    sim.spawn_particles(&particles)?;
     let bodies = scene.body_list().into_iter().map(|b| Body {
         name: b.name,
         kind: match b.kind {

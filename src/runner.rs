@@ -10,6 +10,7 @@ use crate::{build_sim, with_dimension};
 use dualsph_core::bodies::Bodies;
 use dualsph_core::columns::{Column, Columns};
 use dualsph_core::neighbours::Neighbours;
+use dualsph_core::population::Population;
 use dualsph_core::prelude::*;
 use dualsph_diagnostics::{BodyTotals, Diagnostics, Health, HealthBounds, SimDiagnostics};
 use dualsph_integrator::time_step::{CFL_LIMIT, TimeStepCheck};
@@ -47,8 +48,13 @@ pub struct RunOptions {
 /// What a finished run reports.
 #[derive(Clone, Debug)]
 pub struct RunSummary {
-    /// Particles.
+    /// Particles at the end.
     pub particles: u64,
+    /// Particles plugins added during the run (of this process: a resumed run counts from
+    /// the resume).
+    pub added: u64,
+    /// Particles plugins removed during the run (likewise).
+    pub removed: u64,
     /// Steps taken.
     pub steps: u64,
     /// Final time.
@@ -318,7 +324,7 @@ pub fn run_dim_with<V: Vector>(
     let mut keeper = Keeper::new(scene, restart, &opts.out);
     keeper.keep(&mut sim, &initial, last_written);
     let diag_every = scene.output.diagnostics_every.max(1);
-    let n = sim.particle_count() as u64;
+    let mut particle_steps = 0u64;
     let end = scene.end_time;
     let max_steps = scene.max_steps.unwrap_or(u64::MAX);
     let bar = (opts.progress == Progress::Bar).then(|| {
@@ -331,10 +337,10 @@ pub fn run_dim_with<V: Vector>(
     });
     let started = Instant::now();
     let cpu_started = crate::perf::cpu_seconds();
-    let steps_before = sim.clock().step;
     let mut last_log = Instant::now();
     while sim.clock().t < end * (1.0 - 1e-12) && sim.clock().step < max_steps {
         sim.step()?;
+        particle_steps += sim.particle_count() as u64;
         if let Err(e) = check(&sim) {
             if let Some(b) = &bar {
                 b.finish_and_clear();
@@ -386,17 +392,22 @@ pub fn run_dim_with<V: Vector>(
         out.write_snapshot(last.step, last.t, &records)?;
     }
     out.write_final(&records)?;
-    let stepped = last.step - steps_before;
     let nb = sim.world.resource::<Neighbours<V>>();
     let (list_builds, skin) = (nb.builds, nb.skin);
+    let (added, removed) = sim
+        .world
+        .get_resource::<Population<V>>()
+        .map_or((0, 0), |p| (p.spawned, p.removed));
     Ok(RunSummary {
-        particles: n,
+        particles: sim.particle_count() as u64,
+        added,
+        removed,
         steps: last.step,
         t: last.t,
         wall_seconds: wall,
-        particle_steps_per_second: (n * stepped) as f64 / wall.max(1e-9),
+        particle_steps_per_second: particle_steps as f64 / wall.max(1e-9),
         cpu_seconds: cpu,
-        particle_steps_per_cpu_second: (n * stepped) as f64 / cpu.max(1e-9),
+        particle_steps_per_cpu_second: particle_steps as f64 / cpu.max(1e-9),
         list_builds,
         skin,
         profile: sim.profile().cloned(),

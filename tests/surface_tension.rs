@@ -84,7 +84,7 @@ fn drop_sim(
             max_dt: Real::INFINITY,
         },
     });
-    sim.spawn_particles(particles);
+    sim.spawn_particles(particles).expect("fresh particle ids");
     dualsph::add_default_plugins(&mut sim).expect("the default plugins build");
     let plugins: [&dyn PluginConfig; 5] = [
         &ContinuityDensity {

@@ -1,10 +1,12 @@
 //! Checkpoints: the complete state of a run in one file, written atomically, from which
 //! `dualsph run SCENE --resume FILE` continues bit for bit as if never interrupted.
 //!
-//! A checkpoint holds every particle component (in particle-id order), the clock (t, step,
-//! dt), the neighbour lists with the state of their rebuild rule (positions and smallest h of
-//! the last build, the dirty flag, the build count, the steps since that build), the initial densities used by the
-//! diagnostics, the probes' samples so far and the step of the last diagnostics row. The
+//! A checkpoint holds the particles' ids and every restart column (both in row order, the
+//! order of the neighbour lists), the next particle id, the clock (t, step, dt), the
+//! neighbour lists with the state of their rebuild rule (positions and smallest h of the
+//! last build, the dirty flag, the build count, the steps since that build), the resources
+//! plugins keep (`dualsph_core::restart`), the probes' samples so far and the step of the last diagnostics row. A run whose particles were
+//! added or removed resumes with the checkpoint's particles, in its row order. The
 //! h-update (every m steps) and the output cadences are functions of the step counter, and
 //! settings come from the scene, so nothing else is needed to take the same decisions again.
 //!
@@ -28,10 +30,10 @@ use std::path::{Path, PathBuf};
 pub const MAGIC: &[u8; 8] = b"DSPHCKPT";
 /// Version of the layout written by this build (of the file and of the columns it carries); a
 /// file of another version is refused.
-pub const FORMAT_VERSION: u32 = 3;
+pub const FORMAT_VERSION: u32 = 4;
 const HEADER_LEN: usize = 8 + 4 + 8 + 8;
 
-/// One particle component: `width` reals per particle, particles in id order.
+/// One particle component: `width` reals per particle, particles in row order.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ComponentData {
     /// Component name (e.g. `Position`).
@@ -80,6 +82,11 @@ pub struct Checkpoint {
     pub dimension: u32,
     /// Particle count.
     pub particles: u64,
+    /// The particles' ids in row order (the order of the columns' values and of the
+    /// neighbour lists).
+    pub ids: Vec<u32>,
+    /// The id the next particle added gets (ids are never reused).
+    pub next_id: u32,
     /// Simulated time.
     pub t: f64,
     /// Completed steps.
@@ -90,8 +97,8 @@ pub struct Checkpoint {
     pub components: Vec<ComponentData>,
     /// Neighbour lists.
     pub neighbours: NeighbourData,
-    /// Initial densities by id (density-variation diagnostic).
-    pub initial_density: Vec<f64>,
+    /// The plugins' kept resources (`dualsph_core::restart`): key and encoded bytes.
+    pub resources: Vec<(String, Vec<u8>)>,
     /// Probe samples so far `(step, t, values)`, when the scene has probes.
     pub probe_rows: Option<Vec<(u64, f64, Vec<f64>)>>,
     /// Step of the last row written to `diagnostics.csv`.
@@ -306,7 +313,9 @@ mod tests {
                 builds: 9,
                 steps_since_build: 4,
             },
-            initial_density: vec![1000.0; 3],
+            ids: vec![0, 1, 2],
+            next_id: 3,
+            resources: vec![("inlet".into(), vec![0, 255, 7])],
             probe_rows: Some(vec![(5, 0.5, awkward)]),
             last_diagnostics_step: 6,
             initial_diagnostics: vec![1.0; 15],

@@ -2,10 +2,12 @@
 
 use super::{Checkpoint, ComponentData, NeighbourData};
 use dualsph_core::bevy_ecs::prelude::*;
-use dualsph_core::columns::{Column, Columns, put_vector, take_vector};
+use dualsph_core::columns::{Column, Columns, ids_by_row, put_vector, take_vector};
 use dualsph_core::neighbours::{Csr, Neighbours};
+use dualsph_core::population::{NextId, Seed, replace_particles};
 use dualsph_core::prelude::*;
-use dualsph_diagnostics::{BodyTotals, Diagnostics, InitialDensity};
+use dualsph_core::restart::KeptResources;
+use dualsph_diagnostics::{BodyTotals, Diagnostics};
 use dualsph_probes::ProbeState;
 
 /// The registered columns kept in checkpoints, in registration order.
@@ -13,14 +15,14 @@ fn restart_columns(world: &World) -> Vec<Column> {
     world.resource::<Columns>().restart().cloned().collect()
 }
 
-/// Every restart column's values, in id order.
+/// Every restart column's values, in row order.
 fn capture_columns(world: &mut World) -> Vec<ComponentData> {
     restart_columns(world)
         .into_iter()
         .map(|col| ComponentData {
             name: col.key.clone(),
             width: col.width as u32,
-            values: col.values_by_id(world),
+            values: col.values_by_row(world),
         })
         .collect()
 }
@@ -56,7 +58,7 @@ fn restore_columns(world: &mut World, data: &[ComponentData], n: usize) -> Resul
         found.push(stored);
     }
     for (col, stored) in columns.iter().zip(found) {
-        col.set_by_id(world, &stored.values)
+        col.set_by_row(world, &stored.values)
             .map_err(|e| format!("its {} data: {e}", col.key))?;
     }
     Ok(())
@@ -139,10 +141,15 @@ pub fn capture<V: Vector>(
         builds: nb.builds,
         steps_since_build: nb.steps_since_build,
     };
-    let initial_density = world
-        .get_resource::<InitialDensity>()
-        .map(|d| d.0.clone())
-        .unwrap_or_default();
+    let ids = ids_by_row(world);
+    let next_id = world.resource::<NextId>().0;
+    let resources = world
+        .get_resource::<KeptResources>()
+        .map(|k| k.0.clone())
+        .unwrap_or_default()
+        .iter()
+        .filter_map(|k| Some((k.key.to_string(), k.save(world)?)))
+        .collect();
     let probe_rows = world
         .get_resource::<ProbeState<V>>()
         .map(|p| p.rows.clone());
@@ -154,9 +161,11 @@ pub fn capture<V: Vector>(
         t: clock.t,
         step: clock.step,
         dt: clock.dt,
+        ids,
+        next_id,
+        resources,
         components,
         neighbours,
-        initial_density,
         probe_rows,
         last_diagnostics_step,
         initial_diagnostics: diagnostics_values(initial),
@@ -236,17 +245,20 @@ fn restore_neighbours<V: Vector>(
 /// initialized: the restored rates replace the initial evaluation). Every size is checked
 /// first, so a damaged checkpoint gives an error, never a panic.
 pub fn restore<V: Vector>(sim: &mut Sim<V>, c: &Checkpoint) -> Result<(), String> {
-    let n = sim.particle_count();
+    let n = c.ids.len();
     if c.dimension as usize != V::DIM || c.particles != n as u64 {
         return Err(format!(
-            "it holds {} particles in {}-D, the scene generates {n} in {}-D",
+            "it holds {} particles ({} ids) in {}-D, the scene is {}-D",
             c.particles,
+            n,
             c.dimension,
             V::DIM
         ));
     }
-    if !(c.initial_density.is_empty() || c.initial_density.len() == n) {
-        return Err("its initial densities do not match the particle count".into());
+    sim.world.resource_mut::<NextId>().0 = c.next_id;
+    if ids_by_row(&mut sim.world) != c.ids {
+        let seeds = seeds::<V>(c)?;
+        replace_particles(&mut sim.world, &seeds)?;
     }
     let world = &mut sim.world;
     match (
@@ -260,8 +272,8 @@ pub fn restore<V: Vector>(sim: &mut Sim<V>, c: &Checkpoint) -> Result<(), String
         _ => return Err("its probe samples do not match the scene's probes".into()),
     }
     restore_columns(world, &c.components, n)?;
+    restore_resources(world, &c.resources)?;
     restore_neighbours(&mut world.resource_mut::<Neighbours<V>>(), &c.neighbours, n)?;
-    world.insert_resource(InitialDensity(c.initial_density.clone()));
     if let (Some(mut p), Some(rows)) = (world.get_resource_mut::<ProbeState<V>>(), &c.probe_rows) {
         p.rows = rows.clone();
     }
@@ -269,5 +281,60 @@ pub fn restore<V: Vector>(sim: &mut Sim<V>, c: &Checkpoint) -> Result<(), String
     clock.t = c.t;
     clock.step = c.step;
     clock.dt = c.dt;
+    Ok(())
+}
+
+/// The checkpoint's particles as seeds (ids and core columns, row order): what their other
+/// columns' initial values are computed from before the stored values replace them.
+fn seeds<V: Vector>(c: &Checkpoint) -> Result<Vec<Seed<V>>, String> {
+    let n = c.ids.len();
+    let column = |key: &str, w: usize| -> Result<&[f64], String> {
+        match c.components.iter().find(|d| d.name == key) {
+            Some(d) if d.width as usize == w && d.values.len() == n * w => Ok(&d.values),
+            Some(_) => Err(format!(
+                "its {key} data does not hold {n} values of width {w}"
+            )),
+            None => Err(format!("it has no {key} data")),
+        }
+    };
+    let d = V::DIM;
+    let (pos, vel) = (column("Position", d)?, column("Velocity", d)?);
+    let (mass, rho) = (column("Mass", 1)?, column("Density", 1)?);
+    let (h, body) = (column("SmoothingLength", 1)?, column("BodyId", 1)?);
+    Ok((0..n)
+        .map(|k| Seed {
+            id: c.ids[k],
+            init: ParticleInit {
+                pos: take_vector(&pos[k * d..(k + 1) * d]),
+                vel: take_vector(&vel[k * d..(k + 1) * d]),
+                mass: mass[k],
+                density: rho[k],
+                h: h[k],
+                internal_energy: 0.0,
+                body: body[k] as u16,
+            },
+        })
+        .collect())
+}
+
+/// Puts the plugins' kept resources back, after checking that the checkpoint holds exactly
+/// the scene's.
+fn restore_resources(world: &mut World, stored: &[(String, Vec<u8>)]) -> Result<(), String> {
+    let kept = world
+        .get_resource::<KeptResources>()
+        .map(|k| k.0.clone())
+        .unwrap_or_default();
+    if let Some((extra, _)) = stored.iter().find(|(k, _)| kept.iter().all(|r| r.key != k)) {
+        return Err(format!(
+            "it has {extra} state, which this scene's plugins do not keep"
+        ));
+    }
+    for r in &kept {
+        let Some((_, bytes)) = stored.iter().find(|(k, _)| k == r.key) else {
+            return Err(format!("it has no {} state", r.key));
+        };
+        r.load(world, bytes)
+            .map_err(|e| format!("its {} state: {e}", r.key))?;
+    }
     Ok(())
 }

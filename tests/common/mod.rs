@@ -76,7 +76,7 @@ pub fn sim_with_kernel<V: Vector>(
         skin_rule: SkinRule::Fixed,
         time_stepping: TimeStepping::Fixed(1e-4),
     });
-    sim.spawn_particles(particles);
+    sim.spawn_particles(particles).expect("fresh particle ids");
     // an integrator or diagnostics in the list replaces the default, and is built first
     let (roles, physics): (Vec<&dyn PluginConfig>, Vec<&dyn PluginConfig>) =
         plugins.iter().partition(|p| p.role() != Role::Physics);

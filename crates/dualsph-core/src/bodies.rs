@@ -255,9 +255,8 @@ pub fn install_bodies<V: Vector>(sim: &mut Sim<V>, bodies: Bodies) -> Result<(),
     }
     sim.world.insert_resource(bodies);
     if driven.iter().any(Option::is_some) {
-        let positions = crate::store::by_id::<Position<V>>(&mut sim.world);
         let spec = ColumnSpec::restart_only("anchor");
-        sim.add_column(spec, move |id| Anchor(positions[id as usize].0))?;
+        sim.add_column(spec, |seed| Anchor(seed.init.pos))?;
         set_velocities_at_start::<V>(&mut sim.world, &driven);
         sim.world.insert_resource(DrivenBodies(driven));
         sim.add_system(

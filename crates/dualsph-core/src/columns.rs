@@ -226,38 +226,40 @@ pub struct Column {
     write: fn(&mut World, &[Real]) -> Result<(), String>,
 }
 
+/// The values of `C` in row order (the order of a query over the particles).
 fn values_of<V: Vector, C: ColumnValue<V>>(world: &mut World) -> Vec<Real> {
-    let mut q = world.query::<(&ParticleId, &C)>();
-    let mut rows: Vec<(u32, &C)> = q.iter(world).map(|(id, c)| (id.0, c)).collect();
-    rows.sort_unstable_by_key(|r| r.0);
-    let mut out = Vec::with_capacity(rows.len() * C::width());
-    for (_, c) in rows {
+    let mut q = world.query::<&C>();
+    let mut out = Vec::with_capacity(q.iter(world).len() * C::width());
+    for c in q.iter(world) {
         c.put(&mut out);
     }
     out
 }
 
+/// Sets `C` from values in row order; the error says that the count does not fit.
 fn write_values<V: Vector, C: ColumnValue<V>>(
     world: &mut World,
     values: &[Real],
 ) -> Result<(), String> {
     let w = C::width();
-    let mut q = world.query::<(&ParticleId, &mut C)>();
-    let n = q.iter(world).count();
+    let mut q = world.query::<&mut C>();
+    let n = q.iter(world).len();
     if values.len() != n * w {
         return Err(format!(
             "{} values for {n} particles of width {w}",
             values.len()
         ));
     }
-    for (id, mut c) in q.iter_mut(world) {
-        let i = id.0 as usize;
-        let Some(v) = values.get(i * w..(i + 1) * w) else {
-            return Err(format!("particle id {i} beyond the {n} values"));
-        };
+    for (mut c, v) in q.iter_mut(world).zip(values.chunks_exact(w)) {
         c.take(v);
     }
     Ok(())
+}
+
+/// The particles' ids in row order.
+pub fn ids_by_row(world: &mut World) -> Vec<u32> {
+    let mut q = world.query::<&ParticleId>();
+    q.iter(world).map(|id| id.0).collect()
 }
 
 impl Column {
@@ -280,14 +282,28 @@ impl Column {
         }
     }
 
-    /// The particles' values in id order (`width` reals each).
-    pub fn values_by_id(&self, world: &mut World) -> Vec<Real> {
+    /// The particles' values in row order (`width` reals each): the order of
+    /// [`ids_by_row`] and of the neighbour lists.
+    pub fn values_by_row(&self, world: &mut World) -> Vec<Real> {
         (self.values)(world)
     }
 
-    /// Sets the particles' values from `values` in id order (`width` reals each); the error
-    /// says what does not fit.
-    pub fn set_by_id(&self, world: &mut World, values: &[Real]) -> Result<(), String> {
+    /// The particles' values in ascending id order (`width` reals each).
+    pub fn values_by_id(&self, world: &mut World) -> Vec<Real> {
+        let rows = self.values_by_row(world);
+        let ids = ids_by_row(world);
+        let mut order: Vec<usize> = (0..ids.len()).collect();
+        order.sort_unstable_by_key(|&r| ids[r]);
+        let w = self.width;
+        order
+            .into_iter()
+            .flat_map(|r| rows[r * w..(r + 1) * w].iter().copied())
+            .collect()
+    }
+
+    /// Sets the particles' values from `values` in row order (`width` reals each); the
+    /// error says what does not fit.
+    pub fn set_by_row(&self, world: &mut World, values: &[Real]) -> Result<(), String> {
         (self.write)(world, values)
     }
 
@@ -402,7 +418,7 @@ mod tests {
     use glam::DVec2;
 
     #[test]
-    fn values_round_trip_by_id_whatever_the_row_order() {
+    fn values_round_trip_by_row_and_sort_by_id() {
         let mut world = World::new();
         for id in [2u32, 0, 1] {
             let x = id as Real;
@@ -422,10 +438,14 @@ mod tests {
         assert_eq!(pos.width, 2);
         let v = pos.values_by_id(&mut world);
         assert_eq!(v, vec![0.0, 10.0, 1.0, 11.0, 2.0, 12.0]);
-        let shifted: Vec<Real> = v.iter().map(|x| x + 0.5).collect();
-        pos.set_by_id(&mut world, &shifted).unwrap();
-        assert_eq!(pos.values_by_id(&mut world), shifted);
-        assert!(pos.set_by_id(&mut world, &shifted[..4]).is_err());
+        assert_eq!(ids_by_row(&mut world), [2, 0, 1]);
+        let rows = pos.values_by_row(&mut world);
+        assert_eq!(rows, vec![2.0, 12.0, 0.0, 10.0, 1.0, 11.0]);
+        let shifted: Vec<Real> = rows.iter().map(|x| x + 0.5).collect();
+        pos.set_by_row(&mut world, &shifted).unwrap();
+        assert_eq!(pos.values_by_row(&mut world), shifted);
+        assert_eq!(pos.values_by_id(&mut world)[..2], [0.5, 10.5]);
+        assert!(pos.set_by_row(&mut world, &shifted[..4]).is_err());
         let g = cols.by_key("VelocityGradient").unwrap();
         assert_eq!(
             g.labels(2),

@@ -29,7 +29,7 @@ use crate::columns::{ColumnSpec, ColumnValue, Shape};
 use crate::components::*;
 use crate::math::{Real, Vector};
 use crate::neighbours::Neighbours;
-use crate::sim::{InitialInternalEnergy, Sim, SimClock, SimError, StepSet, SystemOrder};
+use crate::sim::{Sim, SimClock, SimError, StepSet, SystemOrder};
 use crate::store::single_table;
 use bevy_ecs::component::Mutable;
 use bevy_ecs::prelude::*;
@@ -356,9 +356,8 @@ pub fn ensure_energy_equation<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimErro
     if !sim.enable_feature("energy_equation") {
         return Ok(());
     }
-    let eps = sim.world.resource::<InitialInternalEnergy>().0.clone();
     let spec = ColumnSpec::state("internal_energy", "e");
-    sim.add_column(spec, move |id| InternalEnergy(eps[id as usize]))?;
+    sim.add_column(spec, |seed| InternalEnergy(seed.init.internal_energy))?;
     let spec = ColumnSpec::restart_only("energy_rate");
     sim.add_column(spec, move |_| EnergyRate { rate: 0.0 })?;
     sim.integrate::<InternalEnergy, EnergyRate>("internal_energy")?;

@@ -35,6 +35,9 @@ pub enum SimError {
 /// The ordered stages of one time step.
 #[derive(SystemSet, Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum StepSet {
+    /// Particles added and removed by plugins (inflow, outflow), applied at the end of the
+    /// set (see [`crate::population`]).
+    Population,
     /// Choose dt (fixed or CFL/force/viscous).
     TimeStep,
     /// The integrator's first stage (the leapfrog's predictor, §6 step 1).
@@ -67,7 +70,8 @@ pub enum StepSet {
 
 impl StepSet {
     /// Every set in schedule order.
-    pub const ALL: [StepSet; 14] = [
+    pub const ALL: [StepSet; 15] = [
+        StepSet::Population,
         StepSet::TimeStep,
         StepSet::Predict,
         StepSet::SmoothingLength,
@@ -88,7 +92,8 @@ impl StepSet {
     pub fn advances_state(self) -> bool {
         matches!(
             self,
-            StepSet::TimeStep
+            StepSet::Population
+                | StepSet::TimeStep
                 | StepSet::Predict
                 | StepSet::SmoothingLength
                 | StepSet::Correct
@@ -179,9 +184,26 @@ pub struct ParticleInit<V: Vector> {
     pub body: u16,
 }
 
-/// Initial internal energies by particle id, kept until a plugin adds the energy equation.
+/// The initial internal energies of the particles spawned before [`Sim::finish`], by id:
+/// their seeds' energies when the columns are put on them (dropped after).
 #[derive(Resource, Clone, Debug, Default)]
-pub struct InitialInternalEnergy(pub Vec<Real>);
+pub struct InitialInternalEnergy(Vec<Real>);
+
+impl InitialInternalEnergy {
+    /// Records particle `id`'s energy.
+    pub fn set(&mut self, id: u32, e: Real) {
+        let i = id as usize;
+        if self.0.len() <= i {
+            self.0.resize(i + 1, 0.0);
+        }
+        self.0[i] = e;
+    }
+
+    /// Particle `id`'s energy (0 when none was recorded).
+    pub fn get(&self, id: u32) -> Real {
+        self.0.get(id as usize).copied().unwrap_or(0.0)
+    }
+}
 
 /// Static settings of a simulation.
 #[derive(Clone, Copy, Debug)]
@@ -229,9 +251,6 @@ impl SystemOrder<'_> {
     }
 }
 
-/// Puts one column's value on a particle (given its id).
-type PendingColumn = Box<dyn Fn(&mut EntityWorldMut<'_>, u32) + Send + Sync>;
-
 /// A simulation: world, schedule under construction or built, and its features.
 pub struct Sim<V: Vector> {
     /// The ECS world: particles are entities, shared state is resources.
@@ -239,8 +258,8 @@ pub struct Sim<V: Vector> {
     systems: Vec<SystemEntry>,
     features: BTreeSet<&'static str>,
     requirements: Vec<(&'static str, String)>,
-    /// Column values not yet on the particles (see [`Sim::add_column`]).
-    pending: Vec<PendingColumn>,
+    /// How many column initialisers are on the scene's particles (see [`Sim::add_column`]).
+    applied: usize,
     /// The plugin being built (systems added now are its own), `core` otherwise.
     building: &'static str,
     /// The integrated scalars and the scheme (see [`crate::integrate`]).
@@ -291,13 +310,15 @@ impl<V: Vector> Sim<V> {
         world.insert_resource(InitialInternalEnergy::default());
         world.insert_resource(crate::potentials::ExternalPotentials::default());
         world.insert_resource(Columns::default());
+        world.insert_resource(crate::population::NextId::default());
+        world.insert_resource(crate::population::ColumnInits::<V>::default());
         world.insert_resource(crate::bodies::Bodies::default());
         let mut sim = Sim {
             world,
             systems: Vec::new(),
             features: BTreeSet::new(),
             requirements: Vec::new(),
-            pending: Vec::new(),
+            applied: 0,
             building: "core",
             integration: Default::default(),
             schedule: None,
@@ -456,6 +477,14 @@ impl<V: Vector> Sim<V> {
         if !self.sweeps_write_accelerations() && self.enable_feature("no_pair_sweep") {
             crate::sweep::add_zero_acceleration_system(self);
         }
+        if self.has_feature("population") {
+            // added last, so it runs after every plugin's requests of the set
+            self.add_system(
+                StepSet::Population,
+                "apply_population (add and remove particles)",
+                crate::population::apply_population::<V>,
+            );
+        }
         let mut schedule = Schedule::new(Step);
         schedule.set_executor(SingleThreadedExecutor::new());
         let order = self.ordered()?;
@@ -528,7 +557,13 @@ impl<V: Vector> Sim<V> {
             self.initialize()?;
         }
         self.run_schedule();
-        Ok(())
+        match self.population_error() {
+            Some(e) => Err(SimError::BlowUp(format!(
+                "step {}: particles could not be added: {e}",
+                self.clock().step
+            ))),
+            None => Ok(()),
+        }
     }
 
     /// Runs the step's schedule on a thread of a rayon pool. Called from outside any pool,

@@ -124,20 +124,19 @@ impl SimPlugin for PairDrag {
     }
 
     fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
-        let positions = dualsph::core::store::by_id::<Position<V>>(&mut sim.world);
         let grad = V::from_slice(&self.gamma_gradient).unwrap_or_else(V::zero);
-        let gamma: Vec<Real> = positions
-            .iter()
-            .map(|r| self.gamma + grad.dot(r.0))
-            .collect();
-        if let Some(i) = gamma.iter().position(|&g| g < 0.0) {
+        let gamma0 = self.gamma;
+        let gamma = move |r: V| gamma0 + grad.dot(r);
+        let positions = dualsph::core::store::column::<Position<V>>(&sim.world).unwrap_or(&[]);
+        if let Some(r) = positions.iter().find(|r| gamma(r.0) < 0.0) {
             return Err(SimError::Build(format!(
-                "PairDrag.gamma_gradient: γ = {} < 0 at particle {i}",
-                gamma[i]
+                "PairDrag.gamma_gradient: γ = {} < 0 at {:?}",
+                gamma(r.0),
+                r.0.to_xyz()
             )));
         }
         let spec = ColumnSpec::state("drag_gamma", "gamma");
-        sim.add_column(spec, move |id| DragGamma(gamma[id as usize]))?;
+        sim.add_column(spec, move |seed| DragGamma(gamma(seed.init.pos)))?;
         sim.add_column(ColumnSpec::state("path_length", "s"), |_| PathLength(0.0))?;
         sim.add_pair_term(PairDragTerm);
         sim.add_system(

@@ -129,18 +129,13 @@ type HealthQuery<'w, 's, V> = Query<
 pub fn check_health<V: Vector>(
     mut health: ResMut<Health>,
     mut bounds: ResMut<HealthBounds>,
-    init_rho: Res<InitialDensity>,
     domain: Res<Domain<V>>,
     q: HealthQuery<V>,
+    init_rho: Query<&InitialDensity>,
 ) {
     if bounds.rho_range.is_none() {
-        // on a resumed run InitialDensity is restored; at initialisation the current state
-        // is the initial one
-        bounds.rho_range = if init_rho.0.is_empty() {
-            range(q.iter().map(|r| r.3.0))
-        } else {
-            range(init_rho.0.iter().copied())
-        };
+        // captured at the initial evaluation, restored with a checkpoint
+        bounds.rho_range = range(init_rho.iter().map(|r| r.0));
     }
     if bounds.h_range.is_none() {
         bounds.h_range = range(q.iter().map(|r| r.4.0));

@@ -39,32 +39,38 @@ impl SimPlugin for DiagnosticsPlugin {
     const ROLE: Role = Role::Diagnostics;
 
     fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
-        install(sim);
-        Ok(())
+        install(sim)
     }
 }
 
-/// Adds the resources and the systems: [`check_health`] and [`compute_diagnostics`], in
-/// `Diagnostics`.
-pub fn install<V: Vector>(sim: &mut Sim<V>) {
+/// Adds the resources, the [`InitialDensity`] column and the systems, in `Diagnostics`:
+/// [`capture_initial_density`], [`check_health`] and [`compute_diagnostics`].
+pub fn install<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimError> {
     sim.world.init_resource::<Diagnostics>();
-    sim.world.init_resource::<InitialDensity>();
     sim.world.init_resource::<Health>();
     sim.world.init_resource::<HealthBounds>();
     sim.world.init_resource::<DiagnosticsEvery>();
+    let spec = ColumnSpec::restart_only("initial_density");
+    sim.add_column(spec, |seed| InitialDensity(seed.init.density))?;
+    sim.add_system(
+        StepSet::Diagnostics,
+        "capture_initial_density (at the initial evaluation)",
+        capture_initial_density,
+    );
     sim.add_system(StepSet::Diagnostics, "check_health", check_health::<V>);
     sim.add_system(
         StepSet::Diagnostics,
         "compute_diagnostics (every diagnostics_every steps)",
         compute_diagnostics::<V>,
     );
+    Ok(())
 }
 
 /// The diagnostics of a [`Sim`], on demand.
 pub trait SimDiagnostics {
     /// The diagnostics of the current state, computed now if the last evaluation is older
     /// (see [`DiagnosticsEvery`]). Works without the plugin too (then always computed now,
-    /// with the densities of the first call as the initial ones).
+    /// without a density variation: NaN).
     fn diagnostics(&mut self) -> Diagnostics;
     /// Evaluates the diagnostics only every `every` steps (and at t = 0).
     fn set_diagnostics_every(&mut self, every: u64);
@@ -74,7 +80,6 @@ impl<V: Vector> SimDiagnostics for Sim<V> {
     fn diagnostics(&mut self) -> Diagnostics {
         let clock = self.clock();
         self.world.init_resource::<Diagnostics>();
-        self.world.init_resource::<InitialDensity>();
         let d = self.world.resource::<Diagnostics>();
         if d.step != clock.step || d.t != clock.t || d.n == 0 {
             // the system's parameters are resources that exist (above, and the core's)
@@ -116,7 +121,8 @@ mod tests {
             internal_energy: 0.0,
             body: 0,
         };
-        sim.spawn_particles(&[p(-1.0, -1.0), p(1.0, 3.0)]);
+        sim.spawn_particles(&[p(-1.0, -1.0), p(1.0, 3.0)])
+            .expect("fresh particle ids");
         let integrator: &dyn PluginConfig = &dualsph_integrator::LeapfrogPC {};
         sim.build_plugin(integrator).unwrap();
         if with_plugin {

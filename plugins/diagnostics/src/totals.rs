@@ -35,7 +35,8 @@ pub struct Diagnostics {
     pub e_pot: Real,
     /// e_kin + e_int + e_pot.
     pub e_tot: Real,
-    /// max |ρ_i/ρ_i(0) − 1|.
+    /// max |ρ_i/ρ_i(0) − 1| over the particles, with ρ_i(0) their [`InitialDensity`]
+    /// (NaN when the particles have none: a simulation without the plugin).
     pub max_density_variation: Real,
     /// Σ |m v| (scale for relative momentum errors).
     pub momentum_scale: Real,
@@ -92,9 +93,24 @@ impl Default for DiagnosticsEvery {
     }
 }
 
-/// Initial densities by id (for the density-variation diagnostic).
-#[derive(Resource, Clone, Debug, Default)]
-pub struct InitialDensity(pub Vec<Real>);
+/// A particle's reference density for the density-variation diagnostic and the health
+/// check's density range: its density after the initial evaluation of the rates, or at its
+/// creation for a particle added during the run (a column, kept in checkpoints).
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct InitialDensity(pub Real);
+dualsph_core::scalar_column!(InitialDensity);
+
+/// Sets every particle's [`InitialDensity`] to its density, at the initial evaluation only.
+pub fn capture_initial_density(
+    clock: Res<SimClock>,
+    mut q: Query<(&Density, &mut InitialDensity)>,
+) {
+    if clock.initializing {
+        for (rho, mut r0) in &mut q {
+            r0.0 = rho.0;
+        }
+    }
+}
 
 /// The particle data the diagnostics read.
 type DiagQuery<'w, 's, V> = Query<
@@ -108,6 +124,7 @@ type DiagQuery<'w, 's, V> = Query<
         &'static Density,
         Option<&'static InternalEnergy>,
         &'static BodyId,
+        Option<&'static InitialDensity>,
     ),
 >;
 
@@ -117,12 +134,11 @@ pub fn compute_diagnostics<V: Vector>(
     clock: Res<SimClock>,
     potentials: Res<ExternalPotentials>,
     bodies: Res<Bodies>,
-    init_rho: ResMut<InitialDensity>,
     diag: ResMut<Diagnostics>,
     q: DiagQuery<V>,
 ) {
     if clock.initializing || clock.step.is_multiple_of(every.0.max(1)) {
-        compute_diagnostics_now(clock, potentials, bodies, init_rho, diag, q);
+        compute_diagnostics_now(clock, potentials, bodies, diag, q);
     }
 }
 
@@ -132,15 +148,11 @@ pub fn compute_diagnostics_now<V: Vector>(
     clock: Res<SimClock>,
     potentials: Res<ExternalPotentials>,
     bodies: Res<Bodies>,
-    mut init_rho: ResMut<InitialDensity>,
     mut diag: ResMut<Diagnostics>,
     q: DiagQuery<V>,
 ) {
     let mut rows: Vec<_> = q.iter().collect();
     rows.sort_unstable_by_key(|r| r.0.0);
-    if init_rho.0.len() != rows.len() {
-        init_rho.0 = rows.iter().map(|r| r.4.0).collect();
-    }
     let mut d = Diagnostics {
         t: clock.t,
         step: clock.step,
@@ -151,7 +163,7 @@ pub fn compute_diagnostics_now<V: Vector>(
     };
     let mut p = DVec3::ZERO;
     let mut l = DVec3::ZERO;
-    for (id, r, v, m, rho, e, body) in rows {
+    for (_, r, v, m, rho, e, body, r0) in rows {
         let (x, u) = (r.0.to_xyz(), v.0.to_xyz());
         let mv = DVec3::from_array(u) * m.0;
         let e_kin = 0.5 * m.0 * v.0.length_squared();
@@ -176,8 +188,10 @@ pub fn compute_diagnostics_now<V: Vector>(
             b.e_int += e_int;
             b.e_pot += e_pot;
         }
-        let r0 = init_rho.0[id.0 as usize];
-        d.max_density_variation = d.max_density_variation.max((rho.0 / r0 - 1.0).abs());
+        d.max_density_variation = match r0 {
+            Some(r0) => d.max_density_variation.max((rho.0 / r0.0 - 1.0).abs()),
+            None => Real::NAN,
+        };
     }
     d.momentum = p.to_array();
     d.angular_momentum = l.to_array();

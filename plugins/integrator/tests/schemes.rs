@@ -85,7 +85,8 @@ fn sim(scheme: &dyn PluginConfig, ode: Ode, dt: Real) -> Sim<DVec2> {
         h: 0.1,
         internal_energy: 0.0,
         body: 0,
-    }]);
+    }])
+    .expect("fresh particle ids");
     sim.build_plugin(scheme).unwrap();
     sim.build_plugin(&ode).unwrap();
     sim.initialize().unwrap();

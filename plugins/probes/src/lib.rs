@@ -418,11 +418,8 @@ pub fn sample_probes<V: Vector>(
         p: vec![0.0; n],
         e: vec![0.0; n],
     };
-    for (id, r, v, m, rho, h, p, e) in &q {
-        let i = id.0 as usize;
-        if i >= n {
-            continue;
-        }
+    // by row (the one table's order): every particle, whatever its id
+    for (i, (_, r, v, m, rho, h, p, e)) in q.iter().enumerate() {
         s.pos[i] = r.0;
         s.vel[i] = v.0;
         s.mass[i] = m.0;

@@ -39,7 +39,7 @@ fn block_sim(depth: Real, dx: Real) -> Sim<DVec2> {
             body: 0,
         })
         .collect();
-    sim.spawn_particles(&parts);
+    sim.spawn_particles(&parts).expect("fresh particle ids");
     let integrator: &dyn PluginConfig = &dualsph_integrator::LeapfrogPC {};
     sim.build_plugin(integrator).unwrap();
     sim

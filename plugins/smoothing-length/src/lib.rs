@@ -80,10 +80,11 @@ pub fn update_h<V: Vector>(
     }
     let n = q.iter().len();
     let (mut h_new, mut pos, mut vol) = (vec![0.0; n], vec![V::zero(); n], vec![0.0; n]);
-    for (id, m, rho, r, _) in &q {
-        h_new[id.0 as usize] = set.n * (m.0 / rho.0).powf(inv_d);
-        pos[id.0 as usize] = r.0;
-        vol[id.0 as usize] = m.0 / rho.0;
+    // by row: the index of the neighbour lists (the query walks the one table in row order)
+    for (row, (_, m, rho, r, _)) in q.iter().enumerate() {
+        h_new[row] = set.n * (m.0 / rho.0).powf(inv_d);
+        pos[row] = r.0;
+        vol[row] = m.0 / rho.0;
     }
     if let Some(iso) = set.isotropy {
         h_new = iso.enlarge(&kernel.0, &h_new, &pos, &vol);
@@ -92,8 +93,8 @@ pub fn update_h<V: Vector>(
         Some(ratio) => limit_ratio(&h_new, &pos, &nb, ratio),
         None => h_new,
     };
-    for (id, _, _, _, mut h) in &mut q {
-        h.0 = limited[id.0 as usize];
+    for ((_, _, _, _, mut h), &hl) in q.iter_mut().zip(&limited) {
+        h.0 = hl;
     }
     nb.dirty = true;
 }

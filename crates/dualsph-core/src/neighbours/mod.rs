@@ -313,6 +313,16 @@ impl<V: Vector> Neighbours<V> {
         d.is_none_or(|d| self.dirty || 2.0 * d > self.skin * self.h_min)
     }
 
+    /// Drops the lists because the particles changed (rows were added or removed): no loop
+    /// can read stale rows, and the next [`Neighbours::update`] builds new lists.
+    pub fn invalidate(&mut self) {
+        self.support = Csr::default();
+        self.dual = Csr::default();
+        self.dual_slot = Vec::new();
+        self.build_positions = Vec::new();
+        self.dirty = true;
+    }
+
     /// Rebuilds the lists from scratch.
     pub fn rebuild(&mut self, positions: &[V], h: &[Real]) {
         let radii: Vec<Real> = h.iter().map(|&hi| hi * (1.0 + self.skin)).collect();

@@ -6,6 +6,9 @@ use crate::bodies::BodyId;
 use crate::columns::{ColumnSpec, ColumnValue, Columns};
 use crate::components::*;
 use crate::math::Vector;
+use crate::neighbours::Neighbours;
+use crate::population::{ColumnInits, NextId, Population, Seed, seed_columns, spawn_core};
+use crate::store::CoreColumns;
 use bevy_ecs::prelude::*;
 
 impl<V: Vector> Sim<V> {
@@ -27,24 +30,36 @@ impl<V: Vector> Sim<V> {
         }
     }
 
-    /// Spawns particles with the core components; ids are `0..n` in the given order.
-    pub fn spawn_particles(&mut self, particles: &[ParticleInit<V>]) {
-        let start = self.particle_count() as u32;
-        let mut eps = std::mem::take(&mut self.world.resource_mut::<InitialInternalEnergy>().0);
-        for (k, p) in particles.iter().enumerate() {
-            self.world.spawn((
-                ParticleId(start + k as u32),
-                Position(p.pos),
-                Velocity(p.vel),
-                Mass(p.mass),
-                Density(p.density),
-                SmoothingLength(p.h),
-                Acceleration(V::zero()),
-                BodyId(p.body),
-            ));
-            eps.push(p.internal_energy);
+    /// Spawns particles with the core components, with the next free ids in the given
+    /// order (`0..n` for the first call). Before [`Sim::finish`] the other columns are put on
+    /// them there; after it, at once (and the neighbour lists are dropped, to be rebuilt by
+    /// the next step). The error says that the id space is exhausted.
+    pub fn spawn_particles(&mut self, particles: &[ParticleInit<V>]) -> Result<(), SimError> {
+        let first = self
+            .world
+            .resource_mut::<NextId>()
+            .take(particles.len())
+            .map_err(SimError::Build)?;
+        let entities = spawn_core(&mut self.world, first, particles);
+        if self.schedule.is_none() {
+            let mut eps = self.world.resource_mut::<InitialInternalEnergy>();
+            for (id, p) in (first..).zip(particles) {
+                eps.set(id, p.internal_energy);
+            }
+            return Ok(());
         }
-        self.world.resource_mut::<InitialInternalEnergy>().0 = eps;
+        let seeded: Vec<(Entity, Seed<V>)> = entities
+            .into_iter()
+            .zip(first..)
+            .zip(particles)
+            .map(|((e, id), &init)| (e, Seed { id, init }))
+            .collect();
+        self.world
+            .resource_scope(|world, inits: Mut<ColumnInits<V>>| {
+                seed_columns(world, &inits.0, &seeded)
+            });
+        self.world.resource_mut::<Neighbours<V>>().invalidate();
+        Ok(())
     }
 
     /// Number of particles (counted in the store).
@@ -52,49 +67,79 @@ impl<V: Vector> Sim<V> {
         crate::store::particle_count(&self.world)
     }
 
-    /// Adds column `C` to every particle, with the value `init(id)`, and registers it (see
-    /// [`crate::columns`]): whether it is written to snapshots and kept in checkpoints. Adding
+    /// Adds column `C` to every particle and registers it (see [`crate::columns`]): whether
+    /// it is written to snapshots and kept in checkpoints. `init` gives a particle's initial
+    /// value from its id and initial state ([`Seed`]); it is called for the scene's particles
+    /// and for every particle a plugin adds during the run ([`crate::population`]). Adding
     /// the same column again only sets the values again. The error names a column whose
     /// name another column has already.
     ///
-    /// The values are put on the particles by [`Sim::finish`], every column of a particle at
-    /// once: a particle then passes through the intermediate archetypes alone, so their
-    /// tables never hold more than one row, and the memory peak of set-up is the core table
-    /// and the final one (inserting column by column over all particles left a table of n
-    /// rows behind in every intermediate archetype).
+    /// The values are put on the scene's particles by [`Sim::finish`], every column of a
+    /// particle at once: a particle then passes through the intermediate archetypes alone,
+    /// so their tables never hold more than one row, and the memory peak of set-up is the
+    /// core table and the final one (inserting column by column over all particles left a
+    /// table of n rows behind in every intermediate archetype).
     pub fn add_column<C: ColumnValue<V>>(
         &mut self,
         spec: ColumnSpec,
-        init: impl Fn(u32) -> C + Send + Sync + 'static,
+        init: impl Fn(&Seed<V>) -> C + Send + Sync + 'static,
     ) -> Result<(), SimError> {
         self.world
             .resource_mut::<Columns>()
             .register::<V, C>(spec)
             .map_err(SimError::Build)?;
-        self.pending.push(Box::new(move |e, id| {
-            e.insert(init(id));
-        }));
+        self.world
+            .resource_mut::<ColumnInits<V>>()
+            .0
+            .push(Box::new(move |e, seed| {
+                e.insert(init(seed));
+            }));
         Ok(())
     }
 
     /// Puts the values of the columns added since the last call on the particles, particle
-    /// by particle (see [`Sim::add_column`]).
+    /// by particle, from each particle's seed: its core columns and its initial internal
+    /// energy (see [`Sim::add_column`]). The initial internal energies are dropped after.
     pub(super) fn insert_pending_columns(&mut self) {
-        if self.pending.is_empty() {
-            return;
+        let eps = std::mem::take(&mut *self.world.resource_mut::<InitialInternalEnergy>());
+        let inits = std::mem::take(&mut self.world.resource_mut::<ColumnInits<V>>().0);
+        if self.applied < inits.len() {
+            let seeded: Vec<(Entity, Seed<V>)> = self
+                .world
+                .query::<(Entity, &ParticleId, CoreColumns<V>, &BodyId)>()
+                .iter(&self.world)
+                .map(|(e, id, (r, v, m, rho, h), body)| {
+                    let init = ParticleInit {
+                        pos: r.0,
+                        vel: v.0,
+                        mass: m.0,
+                        density: rho.0,
+                        h: h.0,
+                        internal_energy: eps.get(id.0),
+                        body: body.0,
+                    };
+                    (e, Seed { id: id.0, init })
+                })
+                .collect();
+            seed_columns(&mut self.world, &inits[self.applied..], &seeded);
+            self.applied = inits.len();
         }
-        let pending = std::mem::take(&mut self.pending);
-        let entities: Vec<(Entity, u32)> = self
-            .world
-            .query::<(Entity, &ParticleId)>()
-            .iter(&self.world)
-            .map(|(e, id)| (e, id.0))
-            .collect();
-        for (e, id) in entities {
-            let mut particle = self.world.entity_mut(e);
-            for insert in &pending {
-                insert(&mut particle, id);
-            }
+        self.world.resource_mut::<ColumnInits<V>>().0 = inits;
+    }
+
+    /// Lets plugins add and remove particles during the run ([`crate::population`]): puts
+    /// the [`Population`] resource in the world and the system that applies its requests
+    /// at the end of [`StepSet::Population`] (once, however many plugins call this).
+    pub fn enable_population(&mut self) {
+        if self.enable_feature("population") {
+            self.world.insert_resource(Population::<V>::default());
         }
+    }
+
+    /// The error of the last population change, if it failed.
+    pub(super) fn population_error(&self) -> Option<String> {
+        self.world
+            .get_resource::<Population<V>>()
+            .and_then(|p| p.error.clone())
     }
 }

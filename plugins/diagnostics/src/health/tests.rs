@@ -27,7 +27,8 @@ fn sim() -> Sim<DVec2> {
         internal_energy: 0.0,
         body: 0,
     };
-    sim.spawn_particles(&[p(0.2, 1000.0, 0.1), p(0.8, 1200.0, 0.2)]);
+    sim.spawn_particles(&[p(0.2, 1000.0, 0.1), p(0.8, 1200.0, 0.2)])
+        .expect("fresh particle ids");
     let plugins: [&dyn dualsph_core::plugin::PluginConfig; 2] = [
         &crate::DiagnosticsPlugin {},
         &dualsph_integrator::LeapfrogPC {},
@@ -98,7 +99,13 @@ fn the_density_range_comes_from_the_initial_densities_when_they_are_restored() {
         rho_range: None,
         h_range: Some((0.1, 0.2)),
     });
-    s.world.resource_mut::<InitialDensity>().0 = vec![900.0, 1000.0];
+    for (id, mut r0) in s
+        .world
+        .query::<(&ParticleId, &mut InitialDensity)>()
+        .iter_mut(&mut s.world)
+    {
+        r0.0 = [900.0, 1000.0][id.0 as usize];
+    }
     set(&mut s, 0, 1499.0, 0.1);
     assert_eq!(problem(&mut s), None);
     assert_eq!(

@@ -1,0 +1,257 @@
+//! A particle count that changes: plugins add and remove particles during a run (inflow,
+//! outflow, refinement).
+//!
+//! A plugin asks through the [`Population`] resource: [`Population::spawn`] with a
+//! particle's initial state, [`Population::remove`] with its entity. The requests are applied
+//! by one core system, `apply_population`, at the end of [`StepSet::Population`] — the first
+//! set of the step, so diagnostics, snapshots and checkpoints written after a step always see
+//! a store whose neighbour lists match it. The system
+//! - removes the particles asked for, in ascending id order (the store stays one dense
+//!   table: bevy moves its last row into the hole, so the row order depends only on the
+//!   requests, never on the thread count);
+//! - spawns the new ones in request order, with ids from [`NextId`] (ids are never reused)
+//!   and every registered column, each set to its initial value for that particle (the
+//!   initialisers plugins gave [`Sim::add_column`]);
+//! - drops the neighbour lists, so the step rebuilds them before any loop reads them.
+//!
+//! A new particle's acceleration and rates are zero until the step's force sweep: its first
+//! predictor moves it with its initial velocity only.
+//!
+//! [`StepSet::Population`]: crate::sim::StepSet::Population
+//! [`Sim::add_column`]: crate::sim::Sim::add_column
+
+use crate::bodies::BodyId;
+use crate::components::*;
+use crate::math::Vector;
+use crate::neighbours::Neighbours;
+use crate::sim::ParticleInit;
+use bevy_ecs::prelude::*;
+
+/// A particle's id and initial state: what a column's initial value is computed from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Seed<V: Vector> {
+    /// The particle's id.
+    pub id: u32,
+    /// Its initial state.
+    pub init: ParticleInit<V>,
+}
+
+/// Puts one column's initial value on a particle.
+pub type Initialiser<V> = Box<dyn Fn(&mut EntityWorldMut<'_>, &Seed<V>) + Send + Sync>;
+
+/// The column initialisers of the scene, in the order they were added (a later one for the
+/// same column overrides an earlier one).
+#[derive(Resource)]
+pub struct ColumnInits<V: Vector>(pub Vec<Initialiser<V>>);
+
+impl<V: Vector> Default for ColumnInits<V> {
+    fn default() -> Self {
+        ColumnInits(Vec::new())
+    }
+}
+
+/// The id the next particle gets: one more than the largest id ever given, so an id is
+/// never reused (kept in checkpoints).
+#[derive(Resource, Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct NextId(pub u32);
+
+impl NextId {
+    /// Takes `count` ids, or says why not (the 32-bit id space is exhausted).
+    pub fn take(&mut self, count: usize) -> Result<u32, String> {
+        let first = self.0;
+        u32::try_from(count)
+            .ok()
+            .and_then(|c| first.checked_add(c))
+            .map(|next| {
+                self.0 = next;
+                first
+            })
+            .ok_or_else(|| {
+                format!(
+                    "cannot give {count} more particle ids: {first} ids were given and ids \
+                     are 32-bit and never reused"
+                )
+            })
+    }
+}
+
+/// The particles plugins ask to add and remove this step, and the totals so far.
+#[derive(Resource, Debug)]
+pub struct Population<V: Vector> {
+    spawns: Vec<ParticleInit<V>>,
+    removals: Vec<Entity>,
+    /// Particles added since the start of the run (of this process).
+    pub spawned: u64,
+    /// Particles removed since the start of the run (of this process).
+    pub removed: u64,
+    /// Why the last requests could not be applied (the run stops with it).
+    pub error: Option<String>,
+}
+
+impl<V: Vector> Default for Population<V> {
+    fn default() -> Self {
+        Population {
+            spawns: Vec::new(),
+            removals: Vec::new(),
+            spawned: 0,
+            removed: 0,
+            error: None,
+        }
+    }
+}
+
+impl<V: Vector> Population<V> {
+    /// Asks for a new particle.
+    pub fn spawn(&mut self, particle: ParticleInit<V>) {
+        self.spawns.push(particle);
+    }
+
+    /// Asks for the removal of a particle (asking twice removes it once).
+    pub fn remove(&mut self, particle: Entity) {
+        self.removals.push(particle);
+    }
+
+    /// Requests not applied yet.
+    pub fn pending(&self) -> usize {
+        self.spawns.len() + self.removals.len()
+    }
+}
+
+/// Spawns particles with ids `first..` and the core columns only (the other columns are put
+/// on them by [`seed_columns`]).
+pub(crate) fn spawn_core<V: Vector>(
+    world: &mut World,
+    first: u32,
+    particles: &[ParticleInit<V>],
+) -> Vec<Entity> {
+    particles
+        .iter()
+        .zip(first..)
+        .map(|(p, id)| {
+            world
+                .spawn((
+                    ParticleId(id),
+                    Position(p.pos),
+                    Velocity(p.vel),
+                    Mass(p.mass),
+                    Density(p.density),
+                    SmoothingLength(p.h),
+                    Acceleration(V::zero()),
+                    BodyId(p.body),
+                ))
+                .id()
+        })
+        .collect()
+}
+
+/// Puts `inits` on each entity, particle by particle, from its seed: a particle passes
+/// through the intermediate archetypes alone, so their tables never hold more than one row.
+pub(crate) fn seed_columns<V: Vector>(
+    world: &mut World,
+    inits: &[Initialiser<V>],
+    seeded: &[(Entity, Seed<V>)],
+) {
+    for (e, seed) in seeded {
+        let mut particle = world.entity_mut(*e);
+        for init in inits {
+            init(&mut particle, seed);
+        }
+    }
+}
+
+/// Applies the requests in [`Population`] (see the module docs).
+#[inline(never)] // a frame of its own in profiles
+pub fn apply_population<V: Vector>(world: &mut World) {
+    let (spawns, removals) = {
+        let mut p = world.resource_mut::<Population<V>>();
+        if p.pending() == 0 {
+            return;
+        }
+        (
+            std::mem::take(&mut p.spawns),
+            std::mem::take(&mut p.removals),
+        )
+    };
+    let mut doomed: Vec<(u32, Entity)> = removals
+        .into_iter()
+        .filter_map(|e| world.get::<ParticleId>(e).map(|id| (id.0, e)))
+        .collect();
+    doomed.sort_unstable();
+    doomed.dedup();
+    for &(_, e) in &doomed {
+        world.despawn(e);
+    }
+    let first = match world.resource_mut::<NextId>().take(spawns.len()) {
+        Ok(first) => first,
+        Err(e) => {
+            world.resource_mut::<Population<V>>().error = Some(e);
+            return;
+        }
+    };
+    let entities = spawn_core(world, first, &spawns);
+    let seeded: Vec<(Entity, Seed<V>)> = entities
+        .into_iter()
+        .zip(first..)
+        .zip(&spawns)
+        .map(|((e, id), &init)| (e, Seed { id, init }))
+        .collect();
+    world.resource_scope(|world, inits: Mut<ColumnInits<V>>| {
+        seed_columns(world, &inits.0, &seeded);
+    });
+    world.resource_mut::<Neighbours<V>>().invalidate();
+    let mut p = world.resource_mut::<Population<V>>();
+    p.spawned += spawns.len() as u64;
+    p.removed += doomed.len() as u64;
+}
+
+/// Replaces every particle by `seeds` (their ids and initial states, in row order), with
+/// every registered column set from its initialiser, and drops the neighbour lists: what a
+/// resumed run does when the checkpoint's particles are not the scene's (a run whose count
+/// changed). The error names a repeated id or one at or past `next`.
+pub fn replace_particles<V: Vector>(world: &mut World, seeds: &[Seed<V>]) -> Result<(), String> {
+    let next = world.resource::<NextId>().0;
+    let mut ids: Vec<u32> = seeds.iter().map(|s| s.id).collect();
+    ids.sort_unstable();
+    if let Some(w) = ids.windows(2).find(|w| w[0] == w[1]) {
+        return Err(format!("particle id {} appears twice", w[0]));
+    }
+    if let Some(&last) = ids.last().filter(|&&id| id >= next) {
+        return Err(format!(
+            "particle id {last} is not below the next id {next}"
+        ));
+    }
+    let old: Vec<Entity> = world
+        .query_filtered::<Entity, With<ParticleId>>()
+        .iter(world)
+        .collect();
+    for e in old {
+        world.despawn(e);
+    }
+    let mut seeded = Vec::with_capacity(seeds.len());
+    for s in seeds {
+        let e = spawn_core(world, s.id, std::slice::from_ref(&s.init));
+        seeded.push((e[0], *s));
+    }
+    world.resource_scope(|world, inits: Mut<ColumnInits<V>>| {
+        seed_columns(world, &inits.0, &seeded);
+    });
+    world.resource_mut::<Neighbours<V>>().invalidate();
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ids_are_taken_in_order_and_never_past_the_32_bit_space() {
+        let mut next = NextId(5);
+        assert_eq!(next.take(3), Ok(5));
+        assert_eq!(next, NextId(8));
+        let mut full = NextId(u32::MAX - 1);
+        assert_eq!(full.take(1), Ok(u32::MAX - 1));
+        let e = full.take(2).unwrap_err();
+        assert!(e.contains("never reused"), "{e}");
+        assert_eq!(full, NextId(u32::MAX), "a refused take gives no id");
+    }
+}

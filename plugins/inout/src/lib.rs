@@ -1,0 +1,252 @@
+//! Particles that enter and leave during a run, through the core's changing particle count
+//! ([`dualsph_core::population`]):
+//!
+//! * `Inlet(min, max, spacing, velocity, density, h_factor, …)`: a layer of particles on a
+//!   lattice of `spacing` over the box `[min, max]` enters with `velocity` every
+//!   `Δt_layer = spacing / |velocity|` of simulated time. Layer k is due at `t_k = k Δt_layer`;
+//!   it is added at the first step that starts at `t ≥ t_k`, displaced by
+//!   `velocity · (t − t_k)`, so successive layers stay one spacing apart whatever dt is.
+//!   Mass `ρ Δx^d`, support radius `h_factor Δx`. The count of layers so far is kept in
+//!   checkpoints.
+//! * `Outlet(min, max)`: every particle of a fluid body inside the box `[min, max]` at the
+//!   start of a step is removed.
+//!
+//! Both act in `StepSet::Population`, at the start of the step; the core applies their
+//! requests at the end of that set (removals in id order, then additions in the order asked).
+#![warn(missing_docs)]
+
+use dualsph_core::bevy_ecs::prelude::*;
+use dualsph_core::bodies::{Bodies, BodyKind};
+use dualsph_core::population::Population;
+use dualsph_core::prelude::*;
+use serde::{Deserialize, Serialize};
+
+mod settings;
+pub use settings::{check_box, lattice};
+
+/// An inlet (see the module docs).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Inlet {
+    /// Lower corner of the box the layer fills.
+    pub min: Vec<Real>,
+    /// Upper corner of the box the layer fills.
+    pub max: Vec<Real>,
+    /// Particle spacing Δx (of the lattice and between layers).
+    pub spacing: Real,
+    /// Velocity of the entering particles.
+    pub velocity: Vec<Real>,
+    /// Density of the entering particles.
+    pub density: Real,
+    /// Support radius over spacing.
+    pub h_factor: Real,
+    /// Specific internal energy of the entering particles (with an energy equation).
+    #[serde(default)]
+    pub internal_energy: Real,
+    /// The fluid body the particles join.
+    #[serde(default = "default_body")]
+    pub body: String,
+    /// No layer is due after this time (none: for the whole run).
+    #[serde(default)]
+    pub until: Option<Real>,
+}
+
+fn default_body() -> String {
+    dualsph_core::bodies::DEFAULT_BODY.to_string()
+}
+
+/// An outlet (see the module docs).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Outlet {
+    /// Lower corner of the box.
+    pub min: Vec<Real>,
+    /// Upper corner of the box.
+    pub max: Vec<Real>,
+}
+
+/// One built inlet: the layer's particles at their nominal place, and its timing.
+#[derive(Clone, Debug)]
+struct InletLayer<V: Vector> {
+    particles: Vec<ParticleInit<V>>,
+    velocity: V,
+    period: Real,
+    until: Real,
+}
+
+/// The inlets of a simulation, in scene order.
+#[derive(Resource, Clone, Debug)]
+struct Inlets<V: Vector>(Vec<InletLayer<V>>);
+
+/// Layers added so far, per inlet (kept in checkpoints).
+#[derive(Resource, Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct InletLayers(pub Vec<u64>);
+
+/// The outlet boxes of a simulation.
+#[derive(Resource, Clone, Debug)]
+struct Outlets<V: Vector>(Vec<(V, V)>);
+
+impl SimPlugin for Inlet {
+    const NAME: &'static str = "Inlet";
+    const SUMMARY: &'static str =
+        "adds a layer of particles with a given velocity every spacing/|velocity|";
+
+    fn validate(&self, info: &SceneInfo) -> Result<(), String> {
+        let d = info.dimension;
+        check_box(&self.min, &self.max, d)?;
+        if self.velocity.len() != d || self.velocity.iter().any(|v| !v.is_finite()) {
+            return Err(format!("velocity: expected {d} finite components"));
+        }
+        if self.velocity.iter().all(|&v| v == 0.0) {
+            return Err("velocity: must not be zero (the layers would never leave)".into());
+        }
+        let positive = |name: &str, x: Real| {
+            if x.is_finite() && x > 0.0 {
+                Ok(())
+            } else {
+                Err(format!("{name}: must be > 0, got {x}"))
+            }
+        };
+        positive("spacing", self.spacing)?;
+        positive("density", self.density)?;
+        positive("h_factor", self.h_factor)?;
+        if !self.internal_energy.is_finite() {
+            return Err("internal_energy: must be finite".into());
+        }
+        if self.until.is_some_and(|u| !u.is_finite()) {
+            return Err("until: must be finite".into());
+        }
+        if !info.bodies.contains(&self.body) {
+            return Err(format!(
+                "body: no body named `{}` (the scene's: {})",
+                self.body,
+                info.bodies.join(", ")
+            ));
+        }
+        Ok(())
+    }
+
+    fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
+        let bodies = sim.world.resource::<Bodies>();
+        let body = bodies
+            .index(&self.body)
+            .ok_or_else(|| SimError::Build(format!("Inlet.body: no body `{}`", self.body)))?;
+        if bodies.0[body].kind != BodyKind::Fluid {
+            return Err(SimError::Build(format!(
+                "Inlet.body: `{}` is not a fluid body",
+                self.body
+            )));
+        }
+        let vector = |v: &[Real]| {
+            V::from_slice(v)
+                .ok_or_else(|| SimError::Build("Inlet: a vector of the wrong dimension".into()))
+        };
+        let (min, max, velocity) = (
+            vector(&self.min)?,
+            vector(&self.max)?,
+            vector(&self.velocity)?,
+        );
+        let dx = self.spacing;
+        let template = ParticleInit {
+            pos: V::zero(),
+            vel: velocity,
+            mass: self.density * dx.powi(V::DIM as i32),
+            density: self.density,
+            h: self.h_factor * dx,
+            internal_energy: self.internal_energy,
+            body: body as u16,
+        };
+        let particles = lattice(min, max, dx)
+            .into_iter()
+            .map(|pos| ParticleInit { pos, ..template })
+            .collect();
+        let layer = InletLayer {
+            particles,
+            velocity,
+            period: dx / velocity.length(),
+            until: self.until.unwrap_or(Real::INFINITY),
+        };
+        sim.enable_population();
+        if sim.enable_feature("inlets") {
+            sim.world.insert_resource(Inlets::<V>(Vec::new()));
+            sim.world.insert_resource(InletLayers::default());
+            sim.keep_resource::<InletLayers>("inlet_layers");
+            sim.add_system(StepSet::Population, "feed_inlets", feed_inlets::<V>);
+        }
+        sim.world.resource_mut::<Inlets<V>>().0.push(layer);
+        sim.world.resource_mut::<InletLayers>().0.push(0);
+        Ok(())
+    }
+}
+
+/// Asks for every layer due by the start of this step (see the module docs).
+#[inline(never)] // a frame of its own in profiles
+fn feed_inlets<V: Vector>(
+    clock: Res<SimClock>,
+    inlets: Res<Inlets<V>>,
+    mut done: ResMut<InletLayers>,
+    mut population: ResMut<Population<V>>,
+) {
+    for (inlet, done) in inlets.0.iter().zip(done.0.iter_mut()) {
+        loop {
+            let t_k = *done as Real * inlet.period;
+            if t_k > clock.t || t_k > inlet.until {
+                break;
+            }
+            let shift = inlet.velocity * (clock.t - t_k);
+            for p in &inlet.particles {
+                population.spawn(ParticleInit {
+                    pos: p.pos + shift,
+                    ..*p
+                });
+            }
+            *done += 1;
+        }
+    }
+}
+
+impl SimPlugin for Outlet {
+    const NAME: &'static str = "Outlet";
+    const SUMMARY: &'static str = "removes the fluid particles inside a box";
+
+    fn validate(&self, info: &SceneInfo) -> Result<(), String> {
+        check_box(&self.min, &self.max, info.dimension)
+    }
+
+    fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
+        let vector = |v: &[Real]| {
+            V::from_slice(v)
+                .ok_or_else(|| SimError::Build("Outlet: a vector of the wrong dimension".into()))
+        };
+        let b = (vector(&self.min)?, vector(&self.max)?);
+        sim.enable_population();
+        if sim.enable_feature("outlets") {
+            sim.world.insert_resource(Outlets::<V>(Vec::new()));
+            sim.add_system(StepSet::Population, "drain_outlets", drain_outlets::<V>);
+        }
+        sim.world.resource_mut::<Outlets<V>>().0.push(b);
+        Ok(())
+    }
+}
+
+/// Asks for the removal of every fluid particle inside an outlet box.
+#[inline(never)] // a frame of its own in profiles
+fn drain_outlets<V: Vector>(
+    outlets: Res<Outlets<V>>,
+    bodies: Res<Bodies>,
+    mut population: ResMut<Population<V>>,
+    q: Query<(Entity, &Position<V>, &BodyId)>,
+) {
+    let inside = |x: V, (lo, hi): &(V, V)| {
+        (0..V::DIM).all(|k| x.get(k) >= lo.get(k) && x.get(k) <= hi.get(k))
+    };
+    for (e, r, b) in &q {
+        let fluid = bodies
+            .0
+            .get(b.0 as usize)
+            .is_some_and(|b| b.kind == BodyKind::Fluid);
+        if fluid && outlets.0.iter().any(|o| inside(r.0, o)) {
+            population.remove(e);
+        }
+    }
+}
