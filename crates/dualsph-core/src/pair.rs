@@ -12,6 +12,13 @@ use crate::math::{Matrix, Real, Vector};
 pub use crate::store::ParticleData;
 use wide::f64x2;
 
+/// The value of an [`Out`] channel before any term adds to it: `−0`, not `+0`, because
+/// `−0 + x` is `x` for every `x` (`+0 + x` turns a `−0` into `+0`), so the compiler drops the
+/// first addition of every channel. The sign of an empty channel never shows: the sums it
+/// goes into start at `+0` and only ever add, and a sum that starts at `+0` is never `−0`, so
+/// adding `−0` or `+0` to it gives the same bits.
+pub const EMPTY: Real = -0.0;
+
 /// Owner channels a sweep can sum (the per-particle sums of all its accumulators).
 pub const MAX_OWNER_CHANNELS: usize = 16;
 /// Neighbour channels a sweep can carry ([`Reaction::Separate`] accumulators).
@@ -175,7 +182,7 @@ impl<'a, T: Lanes, V: Vector> PairLanes<'a, T, V> {
     }
 }
 
-/// What the terms of a sweep give for `T::N` pairs, zero before the first term: the standard
+/// What the terms of a sweep give for `T::N` pairs, [`EMPTY`] before the first term: the standard
 /// sums by name (the force, the power and the density rate, to the owner and to the
 /// neighbour: kept in registers), and the channels of the sweep's other accumulators
 /// ([`Acc`], see [`crate::accum`]).
@@ -199,7 +206,7 @@ pub struct Extra<T: Lanes> {
 
 impl<T: Lanes> Default for Extra<T> {
     fn default() -> Self {
-        let z = T::splat(0.0);
+        let z = T::splat(EMPTY);
         Extra {
             own: [z; MAX_OWNER_CHANNELS],
             nbr: [z; MAX_NEIGHBOUR_CHANNELS],
@@ -208,10 +215,10 @@ impl<T: Lanes> Default for Extra<T> {
 }
 
 impl<'e, T: Lanes> Out<'e, T> {
-    /// Zero sums, the non-standard ones in `extra` (which must be zero).
+    /// Empty sums ([`EMPTY`]), the non-standard ones in `extra` (which must be empty).
     #[inline(always)]
     pub fn new(extra: &'e mut Extra<T>) -> Self {
-        let z = T::splat(0.0);
+        let z = T::splat(EMPTY);
         Out {
             force: LaneVec([z; 3]),
             power: z,

@@ -405,6 +405,8 @@ fn dual_support<V: Vector>(
     let owner = buf.layout.owner;
     buf.reactions.resize(nb.support.indices.len() * rw, 0.0);
     let plan = RowPlan::new(&buf.layout, &react, pair_terms);
+    // the terms with a per-particle part, found once (not by a dynamic call per term and row)
+    let inits: Vec<&dyn RowTerm<V>> = terms.iter().copied().filter(|t| t.initializes()).collect();
     let block = block_len(n);
     let r_blocks = split_rows_mut(&mut buf.reactions, offsets, block, rw);
     let later: Vec<Vec<u32>> = buf
@@ -420,7 +422,7 @@ fn dual_support<V: Vector>(
             for i in a..end {
                 let r = (offsets[i] as usize - base) * rw..(offsets[i + 1] as usize - base) * rw;
                 let own = &mut sums[(i - a) * owner..(i - a + 1) * owner];
-                owner_row(ctx, (terms, &plan), i, s, &mut rc[r], own);
+                owner_row(ctx, (&inits, &plan), i, s, &mut rc[r], own);
                 let wave = (i - a) % WAVE == WAVE - 1 || i + 1 == end;
                 while wave && next <= i {
                     let owners = nb.dual.row(next);

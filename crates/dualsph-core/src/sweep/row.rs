@@ -12,7 +12,9 @@ use crate::components::Position;
 use crate::kernels::KernelKind;
 use crate::lanes::{LaneVec, Lanes};
 use crate::math::{Matrix, Real, Vector};
-use crate::pair::{BoundTerm, Extra, Out, OwnerKernel, OwnerSums, PairLanes, RowTerm};
+use crate::pair::{
+    BoundTerm, EMPTY, Extra, Out, OwnerKernel, OwnerSums, PairLanes, ParticleData, RowTerm,
+};
 use wide::f64x2;
 
 /// Bound terms, as a sweep runs them.
@@ -214,13 +216,25 @@ impl<V: Vector> Compacted<'_, V> {
     }
 }
 
-/// The owner's values the pair geometry needs: i, `v_i`, `L_i` (when corrected), its kernel
-/// and the kernel's kind with the constants of [`OwnerKernel::grad_factor`].
+/// The core columns cut to the particle count, once per row: inside the row the compiler then
+/// knows every core column's length, so the terms' gathers of them (which cut to the count
+/// again, see [`PairLanes::gather`]) check nothing but j, once for all columns.
+#[inline(always)]
+fn cut<'w, V: Vector>(d: &ParticleData<'w, V>) -> ParticleData<'w, V> {
+    let (mut c, n) = (*d, d.len());
+    (c.pos, c.vel, c.mass) = (&d.pos[..n], &d.vel[..n], &d.mass[..n]);
+    (c.rho, c.h) = (&d.rho[..n], &d.h[..n]);
+    c
+}
+
+/// The owner's values the pair geometry needs: i, `v_i`, `L_i` (read only when the row loop
+/// is compiled for the correction: see [`row_of`]), its kernel and the kernel's kind with the
+/// constants of [`OwnerKernel::grad_factor`].
 #[derive(Clone, Copy)]
 struct Owner<V: Vector> {
     i: usize,
     v: V,
-    l: Option<V::Mat>,
+    l: V::Mat,
     kernel: OwnerKernel,
     factor: (KernelKind, Real, Real),
     /// The particle count.
@@ -228,25 +242,26 @@ struct Owner<V: Vector> {
 }
 
 /// The geometry of the `T::N` pairs `js` (with `r_ij`, `|r_ij|²`): `|r_ij|`,
-/// `∇_iW_ij = r_ij ·` [`OwnerKernel::grad_factor`] (Eq. 2.2), `v_ij` and `L_i∇_iW_ij` (Eq. 2.10).
+/// `∇_iW_ij = r_ij ·` [`OwnerKernel::grad_factor`] (Eq. 2.2), `v_ij` and, with `CORR`,
+/// `L_i∇_iW_ij` (Eq. 2.10).
 #[inline(always)]
-fn lanes<'a, T: Lanes, V: Vector>(
-    ctx: &'a SweepCtx<'a, V>,
+fn lanes<'a, T: Lanes, V: Vector, const CORR: bool>(
+    data: &'a ParticleData<'a, V>,
     o: Owner<V>,
     js: &[u32],
     rijs: &[V],
     r2s: &[Real],
 ) -> PairLanes<'a, T, V> {
-    // cut to the particle count, as the terms' gathers are (see [`PairLanes::gather`])
-    let vel = &ctx.data.vel[..o.n];
+    let vel = data.vel;
     let rij = LaneVec::<T>::from_fn(|l| rijs[l]);
     let r = T::from_fn(|l| r2s[l]).sqrt();
     let (kind, g_norm, inv_h) = o.factor;
     let raw = rij.scale::<V>(OwnerKernel::factor_lanes(kind, g_norm, inv_h, r));
     let vij = LaneVec::<T>::splat(o.v).minus::<V>(LaneVec::from_fn(|l| vel[js[l] as usize].0));
-    let grad = match o.l {
-        Some(m) => LaneVec::from_fn(|l| m.mul_vec(raw.lane::<V>(l))),
-        None => raw,
+    let grad = if CORR {
+        LaneVec::from_fn(|l| o.l.mul_vec(raw.lane::<V>(l)))
+    } else {
+        raw
     };
     let j = [js[0], js[T::N - 1]];
     PairLanes::new(
@@ -254,7 +269,7 @@ fn lanes<'a, T: Lanes, V: Vector>(
         (rij, r, vij, raw, grad),
         None,
         o.kernel,
-        &ctx.data,
+        data,
     )
     .with_len(o.n)
 }
@@ -302,7 +317,7 @@ fn flush<T: Lanes, V: Vector>(
             };
         }
     }
-    let z = T::splat(0.0);
+    let z = T::splat(EMPTY);
     (out.force, out.power, out.power_j, out.rate, out.rate_j) = (LaneVec([z; 3]), z, z, z, z);
     if plan.extra != (0, 0) {
         out.extra.own[..plan.extra.0].fill(z);
@@ -354,10 +369,11 @@ impl<V: Vector, B: BoundTerm<V>> GroupEval<V> for OneTerm<'_, V, B> {
 
 /// Every pair of the compacted row `0..n`, two at a time, through `eval`; returns i's
 /// standard sums `own` with the pairs added. With `STD` the records are
-/// [`Records::Standard`] (with the density rate to j when `RATE_J`).
+/// [`Records::Standard`] (with the density rate to j when `RATE_J`); with `CORR` the
+/// gradients are corrected (`L_i∇_iW_ij`).
 #[inline(always)]
-fn row_pairs<V: Vector, E: GroupEval<V>, const STD: bool, const RATE_J: bool>(
-    ctx: &SweepCtx<'_, V>,
+fn row_pairs<V: Vector, E: GroupEval<V>, const STD: bool, const RATE_J: bool, const CORR: bool>(
+    data: &ParticleData<'_, V>,
     (plan, eval): (&RowPlan<'_, '_, V>, &E),
     (o, n): (Owner<V>, usize),
     s: &mut RowScratch<V>,
@@ -379,17 +395,23 @@ fn row_pairs<V: Vector, E: GroupEval<V>, const STD: bool, const RATE_J: bool>(
     let (rijs2, rijs1) = rij[..n].as_chunks::<2>();
     let (r2s2, r2s1) = r2[..n].as_chunks::<2>();
     let mut out = Out::new(extra2);
+    // a macro, not a closure: the group must be inlined in both places
+    macro_rules! group {
+        ($js:expr, $slots:expr, $rijs:expr, $r2s:expr) => {{
+            let p = lanes::<f64x2, V, CORR>(data, o, $js, $rijs, $r2s);
+            eval.two(&p, &mut out);
+            if STD {
+                flush_standard::<_, V, RATE_J>(&mut out, $slots, &mut own, reactions);
+            } else {
+                flush(&mut out, $slots, plan, (&mut own, &mut *all), reactions);
+            }
+        }};
+    }
     for (((js, slots), rijs), r2s) in js2.iter().zip(slots2).zip(rijs2).zip(r2s2) {
-        let p = lanes::<f64x2, V>(ctx, o, js, rijs, r2s);
-        eval.two(&p, &mut out);
-        if STD {
-            flush_standard::<_, V, RATE_J>(&mut out, slots, &mut own, reactions);
-        } else {
-            flush(&mut out, slots, plan, (&mut own, &mut *all), reactions);
-        }
+        group!(js, slots, rijs, r2s);
     }
     if !js1.is_empty() {
-        let p = lanes::<Real, V>(ctx, o, js1, rijs1, r2s1);
+        let p = lanes::<Real, V, CORR>(data, o, js1, rijs1, r2s1);
         let mut out = Out::new(extra1);
         eval.one(&p, &mut out);
         if STD {
@@ -410,14 +432,31 @@ fn flush_standard<T: Lanes, V: Vector, const RATE_J: bool>(
     sums: &mut RowSums<V>,
     reactions: &mut [Real],
 ) {
-    let w = V::DIM + 1 + RATE_J as usize;
+    // the record width as a constant, so that a record is one array (one bounds check)
+    match V::DIM + RATE_J as usize {
+        1 => flush_records::<T, V, RATE_J, 2>(out, slots, sums, reactions),
+        2 => flush_records::<T, V, RATE_J, 3>(out, slots, sums, reactions),
+        3 => flush_records::<T, V, RATE_J, 4>(out, slots, sums, reactions),
+        _ => flush_records::<T, V, RATE_J, 5>(out, slots, sums, reactions),
+    }
+}
+
+/// [`flush_standard`] with records of `W = d + 1 + RATE_J` reals.
+#[inline(always)]
+fn flush_records<T: Lanes, V: Vector, const RATE_J: bool, const W: usize>(
+    out: &mut Out<'_, T>,
+    slots: &[u32],
+    sums: &mut RowSums<V>,
+    reactions: &mut [Real],
+) {
+    debug_assert_eq!(W, V::DIM + 1 + RATE_J as usize);
+    let (records, _) = reactions.as_chunks_mut::<W>();
     for (l, &slot) in slots.iter().enumerate() {
         let f: V = out.force.lane(l);
         sums.force += f;
         sums.power += out.power.lane(l);
         sums.rate += out.rate.lane(l);
-        let base = slot as usize * w;
-        let rec = &mut reactions[base..base + w];
+        let rec = &mut records[slot as usize];
         for (c, x) in rec[..V::DIM].iter_mut().enumerate() {
             *x = -f.get(c);
         }
@@ -426,7 +465,7 @@ fn flush_standard<T: Lanes, V: Vector, const RATE_J: bool>(
             rec[V::DIM + 1] = out.rate_j.lane(l);
         }
     }
-    let z = T::splat(0.0);
+    let z = T::splat(EMPTY);
     (out.force, out.power, out.power_j, out.rate, out.rate_j) = (LaneVec([z; 3]), z, z, z, z);
 }
 
@@ -462,27 +501,33 @@ pub(crate) fn pairs_of_row<V: Vector, E: GroupEval<V>>(
     sums: &mut [Real],
 ) {
     let row = (plan, eval);
+    // the row loop compiled for the records' layout and for the correction (no per-pair test)
+    macro_rules! go {
+        ($std:literal, $rate:literal) => {
+            if ctx.correction.is_some() {
+                row_of::<V, E, $std, $rate, true>(ctx, row, (i, s), reactions, sums)
+            } else {
+                row_of::<V, E, $std, $rate, false>(ctx, row, (i, s), reactions, sums)
+            }
+        };
+    }
     match plan.records {
-        Records::Standard { rate: false } => {
-            row_of::<V, E, true, false>(ctx, row, (i, s), reactions, sums)
-        }
-        Records::Standard { rate: true } => {
-            row_of::<V, E, true, true>(ctx, row, (i, s), reactions, sums)
-        }
-        Records::General => row_of::<V, E, false, false>(ctx, row, (i, s), reactions, sums),
+        Records::Standard { rate: false } => go!(true, false),
+        Records::Standard { rate: true } => go!(true, true),
+        Records::General => go!(false, false),
     }
 }
 
 /// [`pairs_of_row`] with the records' layout fixed (see [`row_pairs`]).
 #[inline(always)]
-fn row_of<V: Vector, E: GroupEval<V>, const STD: bool, const RATE_J: bool>(
+fn row_of<V: Vector, E: GroupEval<V>, const STD: bool, const RATE_J: bool, const CORR: bool>(
     ctx: &SweepCtx<'_, V>,
     (plan, eval): (&RowPlan<'_, '_, V>, &E),
     (i, s): (usize, &mut RowScratch<V>),
     reactions: &mut [Real],
     sums: &mut [Real],
 ) {
-    let data = &ctx.data;
+    let data = &cut(&ctx.data);
     let kernel = OwnerKernel::new(ctx.kernel, data.h[i].0);
     let cand = ctx.neighbours.support.row(i);
     s.reserve(cand.len());
@@ -509,12 +554,15 @@ fn row_of<V: Vector, E: GroupEval<V>, const STD: bool, const RATE_J: bool>(
     let o = Owner {
         i,
         v: data.vel[i].0,
-        l: ctx.correction.map(|l| l[i].0),
+        l: match ctx.correction {
+            Some(l) if CORR => l[i].0,
+            _ => V::Mat::identity(),
+        },
         kernel,
         factor: kernel.factor_parts(),
         n: data.len(),
     };
-    own = row_pairs::<V, E, STD, RATE_J>(ctx, (plan, eval), (o, n), s, reactions, own);
+    own = row_pairs::<V, E, STD, RATE_J, CORR>(data, (plan, eval), (o, n), s, reactions, own);
     if !plan.extra_own.is_empty() {
         sums.copy_from_slice(&s.all[..plan.owner]);
     }
