@@ -447,17 +447,17 @@ pub trait RowTerm<V: Vector>: Sync {
     fn initializes(&self) -> bool;
     /// See [`BoundTerm::has_pairs`].
     fn has_pairs(&self) -> bool;
-    /// Pass 1 of the sweep for owner i with this term alone, its loop compiled for the term
-    /// (the sweep's fast path: see [`crate::sweep::Fused`] for several terms).
+    /// Pass 1 and its pass-2 wavefront over one block of rows with this term alone, the
+    /// block loop compiled for the term (the sweep's fast path: see
+    /// [`crate::sweep::Fused`] for several terms); returns the block's particles that gather
+    /// after every block is done.
     #[doc(hidden)]
-    fn run_row(
+    fn run_block(
         &self,
-        ctx: &crate::sweep::SweepCtx<'_, V>,
-        plan: &crate::sweep::row::RowPlan<'_, '_, V>,
-        row: (usize, &mut crate::sweep::row::RowScratch<V>),
-        reactions: &mut [Real],
-        sums: &mut [Real],
-    );
+        sweep: &crate::sweep::block::Sweep<'_, '_, V>,
+        block: crate::sweep::block::Block<'_>,
+        s: &mut crate::sweep::row::RowScratch<V>,
+    ) -> Vec<u32>;
 }
 
 impl<V: Vector, B: BoundTerm<V>> RowTerm<V> for B {
@@ -469,16 +469,14 @@ impl<V: Vector, B: BoundTerm<V>> RowTerm<V> for B {
         self.interact(&self.owner(p.i()), p, out)
     }
 
-    fn run_row(
+    fn run_block(
         &self,
-        ctx: &crate::sweep::SweepCtx<'_, V>,
-        plan: &crate::sweep::row::RowPlan<'_, '_, V>,
-        row: (usize, &mut crate::sweep::row::RowScratch<V>),
-        reactions: &mut [Real],
-        sums: &mut [Real],
-    ) {
-        let eval = crate::sweep::row::OneTerm(self, self.owner(row.0));
-        crate::sweep::row::pairs_of_row(ctx, (plan, &eval), row, reactions, sums)
+        sweep: &crate::sweep::block::Sweep<'_, '_, V>,
+        block: crate::sweep::block::Block<'_>,
+        s: &mut crate::sweep::row::RowScratch<V>,
+    ) -> Vec<u32> {
+        let rows = crate::sweep::block::OneTermRows(self);
+        crate::sweep::block::run_block(sweep, &rows, block, s)
     }
 
     fn initialize(&self, i: usize, sums: &mut OwnerSums<'_>) {

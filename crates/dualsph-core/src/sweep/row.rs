@@ -264,14 +264,7 @@ fn lanes<'a, T: Lanes, V: Vector, const CORR: bool>(
         raw
     };
     let j = [js[0], js[T::N - 1]];
-    PairLanes::new(
-        (o.i, j),
-        (rij, r, vij, raw, grad),
-        None,
-        o.kernel,
-        data,
-    )
-    .with_len(o.n)
+    PairLanes::new((o.i, j), (rij, r, vij, raw, grad), None, o.kernel, data).with_len(o.n)
 }
 
 /// Adds the lanes' pairs to i's sums, pair by pair, writes their reactions into their
@@ -353,7 +346,7 @@ impl<V: Vector> GroupEval<V> for DynTerms<'_, '_, V> {
 }
 
 /// One term with its owner part, statically (its row loop is compiled for it: see
-/// [`RowTerm::run_row`]).
+/// [`RowTerm::run_block`]).
 pub(crate) struct OneTerm<'a, V: Vector, B: BoundTerm<V>>(pub(crate) &'a B, pub(crate) B::Owner);
 
 impl<V: Vector, B: BoundTerm<V>> GroupEval<V> for OneTerm<'_, V, B> {
@@ -469,29 +462,9 @@ fn flush_records<T: Lanes, V: Vector, const RATE_J: bool, const W: usize>(
     (out.force, out.power, out.power_j, out.rate, out.rate_j) = (LaneVec([z; 3]), z, z, z, z);
 }
 
-/// Pass 1 for one owner i: i's sums (its terms' initial values, then its pairs in `H_i`
-/// ascending) into `sums`, and the reactions of its pairs into the row's slots of
-/// `reactions` (the sweep's reaction channels per slot; zero for candidates outside `h_i`). A
-/// sweep with one term with a pair part runs that term's own compiled row loop.
-#[inline]
-pub(super) fn owner_row<V: Vector>(
-    ctx: &SweepCtx<'_, V>,
-    (terms, plan): (&Terms<'_, '_, V>, &RowPlan<'_, '_, V>),
-    i: usize,
-    s: &mut RowScratch<V>,
-    reactions: &mut [Real],
-    sums: &mut [Real],
-) {
-    initialize((terms, plan.layout), i, sums);
-    match plan.pair_terms {
-        [] => reactions.fill(0.0),
-        [one] => one.run_row(ctx, plan, (i, s), reactions, sums),
-        many => pairs_of_row(ctx, (plan, &DynTerms(many)), (i, s), reactions, sums),
-    }
-}
-
-/// i's pairs through `eval`, added to i's initial `sums`, and their reactions (see
-/// [`owner_row`]).
+/// Pass 1 for owner i after its per-particle parts: i's pairs in `H_i` ascending through
+/// `eval`, added to i's `sums`, and their reactions into the row's slots of `reactions` (the
+/// sweep's reaction channels per slot; zero for candidates outside `h_i`).
 #[inline(always)]
 pub(crate) fn pairs_of_row<V: Vector, E: GroupEval<V>>(
     ctx: &SweepCtx<'_, V>,
@@ -516,6 +489,19 @@ pub(crate) fn pairs_of_row<V: Vector, E: GroupEval<V>>(
         Records::Standard { rate: true } => go!(true, true),
         Records::General => go!(false, false),
     }
+}
+
+/// [`pairs_of_row`] as a function of its own, called once per row by the block loop (see
+/// [`super::block`]).
+#[inline(never)]
+pub(crate) fn row_apart<V: Vector, E: GroupEval<V>>(
+    ctx: &SweepCtx<'_, V>,
+    row: (&RowPlan<'_, '_, V>, &E),
+    owner: (usize, &mut RowScratch<V>),
+    reactions: &mut [Real],
+    sums: &mut [Real],
+) {
+    pairs_of_row(ctx, row, owner, reactions, sums)
 }
 
 /// [`pairs_of_row`] with the records' layout fixed (see [`row_pairs`]).
