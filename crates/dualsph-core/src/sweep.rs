@@ -316,7 +316,7 @@ pub fn evaluate<V: Vector>(
     let (bound, layout) = bind(terms, ctx.data, ctx.kernel)?;
     buf.layout = layout;
     let n = ctx.len();
-    buf.sums.clear();
+    // zeroed below when a row's sums are read before they are written (see `RowPlan::fresh`)
     buf.sums.resize(n * buf.layout.owner, 0.0);
     if buf.layout.owner == 0 || n == 0 {
         return Ok(());
@@ -326,6 +326,7 @@ pub fn evaluate<V: Vector>(
     match ctx.formulation {
         Formulation::DualSupport | Formulation::ConstantH => dual_support(ctx, (&all, &pairs), buf),
         Formulation::SingleSupport | Formulation::AveragedKernel => {
+            buf.sums.fill(0.0);
             classical::classical(ctx, (&all, &pairs), &buf.layout, &mut buf.sums)
         }
     }
@@ -352,9 +353,12 @@ fn dual_support<V: Vector>(
     let rw = react.len();
     let owner = buf.layout.owner;
     buf.reactions.resize(nb.support.indices.len() * rw, 0.0);
-    let plan = RowPlan::new(&buf.layout, &react, pair_terms);
     // the terms with a per-particle part, found once (not by a dynamic call per term and row)
     let inits: Vec<&dyn RowTerm<V>> = terms.iter().copied().filter(|t| t.initializes()).collect();
+    let plan = RowPlan::new(&buf.layout, &react, (pair_terms, !inits.is_empty()));
+    if !plan.fresh {
+        buf.sums.fill(0.0);
+    }
     let sweep = Sweep {
         ctx,
         plan: &plan,

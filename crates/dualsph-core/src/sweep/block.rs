@@ -105,7 +105,9 @@ pub(crate) fn run_block<V: Vector, E: RowEval<V>>(
     for i in a..end {
         let r = (offsets[i] as usize - base) * rw..(offsets[i + 1] as usize - base) * rw;
         let own = &mut sums[(i - a) * owner..(i - a + 1) * owner];
-        initialize((sw.inits, sw.plan.layout), i, own);
+        if !sw.inits.is_empty() {
+            initialize((sw.inits, sw.plan.layout), i, own);
+        }
         eval.row(sw, (i, s), (&mut reactions[r], own));
         let wave = (i - a) % WAVE == WAVE - 1 || i + 1 == end;
         while wave && next <= i {

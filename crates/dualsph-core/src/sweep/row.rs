@@ -35,6 +35,10 @@ pub struct RowPlan<'a, 'w, V: Vector> {
     extra: (usize, usize),
     records: Records,
     pub(super) pair_terms: &'a Terms<'a, 'w, V>,
+    /// True when a row's sums are all written by its pairs with nothing added before them
+    /// (pair terms, no per-particle part, standard sums only): the rows then start from zero
+    /// in registers, and the sweep's sums need no zeroing beforehand.
+    pub(super) fresh: bool,
 }
 
 /// How a sweep's reaction records are laid out: the standard ones only — the force's `d`
@@ -49,11 +53,11 @@ enum Records {
 
 impl<'a, 'w, V: Vector> RowPlan<'a, 'w, V> {
     /// The plan of a sweep with `layout`, its reaction channels `react` and its terms with a
-    /// pair part.
+    /// pair part; `initializes` when some term has a per-particle part.
     pub(super) fn new(
         layout: &'a Layout,
         react: &[ReactionChannel],
-        pair_terms: &'a Terms<'a, 'w, V>,
+        (pair_terms, initializes): (&'a Terms<'a, 'w, V>, bool),
     ) -> Self {
         let at = |k| layout.standard(k).map(|s| s.i);
         let r_of = |src: Source| react.iter().position(|r| r.source == src);
@@ -79,8 +83,10 @@ impl<'a, 'w, V: Vector> RowPlan<'a, 'w, V> {
             extra: (layout.extra_owner, layout.extra_neighbour),
             records: Records::General,
             pair_terms,
+            fresh: false,
         };
         plan.records = plan.records_shape();
+        plan.fresh = !pair_terms.is_empty() && !initializes && plan.extra_own.is_empty();
         plan
     }
 
@@ -144,7 +150,7 @@ impl<V: Vector> RowScratch<V> {
 }
 
 /// i's sums before any pair: every term's [`crate::pair::BoundTerm::initialize`] added to `sums`, which
-/// arrive zeroed.
+/// arrive zeroed (when some term has such a part: see [`RowPlan::fresh`]).
 pub(super) fn initialize<V: Vector>(
     (terms, layout): (&Terms<'_, '_, V>, &Layout),
     i: usize,
@@ -526,12 +532,20 @@ fn row_of<V: Vector, E: GroupEval<V>, const STD: bool, const RATE_J: bool, const
         reactions.fill(0.0);
         compact_row(cand, data.pos, xi, s, (&mut [], 0))
     };
-    let mut own = RowSums {
-        force: plan
-            .force
-            .map_or(V::zero(), |(i, _)| crate::columns::take_vector(&sums[i..])),
-        power: plan.power.map_or(0.0, |(i, _)| sums[i]),
-        rate: plan.rate.map_or(0.0, |(i, _)| sums[i]),
+    let mut own = if plan.fresh {
+        RowSums {
+            force: V::zero(),
+            power: 0.0,
+            rate: 0.0,
+        }
+    } else {
+        RowSums {
+            force: plan
+                .force
+                .map_or(V::zero(), |(i, _)| crate::columns::take_vector(&sums[i..])),
+            power: plan.power.map_or(0.0, |(i, _)| sums[i]),
+            rate: plan.rate.map_or(0.0, |(i, _)| sums[i]),
+        }
     };
     if !plan.extra_own.is_empty() {
         s.all.clear();
