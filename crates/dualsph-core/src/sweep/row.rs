@@ -124,8 +124,8 @@ pub struct RowScratch<V: Vector> {
     extra2: Extra<f64x2>,
     extra1: Extra<Real>,
     all: Vec<Real>,
-    j: Vec<u32>,
-    slot: Vec<u32>,
+    /// Each pair's `[j, slot]`, side by side (one store when compacting, one slice to cut).
+    js: Vec<[u32; 2]>,
     rij: Vec<V>,
     r2: Vec<Real>,
 }
@@ -134,7 +134,7 @@ impl<V: Vector> RowScratch<V> {
     /// Makes room for `m` candidates (grows only; never shrinks).
     #[inline(always)]
     fn reserve(&mut self, m: usize) {
-        if self.j.len() < m {
+        if self.js.len() < m {
             self.grow(m);
         }
     }
@@ -142,8 +142,7 @@ impl<V: Vector> RowScratch<V> {
     #[cold]
     #[inline(never)]
     fn grow(&mut self, m: usize) {
-        self.j.resize(m, 0);
-        self.slot.resize(m, 0);
+        self.js.resize(m, [0; 2]);
         self.rij.resize(m, V::zero());
         self.r2.resize(m, 0.0);
     }
@@ -178,8 +177,7 @@ fn compact_row<V: Vector>(
 ) -> usize {
     let m = cand.len();
     let mut at = Compacted {
-        js: &mut s.j[..m],
-        slots: &mut s.slot[..m],
+        js: &mut s.js[..m],
         rijs: &mut s.rij[..m],
         r2s: &mut s.r2[..m],
         n: 0,
@@ -199,8 +197,7 @@ fn compact_row<V: Vector>(
 
 /// The front of the scratch being filled by [`compact_row`].
 struct Compacted<'s, V: Vector> {
-    js: &'s mut [u32],
-    slots: &'s mut [u32],
+    js: &'s mut [[u32; 2]],
     rijs: &'s mut [V],
     r2s: &'s mut [Real],
     n: usize,
@@ -214,8 +211,7 @@ impl<V: Vector> Compacted<'_, V> {
         let r2 = rij.length_squared();
         let n = self.n;
         // n <= slot < m: the writes stay in bounds
-        self.js[n] = j;
-        self.slots[n] = slot as u32;
+        self.js[n] = [j, slot as u32];
         self.rijs[n] = rij;
         self.r2s[n] = r2;
         self.n += (r2 < h2) as usize;
@@ -254,7 +250,7 @@ struct Owner<V: Vector> {
 fn lanes<'a, T: Lanes, V: Vector, const CORR: bool>(
     data: &'a ParticleData<'a, V>,
     o: Owner<V>,
-    js: &[u32],
+    js: &[[u32; 2]],
     rijs: &[V],
     r2s: &[Real],
 ) -> PairLanes<'a, T, V> {
@@ -263,13 +259,13 @@ fn lanes<'a, T: Lanes, V: Vector, const CORR: bool>(
     let r = T::from_fn(|l| r2s[l]).sqrt();
     let (kind, g_norm, inv_h) = o.factor;
     let raw = rij.scale::<V>(OwnerKernel::factor_lanes(kind, g_norm, inv_h, r));
-    let vij = LaneVec::<T>::splat(o.v).minus::<V>(LaneVec::from_fn(|l| vel[js[l] as usize].0));
+    let vij = LaneVec::<T>::splat(o.v).minus::<V>(LaneVec::from_fn(|l| vel[js[l][0] as usize].0));
     let grad = if CORR {
         LaneVec::from_fn(|l| o.l.mul_vec(raw.lane::<V>(l)))
     } else {
         raw
     };
-    let j = [js[0], js[T::N - 1]];
+    let j = [js[0][0], js[T::N - 1][0]];
     PairLanes::new((o.i, j), (rij, r, vij, raw, grad), None, o.kernel, data).with_len(o.n)
 }
 
@@ -278,12 +274,12 @@ fn lanes<'a, T: Lanes, V: Vector, const CORR: bool>(
 #[inline(always)]
 fn flush<T: Lanes, V: Vector>(
     out: &mut Out<'_, T>,
-    slots: &[u32],
+    slots: &[[u32; 2]],
     plan: &RowPlan<'_, '_, V>,
     (sums, all): (&mut RowSums<V>, &mut [Real]),
     reactions: &mut [Real],
 ) {
-    for (l, &slot) in slots.iter().enumerate() {
+    for (l, &[_, slot]) in slots.iter().enumerate() {
         let base = slot as usize * plan.rw;
         let rec = &mut reactions[base..base + plan.rw];
         if let Some((_, r)) = plan.force {
@@ -383,40 +379,32 @@ fn row_pairs<V: Vector, E: GroupEval<V>, const STD: bool, const RATE_J: bool, co
         extra2,
         extra1,
         all,
-        j,
-        slot,
+        js,
         rij,
         r2,
     } = s;
     let all = &mut all[..];
-    let (js2, js1) = j[..n].as_chunks::<2>();
-    let (slots2, slots1) = slot[..n].as_chunks::<2>();
+    let (js2, js1) = js[..n].as_chunks::<2>();
     let (rijs2, rijs1) = rij[..n].as_chunks::<2>();
     let (r2s2, r2s1) = r2[..n].as_chunks::<2>();
     let mut out = Out::new(extra2);
-    // a macro, not a closure: the group must be inlined in both places
-    macro_rules! group {
-        ($js:expr, $slots:expr, $rijs:expr, $r2s:expr) => {{
-            let p = lanes::<f64x2, V, CORR>(data, o, $js, $rijs, $r2s);
-            eval.two(&p, &mut out);
-            if STD {
-                flush_standard::<_, V, RATE_J>(&mut out, $slots, &mut own, reactions);
-            } else {
-                flush(&mut out, $slots, plan, (&mut own, &mut *all), reactions);
-            }
-        }};
-    }
-    for (((js, slots), rijs), r2s) in js2.iter().zip(slots2).zip(rijs2).zip(r2s2) {
-        group!(js, slots, rijs, r2s);
+    for ((js, rijs), r2s) in js2.iter().zip(rijs2).zip(r2s2) {
+        let p = lanes::<f64x2, V, CORR>(data, o, js, rijs, r2s);
+        eval.two(&p, &mut out);
+        if STD {
+            flush_standard::<_, V, RATE_J>(&mut out, js, &mut own, reactions);
+        } else {
+            flush(&mut out, js, plan, (&mut own, &mut *all), reactions);
+        }
     }
     if !js1.is_empty() {
         let p = lanes::<Real, V, CORR>(data, o, js1, rijs1, r2s1);
         let mut out = Out::new(extra1);
         eval.one(&p, &mut out);
         if STD {
-            flush_standard::<_, V, RATE_J>(&mut out, slots1, &mut own, reactions);
+            flush_standard::<_, V, RATE_J>(&mut out, js1, &mut own, reactions);
         } else {
-            flush(&mut out, slots1, plan, (&mut own, all), reactions);
+            flush(&mut out, js1, plan, (&mut own, all), reactions);
         }
     }
     own
@@ -427,7 +415,7 @@ fn row_pairs<V: Vector, E: GroupEval<V>, const STD: bool, const RATE_J: bool, co
 #[inline(always)]
 fn flush_standard<T: Lanes, V: Vector, const RATE_J: bool>(
     out: &mut Out<'_, T>,
-    slots: &[u32],
+    slots: &[[u32; 2]],
     sums: &mut RowSums<V>,
     reactions: &mut [Real],
 ) {
@@ -444,13 +432,13 @@ fn flush_standard<T: Lanes, V: Vector, const RATE_J: bool>(
 #[inline(always)]
 fn flush_records<T: Lanes, V: Vector, const RATE_J: bool, const W: usize>(
     out: &mut Out<'_, T>,
-    slots: &[u32],
+    slots: &[[u32; 2]],
     sums: &mut RowSums<V>,
     reactions: &mut [Real],
 ) {
     debug_assert_eq!(W, V::DIM + 1 + RATE_J as usize);
     let (records, _) = reactions.as_chunks_mut::<W>();
-    for (l, &slot) in slots.iter().enumerate() {
+    for (l, &[_, slot]) in slots.iter().enumerate() {
         let f: V = out.force.lane(l);
         sums.force += f;
         sums.power += out.power.lane(l);
