@@ -12,6 +12,13 @@ use crate::math::{Matrix, Real, Vector};
 pub use crate::store::ParticleData;
 use wide::f64x2;
 
+/// The value of an [`Out`] channel before any term adds to it: `−0`, not `+0`, because
+/// `−0 + x` is `x` for every `x` (`+0 + x` turns a `−0` into `+0`), so the compiler drops the
+/// first addition of every channel. The sign of an empty channel never shows: the sums it
+/// goes into start at `+0` and only ever add, and a sum that starts at `+0` is never `−0`, so
+/// adding `−0` or `+0` to it gives the same bits.
+pub const EMPTY: Real = -0.0;
+
 /// Owner channels a sweep can sum (the per-particle sums of all its accumulators).
 pub const MAX_OWNER_CHANNELS: usize = 16;
 /// Neighbour channels a sweep can carry ([`Reaction::Separate`] accumulators).
@@ -175,7 +182,7 @@ impl<'a, T: Lanes, V: Vector> PairLanes<'a, T, V> {
     }
 }
 
-/// What the terms of a sweep give for `T::N` pairs, zero before the first term: the standard
+/// What the terms of a sweep give for `T::N` pairs, [`EMPTY`] before the first term: the standard
 /// sums by name (the force, the power and the density rate, to the owner and to the
 /// neighbour: kept in registers), and the channels of the sweep's other accumulators
 /// ([`Acc`], see [`crate::accum`]).
@@ -199,7 +206,7 @@ pub struct Extra<T: Lanes> {
 
 impl<T: Lanes> Default for Extra<T> {
     fn default() -> Self {
-        let z = T::splat(0.0);
+        let z = T::splat(EMPTY);
         Extra {
             own: [z; MAX_OWNER_CHANNELS],
             nbr: [z; MAX_NEIGHBOUR_CHANNELS],
@@ -208,10 +215,10 @@ impl<T: Lanes> Default for Extra<T> {
 }
 
 impl<'e, T: Lanes> Out<'e, T> {
-    /// Zero sums, the non-standard ones in `extra` (which must be zero).
+    /// Empty sums ([`EMPTY`]), the non-standard ones in `extra` (which must be empty).
     #[inline(always)]
     pub fn new(extra: &'e mut Extra<T>) -> Self {
-        let z = T::splat(0.0);
+        let z = T::splat(EMPTY);
         Out {
             force: LaneVec([z; 3]),
             power: z,
@@ -440,17 +447,17 @@ pub trait RowTerm<V: Vector>: Sync {
     fn initializes(&self) -> bool;
     /// See [`BoundTerm::has_pairs`].
     fn has_pairs(&self) -> bool;
-    /// Pass 1 of the sweep for owner i with this term alone, its loop compiled for the term
-    /// (the sweep's fast path: see [`crate::sweep::Fused`] for several terms).
+    /// Pass 1 and its pass-2 wavefront over one block of rows with this term alone, the
+    /// block loop compiled for the term (the sweep's fast path: see
+    /// [`crate::sweep::Fused`] for several terms); returns the block's particles that gather
+    /// after every block is done.
     #[doc(hidden)]
-    fn run_row(
+    fn run_block(
         &self,
-        ctx: &crate::sweep::SweepCtx<'_, V>,
-        plan: &crate::sweep::row::RowPlan<'_, '_, V>,
-        row: (usize, &mut crate::sweep::row::RowScratch<V>),
-        reactions: &mut [Real],
-        sums: &mut [Real],
-    );
+        sweep: &crate::sweep::block::Sweep<'_, '_, V>,
+        block: crate::sweep::block::Block<'_>,
+        s: &mut crate::sweep::row::RowScratch<V>,
+    ) -> Vec<u32>;
 }
 
 impl<V: Vector, B: BoundTerm<V>> RowTerm<V> for B {
@@ -462,16 +469,14 @@ impl<V: Vector, B: BoundTerm<V>> RowTerm<V> for B {
         self.interact(&self.owner(p.i()), p, out)
     }
 
-    fn run_row(
+    fn run_block(
         &self,
-        ctx: &crate::sweep::SweepCtx<'_, V>,
-        plan: &crate::sweep::row::RowPlan<'_, '_, V>,
-        row: (usize, &mut crate::sweep::row::RowScratch<V>),
-        reactions: &mut [Real],
-        sums: &mut [Real],
-    ) {
-        let eval = crate::sweep::row::OneTerm(self, self.owner(row.0));
-        crate::sweep::row::pairs_of_row(ctx, (plan, &eval), row, reactions, sums)
+        sweep: &crate::sweep::block::Sweep<'_, '_, V>,
+        block: crate::sweep::block::Block<'_>,
+        s: &mut crate::sweep::row::RowScratch<V>,
+    ) -> Vec<u32> {
+        let rows = crate::sweep::block::OneTermRows(self);
+        crate::sweep::block::run_block(sweep, &rows, block, s)
     }
 
     fn initialize(&self, i: usize, sums: &mut OwnerSums<'_>) {

@@ -29,7 +29,7 @@
 //! * `AveragedKernel` — the conventional reference, Eq. 2.13:
 //!   `W̄_ij = ½[W(r, h_i) + W(r, h_j)]` over `H_i ∪ H'_i`, classical symmetric sums.
 
-use crate::accum::{Layout, ReactionChannel};
+use crate::accum::Layout;
 use crate::components::{GradientCorrection, Position, SmoothingLength};
 use crate::kernels::Kernel;
 use crate::math::{Matrix, Real, Vector};
@@ -42,15 +42,18 @@ use bevy_ecs::prelude::*;
 use rayon::prelude::*;
 use std::sync::Arc;
 
+#[doc(hidden)]
+pub mod block;
 mod checks;
 mod classical;
 mod fuse;
 #[doc(hidden)]
 pub mod row;
 mod system;
+use block::{Block, Sweep, block_of, dual_sum};
 pub use checks::{check_lanes_2d, lattice_2d};
 pub use fuse::{Fused, FusedBound, Fusions};
-use row::{RowPlan, RowScratch, Terms, owner_row};
+use row::{RowPlan, RowScratch, Terms};
 pub(crate) use system::add_zero_acceleration_system;
 pub use system::{FORCES, PairSweep, PairSweeps, sweep_into};
 
@@ -265,61 +268,6 @@ fn split_rows_mut<'a, T>(
     out
 }
 
-/// j's share of the reactions: over j's dual-support slots (`slots`, ascending owner i),
-/// each reaction channel summed from zero, then added to j's sums at its target. `reactions`
-/// holds `R` reals per slot from slot `base` on.
-#[inline(always)]
-fn dual_sum_fixed<const R: usize>(
-    slots: &[u32],
-    reactions: &[Real],
-    base: usize,
-    react: &[ReactionChannel],
-    sums: &mut [Real],
-) {
-    let mut acc = [0.0; R];
-    let (records, _) = reactions.as_chunks::<R>();
-    for &slot in slots {
-        let r = &records[slot as usize - base];
-        for c in 0..R {
-            acc[c] += r[c];
-        }
-    }
-    for c in 0..R {
-        sums[react[c].target] += acc[c];
-    }
-}
-
-/// [`dual_sum_fixed`] for any number of reaction channels.
-#[inline(always)]
-fn dual_sum(
-    slots: &[u32],
-    reactions: &[Real],
-    base: usize,
-    react: &[ReactionChannel],
-    sums: &mut [Real],
-) {
-    match react.len() {
-        0 => {}
-        1 => dual_sum_fixed::<1>(slots, reactions, base, react, sums),
-        2 => dual_sum_fixed::<2>(slots, reactions, base, react, sums),
-        3 => dual_sum_fixed::<3>(slots, reactions, base, react, sums),
-        4 => dual_sum_fixed::<4>(slots, reactions, base, react, sums),
-        5 => dual_sum_fixed::<5>(slots, reactions, base, react, sums),
-        w => {
-            let mut acc = vec![0.0; w];
-            for &slot in slots {
-                let at = (slot as usize - base) * w;
-                for (a, r) in acc.iter_mut().zip(&reactions[at..at + w]) {
-                    *a += r;
-                }
-            }
-            for (a, rc) in acc.iter().zip(react) {
-                sums[rc.target] += a;
-            }
-        }
-    }
-}
-
 /// Reusable buffers of a sweep, and its result: the sums of every particle.
 #[derive(Default)]
 pub struct SweepBuffers {
@@ -368,7 +316,7 @@ pub fn evaluate<V: Vector>(
     let (bound, layout) = bind(terms, ctx.data, ctx.kernel)?;
     buf.layout = layout;
     let n = ctx.len();
-    buf.sums.clear();
+    // zeroed below when a row's sums are read before they are written (see `RowPlan::fresh`)
     buf.sums.resize(n * buf.layout.owner, 0.0);
     if buf.layout.owner == 0 || n == 0 {
         return Ok(());
@@ -378,6 +326,7 @@ pub fn evaluate<V: Vector>(
     match ctx.formulation {
         Formulation::DualSupport | Formulation::ConstantH => dual_support(ctx, (&all, &pairs), buf),
         Formulation::SingleSupport | Formulation::AveragedKernel => {
+            buf.sums.fill(0.0);
             classical::classical(ctx, (&all, &pairs), &buf.layout, &mut buf.sums)
         }
     }
@@ -404,7 +353,18 @@ fn dual_support<V: Vector>(
     let rw = react.len();
     let owner = buf.layout.owner;
     buf.reactions.resize(nb.support.indices.len() * rw, 0.0);
-    let plan = RowPlan::new(&buf.layout, &react, pair_terms);
+    // the terms with a per-particle part, found once (not by a dynamic call per term and row)
+    let inits: Vec<&dyn RowTerm<V>> = terms.iter().copied().filter(|t| t.initializes()).collect();
+    let plan = RowPlan::new(&buf.layout, &react, (pair_terms, !inits.is_empty()));
+    if !plan.fresh {
+        buf.sums.fill(0.0);
+    }
+    let sweep = Sweep {
+        ctx,
+        plan: &plan,
+        inits: &inits,
+        react: &react,
+    };
     let block = block_len(n);
     let r_blocks = split_rows_mut(&mut buf.reactions, offsets, block, rw);
     let later: Vec<Vec<u32>> = buf
@@ -412,33 +372,13 @@ fn dual_support<V: Vector>(
         .par_chunks_mut(block * owner)
         .zip(r_blocks)
         .enumerate()
-        .map_init(RowScratch::default, |s, (b, (sums, rc))| {
-            let (a, end) = (b * block, b * block + sums.len() / owner);
-            let base = offsets[a] as usize;
-            let mut later = Vec::new();
-            let mut next = a; // the wavefront of pass 2
-            for i in a..end {
-                let r = (offsets[i] as usize - base) * rw..(offsets[i + 1] as usize - base) * rw;
-                let own = &mut sums[(i - a) * owner..(i - a + 1) * owner];
-                owner_row(ctx, (terms, &plan), i, s, &mut rc[r], own);
-                let wave = (i - a) % WAVE == WAVE - 1 || i + 1 == end;
-                while wave && next <= i {
-                    let owners = nb.dual.row(next);
-                    let first = owners.first().map_or(next, |&o| o as usize);
-                    let last = owners.last().map_or(next, |&o| o as usize);
-                    if first < a || last >= end {
-                        later.push(next as u32);
-                    } else if last <= i {
-                        let slots = &nb.dual_slot[nb.dual.slots(next)];
-                        let own = &mut sums[(next - a) * owner..(next - a + 1) * owner];
-                        dual_sum(slots, rc, base, &react, own);
-                    } else {
-                        break;
-                    }
-                    next += 1;
-                }
-            }
-            later
+        .map_init(RowScratch::default, |s, (b, (sums, reactions))| {
+            let blk = Block {
+                a: b * block,
+                sums,
+                reactions,
+            };
+            block_of(&sweep, blk, s)
         })
         .collect();
     // the particles with owners in other blocks, now that every row is done

@@ -131,8 +131,8 @@ impl<V: Vector> PairTerm<V> for ArtificialViscosityTerm {
 }
 
 impl<V: Vector> BoundTerm<V> for BoundAv<'_, V> {
-    /// `(m_i, (h_i, c_i, ρ_i), (α_i, β_i))`.
-    type Owner = (Real, AvSide<Real>, (Real, Real));
+    /// `(m_i, (h_i, c_i, ρ_i), (α_i, β_i, η_f))` (`η_f` read once per row, not per pair).
+    type Owner = (Real, AvSide<Real>, (Real, Real, Real));
 
     #[inline(always)]
     fn owner(&self, i: usize) -> Self::Owner {
@@ -142,6 +142,7 @@ impl<V: Vector> BoundTerm<V> for BoundAv<'_, V> {
             None => (t.alpha, t.beta),
             Some(b) => t.by_body[b[i].0 as usize],
         };
+        let coefs = (coefs.0, coefs.1, t.eta_factor);
         (d.mass[i].0, (d.h[i].0, self.sound[i].0, d.rho[i].0), coefs)
     }
 
@@ -149,16 +150,15 @@ impl<V: Vector> BoundTerm<V> for BoundAv<'_, V> {
     /// 4.20); a receding pair adds zeros.
     #[inline(always)]
     fn interact<T: Lanes>(&self, o: &Self::Owner, p: &PairLanes<'_, T, V>, out: &mut Out<'_, T>) {
-        let (d, t) = (p.data(), self.term);
+        let d = p.data();
         let c = T::splat;
-        let (m_i, (h_i, c_i, rho_i), (alpha, beta)) = *o;
+        let (m_i, (h_i, c_i, rho_i), coefs) = *o;
         let side_j = (
             p.gather(d.h, |h| h.0),
             p.gather(self.sound, |s| s.0),
             p.rho_j(),
         );
         let (vij, g) = (p.vij(), p.grad_raw());
-        let coefs = (alpha, beta, t.eta_factor);
         let side_i = (c(h_i), c(c_i), c(rho_i));
         let (num, den) = pi_parts(coefs, side_i, side_j, vij.dot::<V>(p.rij()), p.r());
         // m_i m_j Π/2 = m_i m_j num/den

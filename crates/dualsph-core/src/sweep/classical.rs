@@ -11,7 +11,7 @@ use super::row::{Terms, initialize};
 use crate::accum::{AccumulatorSlot, Layout, Reaction};
 use crate::lanes::LaneVec;
 use crate::math::{Real, Vector};
-use crate::pair::{Extra, Out, OwnerKernel, PairLanes};
+use crate::pair::{EMPTY, Extra, Out, OwnerKernel, PairLanes};
 use rayon::prelude::*;
 
 /// Adds one pair to i's sums for every accumulator (see the module docs): `own` and `mirror`
@@ -71,10 +71,10 @@ pub(super) fn classical<V: Vector>(
                 eval(pair_terms, &own, &mut a);
                 eval(pair_terms, &mirror, &mut b);
                 combine(&layout.slots, &a, &b, sums);
-                // the channels of other columns back to zero for the next pair
+                // the channels of other columns back to empty for the next pair
                 for e in [&mut *ea, &mut *eb] {
-                    e.own[..own_extra].fill(0.0);
-                    e.nbr[..nbr_extra].fill(0.0);
+                    e.own[..own_extra].fill(EMPTY);
+                    e.nbr[..nbr_extra].fill(EMPTY);
                 }
             });
         },

@@ -12,7 +12,9 @@ use crate::components::Position;
 use crate::kernels::KernelKind;
 use crate::lanes::{LaneVec, Lanes};
 use crate::math::{Matrix, Real, Vector};
-use crate::pair::{BoundTerm, Extra, Out, OwnerKernel, OwnerSums, PairLanes, RowTerm};
+use crate::pair::{
+    BoundTerm, EMPTY, Extra, Out, OwnerKernel, OwnerSums, PairLanes, ParticleData, RowTerm,
+};
 use wide::f64x2;
 
 /// Bound terms, as a sweep runs them.
@@ -33,6 +35,10 @@ pub struct RowPlan<'a, 'w, V: Vector> {
     extra: (usize, usize),
     records: Records,
     pub(super) pair_terms: &'a Terms<'a, 'w, V>,
+    /// True when a row's sums are all written by its pairs with nothing added before them
+    /// (pair terms, no per-particle part, standard sums only): the rows then start from zero
+    /// in registers, and the sweep's sums need no zeroing beforehand.
+    pub(super) fresh: bool,
 }
 
 /// How a sweep's reaction records are laid out: the standard ones only — the force's `d`
@@ -47,11 +53,11 @@ enum Records {
 
 impl<'a, 'w, V: Vector> RowPlan<'a, 'w, V> {
     /// The plan of a sweep with `layout`, its reaction channels `react` and its terms with a
-    /// pair part.
+    /// pair part; `initializes` when some term has a per-particle part.
     pub(super) fn new(
         layout: &'a Layout,
         react: &[ReactionChannel],
-        pair_terms: &'a Terms<'a, 'w, V>,
+        (pair_terms, initializes): (&'a Terms<'a, 'w, V>, bool),
     ) -> Self {
         let at = |k| layout.standard(k).map(|s| s.i);
         let r_of = |src: Source| react.iter().position(|r| r.source == src);
@@ -77,8 +83,10 @@ impl<'a, 'w, V: Vector> RowPlan<'a, 'w, V> {
             extra: (layout.extra_owner, layout.extra_neighbour),
             records: Records::General,
             pair_terms,
+            fresh: false,
         };
         plan.records = plan.records_shape();
+        plan.fresh = !pair_terms.is_empty() && !initializes && plan.extra_own.is_empty();
         plan
     }
 
@@ -116,8 +124,8 @@ pub struct RowScratch<V: Vector> {
     extra2: Extra<f64x2>,
     extra1: Extra<Real>,
     all: Vec<Real>,
-    j: Vec<u32>,
-    slot: Vec<u32>,
+    /// Each pair's `[j, slot]`, side by side (one store when compacting, one slice to cut).
+    js: Vec<[u32; 2]>,
     rij: Vec<V>,
     r2: Vec<Real>,
 }
@@ -126,7 +134,7 @@ impl<V: Vector> RowScratch<V> {
     /// Makes room for `m` candidates (grows only; never shrinks).
     #[inline(always)]
     fn reserve(&mut self, m: usize) {
-        if self.j.len() < m {
+        if self.js.len() < m {
             self.grow(m);
         }
     }
@@ -134,15 +142,14 @@ impl<V: Vector> RowScratch<V> {
     #[cold]
     #[inline(never)]
     fn grow(&mut self, m: usize) {
-        self.j.resize(m, 0);
-        self.slot.resize(m, 0);
+        self.js.resize(m, [0; 2]);
         self.rij.resize(m, V::zero());
         self.r2.resize(m, 0.0);
     }
 }
 
 /// i's sums before any pair: every term's [`crate::pair::BoundTerm::initialize`] added to `sums`, which
-/// arrive zeroed.
+/// arrive zeroed (when some term has such a part: see [`RowPlan::fresh`]).
 pub(super) fn initialize<V: Vector>(
     (terms, layout): (&Terms<'_, '_, V>, &Layout),
     i: usize,
@@ -170,8 +177,7 @@ fn compact_row<V: Vector>(
 ) -> usize {
     let m = cand.len();
     let mut at = Compacted {
-        js: &mut s.j[..m],
-        slots: &mut s.slot[..m],
+        js: &mut s.js[..m],
         rijs: &mut s.rij[..m],
         r2s: &mut s.r2[..m],
         n: 0,
@@ -191,8 +197,7 @@ fn compact_row<V: Vector>(
 
 /// The front of the scratch being filled by [`compact_row`].
 struct Compacted<'s, V: Vector> {
-    js: &'s mut [u32],
-    slots: &'s mut [u32],
+    js: &'s mut [[u32; 2]],
     rijs: &'s mut [V],
     r2s: &'s mut [Real],
     n: usize,
@@ -206,21 +211,32 @@ impl<V: Vector> Compacted<'_, V> {
         let r2 = rij.length_squared();
         let n = self.n;
         // n <= slot < m: the writes stay in bounds
-        self.js[n] = j;
-        self.slots[n] = slot as u32;
+        self.js[n] = [j, slot as u32];
         self.rijs[n] = rij;
         self.r2s[n] = r2;
         self.n += (r2 < h2) as usize;
     }
 }
 
-/// The owner's values the pair geometry needs: i, `v_i`, `L_i` (when corrected), its kernel
-/// and the kernel's kind with the constants of [`OwnerKernel::grad_factor`].
+/// The core columns cut to the particle count, once per row: inside the row the compiler then
+/// knows every core column's length, so the terms' gathers of them (which cut to the count
+/// again, see [`PairLanes::gather`]) check nothing but j, once for all columns.
+#[inline(always)]
+fn cut<'w, V: Vector>(d: &ParticleData<'w, V>) -> ParticleData<'w, V> {
+    let (mut c, n) = (*d, d.len());
+    (c.pos, c.vel, c.mass) = (&d.pos[..n], &d.vel[..n], &d.mass[..n]);
+    (c.rho, c.h) = (&d.rho[..n], &d.h[..n]);
+    c
+}
+
+/// The owner's values the pair geometry needs: i, `v_i`, `L_i` (read only when the row loop
+/// is compiled for the correction: see [`row_of`]), its kernel and the kernel's kind with the
+/// constants of [`OwnerKernel::grad_factor`].
 #[derive(Clone, Copy)]
 struct Owner<V: Vector> {
     i: usize,
     v: V,
-    l: Option<V::Mat>,
+    l: V::Mat,
     kernel: OwnerKernel,
     factor: (KernelKind, Real, Real),
     /// The particle count.
@@ -228,35 +244,29 @@ struct Owner<V: Vector> {
 }
 
 /// The geometry of the `T::N` pairs `js` (with `r_ij`, `|r_ij|²`): `|r_ij|`,
-/// `∇_iW_ij = r_ij ·` [`OwnerKernel::grad_factor`] (Eq. 2.2), `v_ij` and `L_i∇_iW_ij` (Eq. 2.10).
+/// `∇_iW_ij = r_ij ·` [`OwnerKernel::grad_factor`] (Eq. 2.2), `v_ij` and, with `CORR`,
+/// `L_i∇_iW_ij` (Eq. 2.10).
 #[inline(always)]
-fn lanes<'a, T: Lanes, V: Vector>(
-    ctx: &'a SweepCtx<'a, V>,
+fn lanes<'a, T: Lanes, V: Vector, const CORR: bool>(
+    data: &'a ParticleData<'a, V>,
     o: Owner<V>,
-    js: &[u32],
+    js: &[[u32; 2]],
     rijs: &[V],
     r2s: &[Real],
 ) -> PairLanes<'a, T, V> {
-    // cut to the particle count, as the terms' gathers are (see [`PairLanes::gather`])
-    let vel = &ctx.data.vel[..o.n];
+    let vel = data.vel;
     let rij = LaneVec::<T>::from_fn(|l| rijs[l]);
     let r = T::from_fn(|l| r2s[l]).sqrt();
     let (kind, g_norm, inv_h) = o.factor;
     let raw = rij.scale::<V>(OwnerKernel::factor_lanes(kind, g_norm, inv_h, r));
-    let vij = LaneVec::<T>::splat(o.v).minus::<V>(LaneVec::from_fn(|l| vel[js[l] as usize].0));
-    let grad = match o.l {
-        Some(m) => LaneVec::from_fn(|l| m.mul_vec(raw.lane::<V>(l))),
-        None => raw,
+    let vij = LaneVec::<T>::splat(o.v).minus::<V>(LaneVec::from_fn(|l| vel[js[l][0] as usize].0));
+    let grad = if CORR {
+        LaneVec::from_fn(|l| o.l.mul_vec(raw.lane::<V>(l)))
+    } else {
+        raw
     };
-    let j = [js[0], js[T::N - 1]];
-    PairLanes::new(
-        (o.i, j),
-        (rij, r, vij, raw, grad),
-        None,
-        o.kernel,
-        &ctx.data,
-    )
-    .with_len(o.n)
+    let j = [js[0][0], js[T::N - 1][0]];
+    PairLanes::new((o.i, j), (rij, r, vij, raw, grad), None, o.kernel, data).with_len(o.n)
 }
 
 /// Adds the lanes' pairs to i's sums, pair by pair, writes their reactions into their
@@ -264,12 +274,12 @@ fn lanes<'a, T: Lanes, V: Vector>(
 #[inline(always)]
 fn flush<T: Lanes, V: Vector>(
     out: &mut Out<'_, T>,
-    slots: &[u32],
+    slots: &[[u32; 2]],
     plan: &RowPlan<'_, '_, V>,
     (sums, all): (&mut RowSums<V>, &mut [Real]),
     reactions: &mut [Real],
 ) {
-    for (l, &slot) in slots.iter().enumerate() {
+    for (l, &[_, slot]) in slots.iter().enumerate() {
         let base = slot as usize * plan.rw;
         let rec = &mut reactions[base..base + plan.rw];
         if let Some((_, r)) = plan.force {
@@ -302,7 +312,7 @@ fn flush<T: Lanes, V: Vector>(
             };
         }
     }
-    let z = T::splat(0.0);
+    let z = T::splat(EMPTY);
     (out.force, out.power, out.power_j, out.rate, out.rate_j) = (LaneVec([z; 3]), z, z, z, z);
     if plan.extra != (0, 0) {
         out.extra.own[..plan.extra.0].fill(z);
@@ -338,7 +348,7 @@ impl<V: Vector> GroupEval<V> for DynTerms<'_, '_, V> {
 }
 
 /// One term with its owner part, statically (its row loop is compiled for it: see
-/// [`RowTerm::run_row`]).
+/// [`RowTerm::run_block`]).
 pub(crate) struct OneTerm<'a, V: Vector, B: BoundTerm<V>>(pub(crate) &'a B, pub(crate) B::Owner);
 
 impl<V: Vector, B: BoundTerm<V>> GroupEval<V> for OneTerm<'_, V, B> {
@@ -354,10 +364,11 @@ impl<V: Vector, B: BoundTerm<V>> GroupEval<V> for OneTerm<'_, V, B> {
 
 /// Every pair of the compacted row `0..n`, two at a time, through `eval`; returns i's
 /// standard sums `own` with the pairs added. With `STD` the records are
-/// [`Records::Standard`] (with the density rate to j when `RATE_J`).
+/// [`Records::Standard`] (with the density rate to j when `RATE_J`); with `CORR` the
+/// gradients are corrected (`L_i∇_iW_ij`).
 #[inline(always)]
-fn row_pairs<V: Vector, E: GroupEval<V>, const STD: bool, const RATE_J: bool>(
-    ctx: &SweepCtx<'_, V>,
+fn row_pairs<V: Vector, E: GroupEval<V>, const STD: bool, const RATE_J: bool, const CORR: bool>(
+    data: &ParticleData<'_, V>,
     (plan, eval): (&RowPlan<'_, '_, V>, &E),
     (o, n): (Owner<V>, usize),
     s: &mut RowScratch<V>,
@@ -368,34 +379,32 @@ fn row_pairs<V: Vector, E: GroupEval<V>, const STD: bool, const RATE_J: bool>(
         extra2,
         extra1,
         all,
-        j,
-        slot,
+        js,
         rij,
         r2,
     } = s;
     let all = &mut all[..];
-    let (js2, js1) = j[..n].as_chunks::<2>();
-    let (slots2, slots1) = slot[..n].as_chunks::<2>();
+    let (js2, js1) = js[..n].as_chunks::<2>();
     let (rijs2, rijs1) = rij[..n].as_chunks::<2>();
     let (r2s2, r2s1) = r2[..n].as_chunks::<2>();
     let mut out = Out::new(extra2);
-    for (((js, slots), rijs), r2s) in js2.iter().zip(slots2).zip(rijs2).zip(r2s2) {
-        let p = lanes::<f64x2, V>(ctx, o, js, rijs, r2s);
+    for ((js, rijs), r2s) in js2.iter().zip(rijs2).zip(r2s2) {
+        let p = lanes::<f64x2, V, CORR>(data, o, js, rijs, r2s);
         eval.two(&p, &mut out);
         if STD {
-            flush_standard::<_, V, RATE_J>(&mut out, slots, &mut own, reactions);
+            flush_standard::<_, V, RATE_J>(&mut out, js, &mut own, reactions);
         } else {
-            flush(&mut out, slots, plan, (&mut own, &mut *all), reactions);
+            flush(&mut out, js, plan, (&mut own, &mut *all), reactions);
         }
     }
     if !js1.is_empty() {
-        let p = lanes::<Real, V>(ctx, o, js1, rijs1, r2s1);
+        let p = lanes::<Real, V, CORR>(data, o, js1, rijs1, r2s1);
         let mut out = Out::new(extra1);
         eval.one(&p, &mut out);
         if STD {
-            flush_standard::<_, V, RATE_J>(&mut out, slots1, &mut own, reactions);
+            flush_standard::<_, V, RATE_J>(&mut out, js1, &mut own, reactions);
         } else {
-            flush(&mut out, slots1, plan, (&mut own, all), reactions);
+            flush(&mut out, js1, plan, (&mut own, all), reactions);
         }
     }
     own
@@ -406,18 +415,35 @@ fn row_pairs<V: Vector, E: GroupEval<V>, const STD: bool, const RATE_J: bool>(
 #[inline(always)]
 fn flush_standard<T: Lanes, V: Vector, const RATE_J: bool>(
     out: &mut Out<'_, T>,
-    slots: &[u32],
+    slots: &[[u32; 2]],
     sums: &mut RowSums<V>,
     reactions: &mut [Real],
 ) {
-    let w = V::DIM + 1 + RATE_J as usize;
-    for (l, &slot) in slots.iter().enumerate() {
+    // the record width as a constant, so that a record is one array (one bounds check)
+    match V::DIM + RATE_J as usize {
+        1 => flush_records::<T, V, RATE_J, 2>(out, slots, sums, reactions),
+        2 => flush_records::<T, V, RATE_J, 3>(out, slots, sums, reactions),
+        3 => flush_records::<T, V, RATE_J, 4>(out, slots, sums, reactions),
+        _ => flush_records::<T, V, RATE_J, 5>(out, slots, sums, reactions),
+    }
+}
+
+/// [`flush_standard`] with records of `W = d + 1 + RATE_J` reals.
+#[inline(always)]
+fn flush_records<T: Lanes, V: Vector, const RATE_J: bool, const W: usize>(
+    out: &mut Out<'_, T>,
+    slots: &[[u32; 2]],
+    sums: &mut RowSums<V>,
+    reactions: &mut [Real],
+) {
+    debug_assert_eq!(W, V::DIM + 1 + RATE_J as usize);
+    let (records, _) = reactions.as_chunks_mut::<W>();
+    for (l, &[_, slot]) in slots.iter().enumerate() {
         let f: V = out.force.lane(l);
         sums.force += f;
         sums.power += out.power.lane(l);
         sums.rate += out.rate.lane(l);
-        let base = slot as usize * w;
-        let rec = &mut reactions[base..base + w];
+        let rec = &mut records[slot as usize];
         for (c, x) in rec[..V::DIM].iter_mut().enumerate() {
             *x = -f.get(c);
         }
@@ -426,33 +452,13 @@ fn flush_standard<T: Lanes, V: Vector, const RATE_J: bool>(
             rec[V::DIM + 1] = out.rate_j.lane(l);
         }
     }
-    let z = T::splat(0.0);
+    let z = T::splat(EMPTY);
     (out.force, out.power, out.power_j, out.rate, out.rate_j) = (LaneVec([z; 3]), z, z, z, z);
 }
 
-/// Pass 1 for one owner i: i's sums (its terms' initial values, then its pairs in `H_i`
-/// ascending) into `sums`, and the reactions of its pairs into the row's slots of
-/// `reactions` (the sweep's reaction channels per slot; zero for candidates outside `h_i`). A
-/// sweep with one term with a pair part runs that term's own compiled row loop.
-#[inline]
-pub(super) fn owner_row<V: Vector>(
-    ctx: &SweepCtx<'_, V>,
-    (terms, plan): (&Terms<'_, '_, V>, &RowPlan<'_, '_, V>),
-    i: usize,
-    s: &mut RowScratch<V>,
-    reactions: &mut [Real],
-    sums: &mut [Real],
-) {
-    initialize((terms, plan.layout), i, sums);
-    match plan.pair_terms {
-        [] => reactions.fill(0.0),
-        [one] => one.run_row(ctx, plan, (i, s), reactions, sums),
-        many => pairs_of_row(ctx, (plan, &DynTerms(many)), (i, s), reactions, sums),
-    }
-}
-
-/// i's pairs through `eval`, added to i's initial `sums`, and their reactions (see
-/// [`owner_row`]).
+/// Pass 1 for owner i after its per-particle parts: i's pairs in `H_i` ascending through
+/// `eval`, added to i's `sums`, and their reactions into the row's slots of `reactions` (the
+/// sweep's reaction channels per slot; zero for candidates outside `h_i`).
 #[inline(always)]
 pub(crate) fn pairs_of_row<V: Vector, E: GroupEval<V>>(
     ctx: &SweepCtx<'_, V>,
@@ -462,27 +468,46 @@ pub(crate) fn pairs_of_row<V: Vector, E: GroupEval<V>>(
     sums: &mut [Real],
 ) {
     let row = (plan, eval);
-    match plan.records {
-        Records::Standard { rate: false } => {
-            row_of::<V, E, true, false>(ctx, row, (i, s), reactions, sums)
-        }
-        Records::Standard { rate: true } => {
-            row_of::<V, E, true, true>(ctx, row, (i, s), reactions, sums)
-        }
-        Records::General => row_of::<V, E, false, false>(ctx, row, (i, s), reactions, sums),
+    // the row loop compiled for the records' layout and for the correction (no per-pair test)
+    macro_rules! go {
+        ($std:literal, $rate:literal) => {
+            if ctx.correction.is_some() {
+                row_of::<V, E, $std, $rate, true>(ctx, row, (i, s), reactions, sums)
+            } else {
+                row_of::<V, E, $std, $rate, false>(ctx, row, (i, s), reactions, sums)
+            }
+        };
     }
+    match plan.records {
+        Records::Standard { rate: false } => go!(true, false),
+        Records::Standard { rate: true } => go!(true, true),
+        Records::General => go!(false, false),
+    }
+}
+
+/// [`pairs_of_row`] as a function of its own, called once per row by the block loop (see
+/// [`super::block`]).
+#[inline(never)]
+pub(crate) fn row_apart<V: Vector, E: GroupEval<V>>(
+    ctx: &SweepCtx<'_, V>,
+    row: (&RowPlan<'_, '_, V>, &E),
+    owner: (usize, &mut RowScratch<V>),
+    reactions: &mut [Real],
+    sums: &mut [Real],
+) {
+    pairs_of_row(ctx, row, owner, reactions, sums)
 }
 
 /// [`pairs_of_row`] with the records' layout fixed (see [`row_pairs`]).
 #[inline(always)]
-fn row_of<V: Vector, E: GroupEval<V>, const STD: bool, const RATE_J: bool>(
+fn row_of<V: Vector, E: GroupEval<V>, const STD: bool, const RATE_J: bool, const CORR: bool>(
     ctx: &SweepCtx<'_, V>,
     (plan, eval): (&RowPlan<'_, '_, V>, &E),
     (i, s): (usize, &mut RowScratch<V>),
     reactions: &mut [Real],
     sums: &mut [Real],
 ) {
-    let data = &ctx.data;
+    let data = &cut(&ctx.data);
     let kernel = OwnerKernel::new(ctx.kernel, data.h[i].0);
     let cand = ctx.neighbours.support.row(i);
     s.reserve(cand.len());
@@ -495,12 +520,20 @@ fn row_of<V: Vector, E: GroupEval<V>, const STD: bool, const RATE_J: bool>(
         reactions.fill(0.0);
         compact_row(cand, data.pos, xi, s, (&mut [], 0))
     };
-    let mut own = RowSums {
-        force: plan
-            .force
-            .map_or(V::zero(), |(i, _)| crate::columns::take_vector(&sums[i..])),
-        power: plan.power.map_or(0.0, |(i, _)| sums[i]),
-        rate: plan.rate.map_or(0.0, |(i, _)| sums[i]),
+    let mut own = if plan.fresh {
+        RowSums {
+            force: V::zero(),
+            power: 0.0,
+            rate: 0.0,
+        }
+    } else {
+        RowSums {
+            force: plan
+                .force
+                .map_or(V::zero(), |(i, _)| crate::columns::take_vector(&sums[i..])),
+            power: plan.power.map_or(0.0, |(i, _)| sums[i]),
+            rate: plan.rate.map_or(0.0, |(i, _)| sums[i]),
+        }
     };
     if !plan.extra_own.is_empty() {
         s.all.clear();
@@ -509,12 +542,15 @@ fn row_of<V: Vector, E: GroupEval<V>, const STD: bool, const RATE_J: bool>(
     let o = Owner {
         i,
         v: data.vel[i].0,
-        l: ctx.correction.map(|l| l[i].0),
+        l: match ctx.correction {
+            Some(l) if CORR => l[i].0,
+            _ => V::Mat::identity(),
+        },
         kernel,
         factor: kernel.factor_parts(),
         n: data.len(),
     };
-    own = row_pairs::<V, E, STD, RATE_J>(ctx, (plan, eval), (o, n), s, reactions, own);
+    own = row_pairs::<V, E, STD, RATE_J, CORR>(data, (plan, eval), (o, n), s, reactions, own);
     if !plan.extra_own.is_empty() {
         sums.copy_from_slice(&s.all[..plan.owner]);
     }
