@@ -242,6 +242,101 @@ pub fn replace_particles<V: Vector>(world: &mut World, seeds: &[Seed<V>]) -> Res
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::DVec2;
+
+    #[derive(Component, Debug, PartialEq)]
+    struct Tag(u32);
+
+    fn init(x: f64) -> ParticleInit<DVec2> {
+        ParticleInit {
+            pos: DVec2::new(x, 0.0),
+            vel: DVec2::ZERO,
+            mass: 1.0,
+            density: 1.0,
+            h: 0.1,
+            internal_energy: 0.0,
+            body: 0,
+        }
+    }
+
+    /// A world with three particles carrying `Tag` (id + 100) and lists built for them.
+    fn world() -> World {
+        let mut world = World::new();
+        let mut inits = ColumnInits::<DVec2>::default();
+        inits.0.push(Box::new(|e, seed| {
+            e.insert(Tag(seed.id + 100));
+        }));
+        world.insert_resource(inits);
+        world.insert_resource(NextId(0));
+        world.insert_resource(Population::<DVec2>::default());
+        let mut nb = Neighbours::<DVec2>::new(0.0);
+        let pts = [DVec2::ZERO, DVec2::X * 0.05, DVec2::X * 0.1];
+        nb.rebuild(&pts, &[0.1; 3]);
+        world.insert_resource(nb);
+        let seeds: Vec<Seed<DVec2>> = (0..3)
+            .map(|id| Seed {
+                id,
+                init: init(0.05 * id as f64),
+            })
+            .collect();
+        world.resource_mut::<NextId>().0 = 3;
+        replace_particles(&mut world, &seeds).unwrap();
+        world
+    }
+
+    fn rows(world: &mut World) -> Vec<(u32, u32)> {
+        world
+            .query::<(&ParticleId, &Tag)>()
+            .iter(world)
+            .map(|(id, t)| (id.0, t.0))
+            .collect()
+    }
+
+    #[test]
+    fn requests_are_applied_in_id_order_with_fresh_ids_and_every_column() {
+        let mut world = world();
+        assert_eq!(rows(&mut world), [(0, 100), (1, 101), (2, 102)]);
+        let entities: Vec<Entity> = world
+            .query_filtered::<Entity, With<ParticleId>>()
+            .iter(&world)
+            .collect();
+        {
+            let mut p = world.resource_mut::<Population<DVec2>>();
+            // asked out of order and twice: removed once each, the lowest id first
+            p.remove(entities[1]);
+            p.remove(entities[0]);
+            p.remove(entities[1]);
+            p.spawn(init(0.5));
+            p.spawn(init(0.6));
+        }
+        apply_population::<DVec2>(&mut world);
+        // removing id 0 moves the last row (2) into row 0; removing id 1 moves nothing
+        assert_eq!(rows(&mut world), [(2, 102), (3, 103), (4, 104)]);
+        assert_eq!(crate::store::particle_tables(&world), 1);
+        assert_eq!(world.resource::<NextId>().0, 5);
+        let p = world.resource::<Population<DVec2>>();
+        assert_eq!((p.spawned, p.removed, p.pending()), (2, 2, 0));
+        let nb = world.resource::<Neighbours<DVec2>>();
+        assert!(nb.dirty && nb.support.rows() == 0, "the lists are dropped");
+    }
+
+    #[test]
+    fn replacing_the_particles_refuses_repeated_or_unissued_ids() {
+        let mut world = world();
+        let seed = |id| Seed {
+            id,
+            init: init(0.0),
+        };
+        let e = replace_particles(&mut world, &[seed(1), seed(1)]).unwrap_err();
+        assert!(e.contains("twice"), "{e}");
+        let e = replace_particles(&mut world, &[seed(3)]).unwrap_err();
+        assert!(e.contains("next id 3"), "{e}");
+        assert_eq!(
+            rows(&mut world).len(),
+            3,
+            "a refused replacement changes nothing"
+        );
+    }
 
     #[test]
     fn ids_are_taken_in_order_and_never_past_the_32_bit_space() {

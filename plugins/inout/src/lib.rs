@@ -156,7 +156,18 @@ impl SimPlugin for Inlet {
             internal_energy: self.internal_energy,
             body: body as u16,
         };
-        let particles = lattice(min, max, dx)
+        let domain = *sim.world.resource::<Domain<V>>();
+        let points = lattice(min, max, dx);
+        if let Some(p) = points
+            .iter()
+            .find(|p| !inside(**p, &(domain.min, domain.max)))
+        {
+            return Err(SimError::Build(format!(
+                "Inlet.min/max: a particle of the layer at {:?} is outside the domain",
+                p.to_xyz()
+            )));
+        }
+        let particles = points
             .into_iter()
             .map(|pos| ParticleInit { pos, ..template })
             .collect();
@@ -229,6 +240,11 @@ impl SimPlugin for Outlet {
     }
 }
 
+/// True when `x` is inside the box `[lo, hi]` (faces included).
+fn inside<V: Vector>(x: V, (lo, hi): &(V, V)) -> bool {
+    (0..V::DIM).all(|k| x.get(k) >= lo.get(k) && x.get(k) <= hi.get(k))
+}
+
 /// Asks for the removal of every fluid particle inside an outlet box.
 #[inline(never)] // a frame of its own in profiles
 fn drain_outlets<V: Vector>(
@@ -237,9 +253,6 @@ fn drain_outlets<V: Vector>(
     mut population: ResMut<Population<V>>,
     q: Query<(Entity, &Position<V>, &BodyId)>,
 ) {
-    let inside = |x: V, (lo, hi): &(V, V)| {
-        (0..V::DIM).all(|k| x.get(k) >= lo.get(k) && x.get(k) <= hi.get(k))
-    };
     for (e, r, b) in &q {
         let fluid = bodies
             .0
