@@ -209,7 +209,11 @@ fn diagnostics_n(csv: &str, step: u64) -> usize {
 fn a_run_with_an_inlet_and_an_outlet_is_bitwise_the_same_on_1_and_2_threads() {
     let tmp = tempfile::tempdir().unwrap();
     let path = tmp.path().join("channel.ron");
-    std::fs::write(&path, scene_text(200)).unwrap();
+    // the channel twice as high (7,960 particles), so the per-particle loops split over both
+    // threads
+    let text = scene_text(200).replace(", 0.1]", ", 0.2]");
+    assert_eq!(text.matches(", 0.2]").count(), 4);
+    std::fs::write(&path, text).unwrap();
     let run = |threads: &str| {
         let out = tmp.path().join(format!("t{threads}"));
         let o = std::process::Command::new(env!("CARGO_BIN_EXE_dualsph"))
