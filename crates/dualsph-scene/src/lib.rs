@@ -146,6 +146,9 @@ impl Scene {
 
     /// Parses `text` without validating it (syntax, field names and types only).
     pub fn parse_only(text: &str, path: &Path, registry: &Registry) -> Result<Scene, SceneError> {
+        // a UTF-8 byte-order mark (as some editors save) is not part of the scene; editors
+        // hide it, so positions on the first line are counted without it
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         plugins_list::with_registry(registry, || ron_options().from_str::<Scene>(text))
             .map_err(|e| SceneError::from_ron(path, text, e))
     }
