@@ -19,6 +19,9 @@ use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+pub mod exit;
+use exit::Failure;
+
 /// `println!` that ends the process quietly when standard output is a closed pipe
 /// (`dualsph plan scene.ron | head`) instead of panicking; output files are written
 /// atomically, so nothing is left half written.
@@ -37,7 +40,8 @@ macro_rules! say {
 #[command(
     name = "dualsph",
     version,
-    about = "Dual-support SPH: run, check and plan RON scenes; grid and plot their output"
+    about = "Dual-support SPH: run, check and plan RON scenes; grid and plot their output",
+    after_help = exit::HELP
 )]
 struct Cli {
     #[command(subcommand)]
@@ -94,6 +98,10 @@ enum Command {
         /// Print the wall time of every system of the step at the end (where the time goes).
         #[arg(long)]
         profile: bool,
+        /// Run on N threads (default: RAYON_NUM_THREADS, else one per core); the results are
+        /// bitwise the same whatever N.
+        #[arg(long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..))]
+        threads: Option<u16>,
     },
     /// Run the paper's benchmarks, grade them against their references, write report.md + PNGs.
     Report {
@@ -183,27 +191,35 @@ fn grid_command(
 
 /// Reads, parses and validates a scene; the particle cap is also what fits in the machine's
 /// memory, checked from the estimate before any particle is generated.
-fn load(path: &std::path::Path, registry: &Registry) -> Result<Scene, String> {
+fn load(path: &std::path::Path, registry: &Registry) -> Result<Scene, Failure> {
+    let scene_error = |e: crate::scene::SceneError| Failure::new(exit::of_scene(&e), e.to_string());
     let text = std::fs::read_to_string(path).map_err(|source| {
-        crate::scene::SceneError::Io {
+        scene_error(crate::scene::SceneError::Io {
             path: path.to_path_buf(),
             source,
-        }
-        .to_string()
+        })
     })?;
-    let s = Scene::parse_only(&text, path, registry).map_err(|e| e.to_string())?;
+    let s = Scene::parse_only(&text, path, registry).map_err(scene_error)?;
     let (limit, why) =
         runner::memory::particle_limit(s.dimension, runner::memory::memory_available());
     s.validate_with_limit(path, limit, &why)
-        .map_err(|e| e.to_string())?;
+        .map_err(scene_error)?;
     Ok(s)
+}
+
+/// Sets the number of threads of the process (before any parallel work).
+fn set_threads(n: u16) -> Result<(), Failure> {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(usize::from(n))
+        .build_global()
+        .map_err(|e| Failure::new(exit::OTHER, format!("--threads {n}: {e}")))
 }
 
 /// Runs the command line given to the process with the plugins of `registry`; the exit code
 /// is failure with the message on standard error when the command fails.
 pub fn main(registry: Registry) -> ExitCode {
     let cli = Cli::parse();
-    let result: Result<(), String> = match cli.command {
+    let result: Result<(), Failure> = match cli.command {
         Command::Report { benchmarks, scenes, out, coarsen, end_time } => {
             let list = if benchmarks.is_empty() { Benchmark::ALL.to_vec() } else { benchmarks };
             let opts = ReportOptions { scenes, out, coarsen, end_time, log: true };
@@ -211,15 +227,15 @@ pub fn main(registry: Registry) -> ExitCode {
             let command = format!("cargo run --release -- {}", command.join(" "));
             crate::report::write_report(&list, &opts, &command)
                 .map(|path| say!("report written: {}", path.display()))
-                .map_err(|e| e.to_string())
+                .map_err(|e| Failure::from(e.to_string()))
         }
-        Command::Run { scene, out, quiet, formulation, checkpoint_every, resume, end_time, profile } => load(&scene, &registry).and_then(|mut s| {
+        Command::Run { scene, out, quiet, formulation, checkpoint_every, resume, end_time, profile, threads } => threads.map_or(Ok(()), set_threads).and_then(|()| load(&scene, &registry)).and_then(|mut s| {
             if let Some(f) = formulation {
                 s.formulation = f.into();
             }
             if let Some(t) = end_time {
                 if !(t.is_finite() && t > 0.0) {
-                    return Err(format!("--end-time {t}: must be a positive number of seconds"));
+                    return Err(Failure::new(exit::INVALID_INPUT, format!("--end-time {t}: must be a positive number of seconds")));
                 }
                 s.end_time = t;
             }
@@ -237,7 +253,7 @@ pub fn main(registry: Registry) -> ExitCode {
             }
             let restart = RestartOptions { checkpoint_every, resume };
             let summary = runner::run_with(&s, &RunOptions { out: out.clone(), progress, profile }, &restart)
-                .map_err(|e| format!("{}: {e}", scene.display()))?;
+                .map_err(|e| Failure::new(exit::of_run(&e), format!("{}: {e}", scene.display())))?;
             say!(
                 "done: {} particles, {} steps to t = {:.6} s in {:.2} s wall, {:.2} CPU-s ({:.3e} particle-steps per wall-s, {:.3e} per CPU-s, {} threads; {} neighbour-list builds, last skin {:.3}); output in {}",
                 summary.particles,
@@ -276,12 +292,12 @@ pub fn main(registry: Registry) -> ExitCode {
         }),
         Command::Check { scene } => load(&scene, &registry).and_then(|s| {
             // building the simulation also checks what plugins require of each other
-            runner::plan(&s).map_err(|e| format!("{}: {e}", scene.display()))?;
+            runner::plan(&s).map_err(|e| Failure::new(exit::of_sim(&e), format!("{}: {e}", scene.display())))?;
             say!("{}: ok ({}-D, {} particles, {} plugins)", scene.display(), s.dimension, s.generate().len(), s.plugins.len());
             Ok(())
         }),
         Command::Plan { scene } => load(&scene, &registry).and_then(|s| {
-            let plan = runner::plan(&s).map_err(|e| format!("{}: {e}", scene.display()))?;
+            let plan = runner::plan(&s).map_err(|e| Failure::new(exit::of_sim(&e), format!("{}: {e}", scene.display())))?;
             say!("scene {} ({}-D, formulation {:?}, kernel {:?})", s.name, s.dimension, s.formulation, s.kernel);
             say!("\nschedule (in order; [the plugin that added each system]):");
             for (k, (set, label, plugin)) in plan.systems.iter().enumerate() {
@@ -301,13 +317,15 @@ pub fn main(registry: Registry) -> ExitCode {
             Ok(())
         }),
         Command::Grid { scene, dir, file, field, dx } => {
-            load(&scene, &registry).and_then(|s| grid_command(&scene, &s, dir, &file, &field, dx))
+            load(&scene, &registry).and_then(|s| Ok(grid_command(&scene, &s, dir, &file, &field, dx)?))
         }
-        Command::PlotProbes { dir } => crate::probes::plot_probes(&dir).map(|pngs| {
-            for p in pngs {
-                say!("wrote {}", p.display());
-            }
-        }),
+        Command::PlotProbes { dir } => crate::probes::plot_probes(&dir)
+            .map(|pngs| {
+                for p in pngs {
+                    say!("wrote {}", p.display());
+                }
+            })
+            .map_err(Failure::from),
         Command::Plugins => {
             for e in registry.entries() {
                 say!("{:<22} {}", e.name, e.summary);
@@ -317,9 +335,9 @@ pub fn main(registry: Registry) -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
-        Err(msg) => {
-            eprintln!("error: {msg}");
-            ExitCode::FAILURE
+        Err(f) => {
+            eprintln!("error: {}", f.message);
+            ExitCode::from(f.code)
         }
     }
 }

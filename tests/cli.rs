@@ -198,3 +198,74 @@ fn output_into_a_closed_pipe_is_not_a_panic() {
         assert!(out.status.success(), "{args:?}: {:?} {stderr}", out.status);
     }
 }
+
+/// `dualsph run SCENE --out OUT ARGS…`: its exit code and standard error.
+fn run_code(scene: &Path, out: &Path, args: &[&str]) -> (Option<i32>, String) {
+    let o = bin()
+        .args(["run", "--quiet", "--out"])
+        .arg(out)
+        .arg(scene)
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        o.status.code(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn each_kind_of_failure_exits_with_its_own_code() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("out");
+    // invalid input: a scene that does not validate, an option out of range
+    let bad = root.join("tests/bad_scenes/negative_density.ron");
+    assert_eq!(run_code(&bad, &out, &[]).0, Some(2));
+    assert_eq!(
+        run_code(&scene("heat_1d.ron"), &out, &["--end-time", "-1"]).0,
+        Some(2)
+    );
+    assert_eq!(
+        run_code(&scene("heat_1d.ron"), &out, &["--threads", "0"]).0,
+        Some(2)
+    );
+    // a file that cannot be read, an output directory that cannot be made
+    let missing = tmp.path().join("no_such_scene.ron");
+    assert_eq!(run_code(&missing, &out, &[]).0, Some(4));
+    let file = tmp.path().join("a_file");
+    std::fs::write(&file, "x").unwrap();
+    let (code, err) = run_code(&scene("heat_1d.ron"), &file.join("sub"), &[]);
+    assert_eq!(code, Some(4), "{err}");
+    // a blow-up
+    let blow = root.join("tests/restart/blow_up.ron");
+    let (code, err) = run_code(&blow, &tmp.path().join("blow"), &[]);
+    assert_eq!(code, Some(3), "{err}");
+    assert!(err.contains("blow-up"), "{err}");
+    // the codes are documented
+    let help = bin().arg("--help").output().unwrap();
+    let help = String::from_utf8_lossy(&help.stdout);
+    assert!(help.contains("3 blow-up"), "{help}");
+}
+
+#[test]
+fn threads_sets_the_thread_count_and_changes_no_bit() {
+    let tmp = tempfile::tempdir().unwrap();
+    let run = |threads: &str| {
+        let out = tmp.path().join(format!("t{threads}"));
+        let o = bin()
+            .args(["run", "--end-time", "0.004", "--threads", threads, "--out"])
+            .arg(&out)
+            .arg(scene("drop_2d.ron"))
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let said = String::from_utf8_lossy(&o.stdout).into_owned();
+        assert!(said.contains(&format!("{threads} threads")), "{said}");
+        std::fs::read(out.join("final.csv")).unwrap()
+    };
+    assert!(
+        run("1") == run("2"),
+        "final.csv differs between 1 and 2 threads"
+    );
+}
