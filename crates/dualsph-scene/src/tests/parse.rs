@@ -364,7 +364,6 @@ fn plugins_with_and_without_settings() {
 fn a_byte_order_mark_is_accepted_and_positions_count_without_it() {
     let with_bom = format!("\u{feff}{BASE}");
     assert_eq!(load(&with_bom).unwrap().name, "test");
-    let broken = format!("\u{feff}Scene(name 1)");
-    let e = load(&broken).unwrap_err().to_string();
+    let e = load("\u{feff}Scene(name 1)").unwrap_err().to_string();
     assert!(e.contains(":1:12"), "{e}");
 }
