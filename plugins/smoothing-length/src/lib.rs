@@ -101,7 +101,9 @@ pub fn update_h<V: Vector>(
 
 /// `h_i ← max(h_i, max_j h_j/R)` over the j whose candidate support lists hold i (the dual
 /// lists of the last build) and whose support really does (`|r_ij| < h_j`). One pass over
-/// the old h, so the result does not depend on the order of the particles.
+/// the old h, so the result does not depend on the order of the particles. Without lists for
+/// these particles (particles were added or removed at the start of this step, which drops
+/// the lists) the h of this update are left unlimited.
 pub fn limit_ratio<V: Vector>(h: &[Real], pos: &[V], nb: &Neighbours<V>, ratio: Real) -> Vec<Real> {
     if nb.dual.rows() != h.len() {
         return h.to_vec();
