@@ -4,7 +4,7 @@
 //! and builds its components, systems and pair terms into a [`Sim`]. Plugins from outside the
 //! engine register exactly like the built-in ones: `registry.register::<MyPlugin>()`.
 
-use crate::math::{Vec1, Vector};
+use crate::math::{Real, Vec1, Vector};
 use crate::sim::{Sim, SimError};
 use glam::{DVec2, DVec3};
 use serde::de::DeserializeOwned;
@@ -18,15 +18,30 @@ pub struct SceneInfo {
     pub dimension: usize,
     /// The names of the scene's bodies, in order (see [`crate::bodies`]).
     pub bodies: Vec<String>,
+    /// The domain box's lower and upper corners (`dimension` components each).
+    pub domain: (Vec<Real>, Vec<Real>),
 }
 
 impl SceneInfo {
-    /// A scene of `dimension` with the one default body.
+    /// A scene of `dimension` with the one default body and an unbounded domain.
     pub fn of_dimension(dimension: usize) -> Self {
         SceneInfo {
             dimension,
             bodies: vec![crate::bodies::DEFAULT_BODY.to_string()],
+            domain: (
+                vec![Real::NEG_INFINITY; dimension],
+                vec![Real::INFINITY; dimension],
+            ),
         }
+    }
+
+    /// True when the point `x` lies in the domain box (faces included) on the axes it has
+    /// (a point with fewer components than the dimension is checked on the first ones).
+    pub fn in_domain(&self, x: &[Real]) -> bool {
+        let (lo, hi) = &self.domain;
+        x.iter()
+            .zip(lo.iter().zip(hi))
+            .all(|(&v, (&l, &h))| v >= l && v <= h)
     }
 }
 

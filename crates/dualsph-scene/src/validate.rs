@@ -193,6 +193,7 @@ fn settings(s: &Scene) -> Check {
     let info = SceneInfo {
         dimension: d,
         bodies: s.body_list().into_iter().map(|b| b.name).collect(),
+        domain: (s.domain.min.clone(), s.domain.max.clone()),
     };
     for (i, p) in s.plugins.iter().enumerate() {
         p.validate(&info)

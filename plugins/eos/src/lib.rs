@@ -445,8 +445,8 @@ mod tests {
     #[test]
     fn materials_name_declared_bodies_once_with_one_scale() {
         let info = SceneInfo {
-            dimension: 2,
             bodies: vec!["water".into(), "light".into()],
+            ..SceneInfo::of_dimension(2)
         };
         let material = |body: &str, c0: Option<Real>, p0: Option<Real>| TaitMaterial {
             body: body.into(),

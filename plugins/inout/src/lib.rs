@@ -94,6 +94,12 @@ impl SimPlugin for Inlet {
     fn validate(&self, info: &SceneInfo) -> Result<(), String> {
         let d = info.dimension;
         check_box(&self.min, &self.max, d)?;
+        if !(info.in_domain(&self.min) && info.in_domain(&self.max)) {
+            return Err(format!(
+                "min/max: the inlet's box [{:?}, {:?}] is not inside the domain",
+                self.min, self.max
+            ));
+        }
         if self.velocity.len() != d || self.velocity.iter().any(|v| !v.is_finite()) {
             return Err(format!("velocity: expected {d} finite components"));
         }
@@ -156,17 +162,7 @@ impl SimPlugin for Inlet {
             internal_energy: self.internal_energy,
             body: body as u16,
         };
-        let domain = *sim.world.resource::<Domain<V>>();
         let points = lattice(min, max, dx);
-        if let Some(p) = points
-            .iter()
-            .find(|p| !inside(**p, &(domain.min, domain.max)))
-        {
-            return Err(SimError::Build(format!(
-                "Inlet.min/max: a particle of the layer at {:?} is outside the domain",
-                p.to_xyz()
-            )));
-        }
         let particles = points
             .into_iter()
             .map(|pos| ParticleInit { pos, ..template })

@@ -150,6 +150,17 @@ enum What {
     Height { threshold: Real, dy: Option<Real> },
 }
 
+/// The point `x` lies in the scene's domain; the error names the field.
+fn check_inside(field: &str, x: &[Real], info: &SceneInfo) -> Result<(), String> {
+    if info.in_domain(x) {
+        return Ok(());
+    }
+    Err(format!(
+        "{field}: {x:?} is outside the domain [{:?}, {:?}]",
+        info.domain.0, info.domain.1
+    ))
+}
+
 /// The plugin's state: columns, sampled rows, and the last write error (if any).
 #[derive(Resource, Debug)]
 pub struct ProbeState<V: Vector> {
@@ -283,6 +294,7 @@ impl SimPlugin for Probes {
             let name = match p {
                 Probe::Point { name, at, quantity } => {
                     check_vec(&f("at"), at, d)?;
+                    check_inside(&f("at"), at, info)?;
                     check_quantity(&f("quantity"), *quantity, d)?;
                     name
                 }
@@ -295,6 +307,8 @@ impl SimPlugin for Probes {
                 } => {
                     check_vec(&f("start"), start, d)?;
                     check_vec(&f("end"), end, d)?;
+                    check_inside(&f("start"), start, info)?;
+                    check_inside(&f("end"), end, info)?;
                     check_quantity(&f("quantity"), *quantity, d)?;
                     if !(2..=10_000).contains(n) {
                         return Err(format!("{}: must be between 2 and 10000, got {n}", f("n")));
@@ -314,6 +328,7 @@ impl SimPlugin for Probes {
                         ));
                     }
                     check_vec(&f("at"), at, d - 1)?;
+                    check_inside(&f("at"), at, info)?;
                     if let Some(t) = threshold
                         && !(t.is_finite() && *t > 0.0 && *t < 1.0)
                     {
