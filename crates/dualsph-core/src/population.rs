@@ -159,6 +159,26 @@ pub(crate) fn seed_columns<V: Vector>(
     }
 }
 
+/// Spawns particles with ids `first..`, every column from its initialiser, and drops the
+/// neighbour lists (the rows changed).
+pub(crate) fn spawn_complete<V: Vector>(
+    world: &mut World,
+    first: u32,
+    particles: &[ParticleInit<V>],
+) {
+    let entities = spawn_core(world, first, particles);
+    let seeded: Vec<(Entity, Seed<V>)> = entities
+        .into_iter()
+        .zip(first..)
+        .zip(particles)
+        .map(|((e, id), &init)| (e, Seed { id, init }))
+        .collect();
+    world.resource_scope(|world, inits: Mut<ColumnInits<V>>| {
+        seed_columns(world, &inits.0, &seeded);
+    });
+    world.resource_mut::<Neighbours<V>>().invalidate();
+}
+
 /// Applies the requests in [`Population`] (see the module docs).
 #[inline(never)] // a frame of its own in profiles
 pub fn apply_population<V: Vector>(world: &mut World) {
@@ -188,17 +208,7 @@ pub fn apply_population<V: Vector>(world: &mut World) {
             return;
         }
     };
-    let entities = spawn_core(world, first, &spawns);
-    let seeded: Vec<(Entity, Seed<V>)> = entities
-        .into_iter()
-        .zip(first..)
-        .zip(&spawns)
-        .map(|((e, id), &init)| (e, Seed { id, init }))
-        .collect();
-    world.resource_scope(|world, inits: Mut<ColumnInits<V>>| {
-        seed_columns(world, &inits.0, &seeded);
-    });
-    world.resource_mut::<Neighbours<V>>().invalidate();
+    spawn_complete(world, first, &spawns);
     let mut p = world.resource_mut::<Population<V>>();
     p.spawned += spawns.len() as u64;
     p.removed += doomed.len() as u64;

@@ -6,8 +6,9 @@ use crate::bodies::BodyId;
 use crate::columns::{ColumnSpec, ColumnValue, Columns};
 use crate::components::*;
 use crate::math::Vector;
-use crate::neighbours::Neighbours;
-use crate::population::{ColumnInits, NextId, Population, Seed, seed_columns, spawn_core};
+use crate::population::{
+    ColumnInits, NextId, Population, Seed, seed_columns, spawn_complete, spawn_core,
+};
 use crate::store::CoreColumns;
 use bevy_ecs::prelude::*;
 
@@ -40,25 +41,15 @@ impl<V: Vector> Sim<V> {
             .resource_mut::<NextId>()
             .take(particles.len())
             .map_err(SimError::Build)?;
-        let entities = spawn_core(&mut self.world, first, particles);
-        if self.schedule.is_none() {
-            let mut eps = self.world.resource_mut::<InitialInternalEnergy>();
-            for (id, p) in (first..).zip(particles) {
-                eps.set(id, p.internal_energy);
-            }
+        if self.schedule.is_some() {
+            spawn_complete(&mut self.world, first, particles);
             return Ok(());
         }
-        let seeded: Vec<(Entity, Seed<V>)> = entities
-            .into_iter()
-            .zip(first..)
-            .zip(particles)
-            .map(|((e, id), &init)| (e, Seed { id, init }))
-            .collect();
-        self.world
-            .resource_scope(|world, inits: Mut<ColumnInits<V>>| {
-                seed_columns(world, &inits.0, &seeded)
-            });
-        self.world.resource_mut::<Neighbours<V>>().invalidate();
+        spawn_core(&mut self.world, first, particles);
+        let mut eps = self.world.resource_mut::<InitialInternalEnergy>();
+        for (id, p) in (first..).zip(particles) {
+            eps.set(id, p.internal_energy);
+        }
         Ok(())
     }
 
