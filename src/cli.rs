@@ -112,7 +112,7 @@ enum Command {
         #[arg(long, default_value = "scenes")]
         scenes: PathBuf,
         /// Output folder for report.md and the plots.
-        #[arg(long, default_value = "docs/validation")]
+        #[arg(long, default_value = "out/report")]
         out: PathBuf,
         /// Multiply every particle spacing by this factor (1 = the paper's resolution).
         #[arg(long, default_value_t = 1.0)]
