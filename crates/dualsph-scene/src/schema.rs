@@ -353,9 +353,12 @@ impl Default for OutputSettings {
     }
 }
 
+/// Default of [`HealthSettings::dt_below`].
+pub const DEFAULT_DT_BELOW: f64 = 1e6;
+
 /// The optional `health` section: how far density and h may leave their ranges at
 /// initialisation before a run counts as blown up (`[min/below, max·above]`; see
-/// `dualsph_diagnostics::HealthBounds`). Each factor must be a finite number > 1; a
+/// `dualsph_diagnostics::HealthBounds`), and how far dt may fall below the first step's. Each factor must be a finite number > 1; a
 /// bad value is a parse error at its own position.
 #[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -372,6 +375,10 @@ pub struct HealthSettings {
     /// Factor above the initial maximum h; default 300.
     #[serde(deserialize_with = "factor")]
     pub h_above: f64,
+    /// The run stops as a blow-up when dt falls this factor below the dt of its first step;
+    /// default 10^6.
+    #[serde(deserialize_with = "factor")]
+    pub dt_below: f64,
 }
 
 impl Default for HealthSettings {
@@ -382,6 +389,7 @@ impl Default for HealthSettings {
             density_above: DEFAULT_DENSITY_FACTORS.1,
             h_below: DEFAULT_H_FACTORS.0,
             h_above: DEFAULT_H_FACTORS.1,
+            dt_below: DEFAULT_DT_BELOW,
         }
     }
 }
