@@ -191,7 +191,13 @@ fn an_unknown_column_is_invalid_input_naming_it_and_the_available_ones() {
     assert_eq!(o.status.code(), Some(2), "{err}");
     assert!(!err.contains("panicked"), "{err}");
     assert!(err.contains("`vorticity`"), "{err}");
-    for available in ["position", "velocity", "density", "pressure", "smoothing_length"] {
+    for available in [
+        "position",
+        "velocity",
+        "density",
+        "pressure",
+        "smoothing_length",
+    ] {
         assert!(err.contains(available), "{available} missing from: {err}");
     }
     assert!(!out.join("diagnostics.csv").exists());

@@ -2,8 +2,8 @@
 //! ([`SnapshotSchedule`]), in which files ([`output_options`]) and with which columns
 //! ([`select_columns`]).
 
-use dualsph_core::columns::{Column, Columns};
 use bevy_ecs::prelude::{Resource, World};
+use dualsph_core::columns::{Column, Columns};
 use dualsph_core::prelude::*;
 use dualsph_io::{OutputOptions, POSITION, VtkEncoding};
 use dualsph_scene::{OutputFormat, OutputSettings};
@@ -72,7 +72,7 @@ impl SnapshotSchedule {
     pub fn after_step(&mut self, step: u64, t: Real) -> bool {
         let due = match self.cadence {
             Cadence::Never => false,
-            Cadence::Steps(n) => step % n == 0,
+            Cadence::Steps(n) => step.is_multiple_of(n),
             Cadence::Time(_) => {
                 let reached = self.multiples(t);
                 let due = reached > self.reached;

@@ -58,11 +58,11 @@ pub use dualsph_core::kernels::KernelKind;
 pub use dualsph_core::plugin::{PluginConfig, Registry};
 pub use error::SceneError;
 pub use generate::{MAX_PARTICLES, ParticleSpec};
+pub use output::{DEFAULT_SNAPSHOT_EVERY, OutputFormat, OutputSettings, VtkEncoding};
 pub use schema::{
     Block, BodyKind, BodySettings, BoxRegion, Disk, Domain, Formulation, Generator, HealthSettings,
     IntegratorSettings, Lattice, MotionSettings, NeighbourSettings, TimeStep, Velocity,
 };
-pub use output::{DEFAULT_SNAPSHOT_EVERY, OutputFormat, OutputSettings, VtkEncoding};
 
 use ron::extensions::Extensions;
 use serde::Deserialize;

@@ -11,8 +11,8 @@
 //! )
 //! ```
 
-use serde::de::{self, Deserializer};
 use serde::Deserialize;
+use serde::de::{self, Deserializer};
 
 use crate::error::Problem;
 use crate::schema::int;
