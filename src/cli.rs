@@ -11,15 +11,15 @@
 //! ```
 
 use crate::report::{Benchmark, ReportOptions};
-use crate::runner::{self, Progress, RestartOptions, RunOptions};
+use crate::runner;
 use crate::scene::{Formulation, Scene};
 use clap::{Parser, Subcommand};
 use dualsph_core::plugin::Registry;
-use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
 pub mod exit;
+pub mod record;
 use exit::Failure;
 
 /// `println!` that ends the process quietly when standard output is a closed pipe
@@ -35,6 +35,8 @@ macro_rules! say {
         }
     }};
 }
+
+mod run;
 
 #[derive(Parser)]
 #[command(
@@ -70,39 +72,8 @@ impl From<FormulationArg> for Formulation {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Run a scene headless and write diagnostics and snapshots.
-    Run {
-        /// The scene file (.ron).
-        scene: PathBuf,
-        /// Output directory (default: out/<scene name>).
-        #[arg(long)]
-        out: Option<PathBuf>,
-        /// No progress output.
-        #[arg(long)]
-        quiet: bool,
-        /// Replace the scene's formulation (e.g. SingleSupport to rerun a paper's Case I).
-        #[arg(long, value_enum)]
-        formulation: Option<FormulationArg>,
-        /// Write the complete state to OUT/checkpoint_NNNNNN.ckpt every N steps (atomically;
-        /// the last three are kept).
-        #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
-        checkpoint_every: Option<u64>,
-        /// Continue from a checkpoint of the same scene; the result is bitwise identical to an
-        /// uninterrupted run.
-        #[arg(long, value_name = "CHECKPOINT")]
-        resume: Option<PathBuf>,
-        /// Stop at this simulated time instead of the scene's end_time (e.g. to time the
-        /// first 0.3 s of a dam break).
-        #[arg(long, value_name = "T")]
-        end_time: Option<f64>,
-        /// Print the wall time of every system of the step at the end (where the time goes).
-        #[arg(long)]
-        profile: bool,
-        /// Run on N threads (default: RAYON_NUM_THREADS, else one per core); the results are
-        /// bitwise the same whatever N.
-        #[arg(long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..))]
-        threads: Option<u16>,
-    },
+    /// Run a scene headless and write diagnostics, snapshots and run.json.
+    Run(run::RunArgs),
     /// Run the paper's benchmarks, grade them against their references, write report.md + PNGs.
     Report {
         /// Benchmarks to run (default: all four).
@@ -112,7 +83,7 @@ enum Command {
         #[arg(long, default_value = "scenes")]
         scenes: PathBuf,
         /// Output folder for report.md and the plots.
-        #[arg(long, default_value = "docs/validation")]
+        #[arg(long, default_value = "out/report")]
         out: PathBuf,
         /// Multiply every particle spacing by this factor (1 = the paper's resolution).
         #[arg(long, default_value_t = 1.0)]
@@ -193,6 +164,11 @@ fn grid_command(
 /// Reads, parses and validates a scene; the particle cap is also what fits in the machine's
 /// memory, checked from the estimate before any particle is generated.
 fn load(path: &std::path::Path, registry: &Registry) -> Result<Scene, Failure> {
+    load_with_text(path, registry).map(|(s, _)| s)
+}
+
+/// [`load`], also returning the file's text.
+fn load_with_text(path: &std::path::Path, registry: &Registry) -> Result<(Scene, String), Failure> {
     let scene_error = |e: crate::scene::SceneError| Failure::new(exit::of_scene(&e), e.to_string());
     let text = std::fs::read_to_string(path).map_err(|source| {
         scene_error(crate::scene::SceneError::Io {
@@ -205,15 +181,7 @@ fn load(path: &std::path::Path, registry: &Registry) -> Result<Scene, Failure> {
         runner::memory::particle_limit(s.dimension, runner::memory::memory_available());
     s.validate_with_limit(path, limit, &why)
         .map_err(scene_error)?;
-    Ok(s)
-}
-
-/// Sets the number of threads of the process (before any parallel work).
-fn set_threads(n: u16) -> Result<(), Failure> {
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(usize::from(n))
-        .build_global()
-        .map_err(|e| Failure::new(exit::OTHER, format!("--threads {n}: {e}")))
+    Ok((s, text))
 }
 
 /// Runs the command line given to the process with the plugins of `registry`; the exit code
@@ -221,88 +189,63 @@ fn set_threads(n: u16) -> Result<(), Failure> {
 pub fn main(registry: Registry) -> ExitCode {
     let cli = Cli::parse();
     let result: Result<(), Failure> = match cli.command {
-        Command::Report { benchmarks, scenes, out, coarsen, end_time } => {
-            let list = if benchmarks.is_empty() { Benchmark::ALL.to_vec() } else { benchmarks };
-            let opts = ReportOptions { scenes, out, coarsen, end_time, log: true };
+        Command::Report {
+            benchmarks,
+            scenes,
+            out,
+            coarsen,
+            end_time,
+        } => {
+            let list = if benchmarks.is_empty() {
+                Benchmark::ALL.to_vec()
+            } else {
+                benchmarks
+            };
+            let opts = ReportOptions {
+                scenes,
+                out,
+                coarsen,
+                end_time,
+                log: true,
+            };
             let command: Vec<String> = std::env::args().skip(1).collect();
             let command = format!("cargo run --release -- {}", command.join(" "));
             crate::report::write_report(&list, &opts, &command)
                 .map(|path| say!("report written: {}", path.display()))
                 .map_err(|e| Failure::from(e.to_string()))
         }
-        Command::Run { scene, out, quiet, formulation, checkpoint_every, resume, end_time, profile, threads } => threads.map_or(Ok(()), set_threads).and_then(|()| load(&scene, &registry)).and_then(|mut s| {
-            if let Some(f) = formulation {
-                s.formulation = f.into();
-            }
-            if let Some(t) = end_time {
-                if !(t.is_finite() && t > 0.0) {
-                    return Err(Failure::new(exit::INVALID_INPUT, format!("--end-time {t}: must be a positive number of seconds")));
-                }
-                s.end_time = t;
-            }
-            let progress = if quiet {
-                Progress::Silent
-            } else if std::io::stderr().is_terminal() {
-                Progress::Bar
-            } else {
-                Progress::Log
-            };
-            let out = out.unwrap_or_else(|| runner::default_out_dir(&scene));
-            eprintln!("dualsph: running {} ({}-D, {} particles generated) → {}", scene.display(), s.dimension, s.generate().len(), out.display());
-            if let Some(ck) = &resume {
-                eprintln!("dualsph: resuming from {}", ck.display());
-            }
-            let restart = RestartOptions { checkpoint_every, resume };
-            let summary = runner::run_with(&s, &RunOptions { out: out.clone(), progress, profile }, &restart)
-                .map_err(|e| Failure::new(exit::of_run(&e), format!("{}: {e}", scene.display())))?;
-            say!(
-                "done: {} particles, {} steps to t = {:.6} s in {:.2} s wall, {:.2} CPU-s ({:.3e} particle-steps per wall-s, {:.3e} per CPU-s, {} threads; {} neighbour-list builds, last skin {:.3}); output in {}",
-                summary.particles,
-                summary.steps,
-                summary.t,
-                summary.wall_seconds,
-                summary.cpu_seconds,
-                summary.particle_steps_per_second,
-                summary.particle_steps_per_cpu_second,
-                rayon::current_num_threads(),
-                summary.list_builds,
-                summary.skin,
-                out.display()
-            );
-            if summary.added + summary.removed > 0 {
-                say!("particles: {} added and {} removed during the run", summary.added, summary.removed);
-            }
-            let (a, b) = (&summary.initial, &summary.last);
-            say!(
-                "conservation: mass {:.3e} → {:.3e}, momentum [{:.3e}, {:.3e}, {:.3e}], E_tot {:.6e} → {:.6e}",
-                a.mass, b.mass, b.momentum[0], b.momentum[1], b.momentum[2], a.e_tot, b.e_tot
-            );
-            if let Some(p) = &summary.profile {
-                say!("\nwall time per system over {} steps ({} threads):\n{}", p.steps, rayon::current_num_threads(), p.table(summary.particles));
-                say!(
-                    "steps {:.3} s of the run loop's {:.3} s; the rest is output, checkpoints and progress",
-                    p.total(),
-                    summary.wall_seconds
-                );
-            }
-            if out.join(crate::probes::PROBES_FILE).exists() {
-                let pngs = crate::probes::plot_probes(&out)?;
-                say!("probes: {} plots in {}", pngs.len(), out.display());
-            }
-            Ok(())
-        }),
+        Command::Run(args) => run::run(args, &registry),
         Command::Check { scene } => load(&scene, &registry).and_then(|s| {
             // building the simulation also checks what plugins require of each other
-            runner::plan(&s).map_err(|e| Failure::new(exit::of_sim(&e), format!("{}: {e}", scene.display())))?;
-            say!("{}: ok ({}-D, {} particles, {} plugins)", scene.display(), s.dimension, s.generate().len(), s.plugins.len());
+            runner::plan(&s)
+                .map_err(|e| Failure::new(exit::of_sim(&e), format!("{}: {e}", scene.display())))?;
+            say!(
+                "{}: ok ({}-D, {} particles, {} plugins)",
+                scene.display(),
+                s.dimension,
+                s.generate().len(),
+                s.plugins.len()
+            );
             Ok(())
         }),
         Command::Plan { scene } => load(&scene, &registry).and_then(|s| {
-            let plan = runner::plan(&s).map_err(|e| Failure::new(exit::of_sim(&e), format!("{}: {e}", scene.display())))?;
-            say!("scene {} ({}-D, formulation {:?}, kernel {:?})", s.name, s.dimension, s.formulation, s.kernel);
+            let plan = runner::plan(&s)
+                .map_err(|e| Failure::new(exit::of_sim(&e), format!("{}: {e}", scene.display())))?;
+            say!(
+                "scene {} ({}-D, formulation {:?}, kernel {:?})",
+                s.name,
+                s.dimension,
+                s.formulation,
+                s.kernel
+            );
             say!("\nschedule (in order; [the plugin that added each system]):");
             for (k, (set, label, plugin)) in plan.systems.iter().enumerate() {
-                say!("  {:>2}. {:<16} {:<58} [{plugin}]", k + 1, format!("{set:?}"), label);
+                say!(
+                    "  {:>2}. {:<16} {:<58} [{plugin}]",
+                    k + 1,
+                    format!("{set:?}"),
+                    label
+                );
             }
             say!("\npair terms (sweep: terms; terms joined by + run as one compiled loop):");
             if plan.pair_terms.is_empty() {
@@ -317,9 +260,14 @@ pub fn main(registry: Registry) -> ExitCode {
             }
             Ok(())
         }),
-        Command::Grid { scene, dir, file, field, dx } => {
-            load(&scene, &registry).and_then(|s| Ok(grid_command(&scene, &s, dir, &file, &field, dx)?))
-        }
+        Command::Grid {
+            scene,
+            dir,
+            file,
+            field,
+            dx,
+        } => load(&scene, &registry)
+            .and_then(|s| Ok(grid_command(&scene, &s, dir, &file, &field, dx)?)),
         Command::PlotProbes { dir } => crate::probes::plot_probes(&dir)
             .map(|pngs| {
                 for p in pngs {

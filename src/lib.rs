@@ -243,6 +243,9 @@ pub fn build_sim<V: Vector>(scene: &Scene) -> Result<Sim<V>, SimError> {
                 Some((lo, hi)) => Some((p.h.min(lo), p.h.max(hi))),
             }),
         });
+    sim.world
+        .insert_resource(runner::DtFloor::new(scene.health.dt_below));
+    sim.keep_resource::<runner::DtFloor>(runner::DT_FLOOR_KEY);
     sim.set_diagnostics_every(scene.output.diagnostics_every);
     {
         let mut clock = sim.world.resource_mut::<SimClock>();

@@ -191,24 +191,11 @@ pub fn support_pairs<V: Vector>(sim: &Sim<V>) -> usize {
         .sum()
 }
 
-/// User + system CPU seconds of this process (all threads), from `/proc/self/stat`
-/// (10 ms resolution; measure loops of a second or more). 0 where unavailable.
+/// User + system CPU seconds of this process (all threads), from the `cpu-time` crate
+/// (`clock_gettime(CLOCK_PROCESS_CPUTIME_ID)` on Unix, `GetProcessTimes` on Windows). NaN
+/// where the platform cannot tell, so a throughput computed from it is NaN, not nonsense.
 pub fn cpu_seconds() -> f64 {
-    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
-    let fields: Vec<&str> = stat
-        .rsplit(')')
-        .next()
-        .unwrap_or("")
-        .split_whitespace()
-        .collect();
-    let ticks = |k: usize| {
-        fields
-            .get(k)
-            .and_then(|s| s.parse::<f64>().ok())
-            .unwrap_or(0.0)
-    };
-    // fields after the command: state is 0, utime 11, stime 12 (clock ticks, 100 Hz)
-    (ticks(11) + ticks(12)) / 100.0
+    cpu_time::ProcessTime::try_now().map_or(f64::NAN, |t| t.as_duration().as_secs_f64())
 }
 
 /// Peak resident set size of this process in bytes (`VmHWM` of `/proc/self/status`).

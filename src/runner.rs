@@ -1,8 +1,11 @@
 //! Headless runs: step a scene to its end time, writing diagnostics and snapshots.
 
+mod dt_floor;
 mod keeper;
 pub mod memory;
 pub mod snapshots;
+
+pub use dt_floor::{DT_FLOOR_KEY, DtFloor, MAX_PROJECTED_STEPS};
 
 pub use keeper::{DEFAULT_KEEP_EVERY, KEEP_CHECKPOINTS, RestartOptions};
 pub use snapshots::SnapshotSchedule;
@@ -20,6 +23,7 @@ use dualsph_io::{DiagnosticsRow, OutputDir, ParticleRecord, ParticleTable, Table
 use dualsph_scene::Scene;
 use keeper::Keeper;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 /// Extra diagnostics columns appended after the fixed ones.
@@ -106,6 +110,34 @@ pub enum RunError {
         /// Checkpoint of the last good state, if one could be written.
         last_good: Option<PathBuf>,
     },
+    /// The run was interrupted ([`interrupt`]) and stopped after a whole step, writing a
+    /// checkpoint to resume from.
+    #[error(
+        "interrupted at step {step}, t = {t:.6e} s; resume with --resume {}",
+        checkpoint.display()
+    )]
+    Interrupted {
+        /// The last step taken.
+        step: u64,
+        /// Its time.
+        t: Real,
+        /// The checkpoint written at that step.
+        checkpoint: PathBuf,
+    },
+}
+
+/// Set by [`interrupt`]: running loops stop after their current step.
+static INTERRUPTED: AtomicBool = AtomicBool::new(false);
+
+/// Asks every run of this process to stop after its current step, write a checkpoint and
+/// return [`RunError::Interrupted`] (what the command line's Ctrl-C handler calls).
+pub fn interrupt() {
+    INTERRUPTED.store(true, Ordering::SeqCst);
+}
+
+/// Whether [`interrupt`] has been called.
+pub fn interrupted() -> bool {
+    INTERRUPTED.load(Ordering::SeqCst)
 }
 
 /// The scene's output columns (see `dualsph_core::columns`; those of `output.columns` when the
@@ -351,7 +383,9 @@ pub fn run_dim_with<V: Vector>(
     while sim.clock().t < end * (1.0 - 1e-12) && sim.clock().step < max_steps {
         sim.step()?;
         particle_steps += sim.particle_count() as u64;
-        if let Err(e) = check(&sim) {
+        let checked =
+            check(&sim).and_then(|()| dt_floor::check(&mut sim, end, scene.max_steps.is_some()));
+        if let Err(e) = checked {
             if let Some(b) = &bar {
                 b.finish_and_clear();
             }
@@ -366,6 +400,21 @@ pub fn run_dim_with<V: Vector>(
             out.write_snapshot(c.step, c.t, &particle_table(&mut sim))?;
         }
         keeper.after_step(&mut sim, &initial, last_written)?;
+        if interrupted() {
+            if let Some(b) = &bar {
+                b.finish_and_clear();
+            }
+            if c.step != last_written {
+                out.push_diagnostics(diag_row(&sim.diagnostics()))?;
+                last_written = c.step;
+            }
+            let checkpoint = keeper.write_now(&mut sim, &initial, last_written)?;
+            return Err(RunError::Interrupted {
+                step: c.step,
+                t: c.t,
+                checkpoint,
+            });
+        }
         let frac = (c.t / end).clamp(0.0, 1.0);
         match (&bar, opts.progress) {
             (Some(b), _) => {

@@ -147,25 +147,46 @@ pub fn fnv1a(bytes: &[u8]) -> u64 {
     })
 }
 
-/// A hash of everything in the scene that determines the trajectory: name, dimension, domain,
-/// kernel, formulation, neighbour settings, generators, plugins with their settings and the
-/// integrator. `end_time`, `max_steps`, `output` and `health` (the blow-up check's sane ranges,
-/// which never change the state) are left out, so a resumed run may go further, write at
-/// another cadence or check with other bounds.
+/// The parts of a scene that determine the trajectory, borrowed, in the order they are
+/// encoded for [`fingerprint`].
+#[derive(serde::Serialize)]
+struct Canonical<'a> {
+    name: &'a str,
+    dimension: usize,
+    domain: &'a dualsph_scene::Domain,
+    kernel: dualsph_core::kernels::KernelKind,
+    formulation: dualsph_scene::Formulation,
+    neighbours: &'a dualsph_scene::NeighbourSettings,
+    bodies: &'a [dualsph_scene::BodySettings],
+    particles: &'a [dualsph_scene::Generator],
+    /// Each plugin's [`canonical`](dualsph_core::plugin::PluginConfig::canonical) bytes.
+    plugins: Vec<Vec<u8>>,
+    integrator: &'a dualsph_scene::IntegratorSettings,
+}
+
+/// A hash (FNV-1a) of the canonical form of everything in the scene that determines the
+/// trajectory: name, dimension, domain, kernel, formulation, neighbour settings, bodies,
+/// generators, plugins with their resolved settings and the integrator, encoded with postcard
+/// (no `Debug` text: a new `Debug` of a type does not change it, nor do comments, whitespace,
+/// field order or defaults written out). `end_time`, `max_steps`, `output` and `health` (the
+/// blow-up check's sane ranges, which never change the state) are left out, so a resumed run
+/// may go further, write at another cadence or check with other bounds.
 pub fn fingerprint(scene: &Scene) -> u64 {
-    let text = format!(
-        "{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}",
-        scene.name,
-        scene.dimension,
-        scene.domain,
-        scene.kernel,
-        scene.formulation,
-        scene.neighbours,
-        scene.particles,
-        scene.plugins,
-        scene.integrator
-    );
-    fnv1a(text.as_bytes())
+    let canonical = Canonical {
+        name: &scene.name,
+        dimension: scene.dimension,
+        domain: &scene.domain,
+        kernel: scene.kernel,
+        formulation: scene.formulation,
+        neighbours: &scene.neighbours,
+        bodies: &scene.bodies,
+        particles: &scene.particles,
+        plugins: scene.plugins.iter().map(|p| p.canonical()).collect(),
+        integrator: &scene.integrator,
+    };
+    // every field has a known length, which is all postcard needs
+    let bytes = postcard::to_stdvec(&canonical).unwrap_or_default();
+    fnv1a(&bytes)
 }
 
 impl Checkpoint {
@@ -277,6 +298,55 @@ pub const LAST_GOOD_STEM: &str = "last_good";
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A small scene with `plugins` and `tail` (integrator, end time, …) spliced in.
+    fn scene(plugins: &str, tail: &str) -> Scene {
+        let text = format!(
+            "Scene(name: \"f\", dimension: 2, domain: (min: [0.0, 0.0], max: [1.0, 1.0]), \
+             kernel: CubicSpline, formulation: DualSupport, \
+             particles: [Block(min: [0.0, 0.0], max: [0.5, 0.5], spacing: 0.1, lattice: Square, density: 1000.0, h_factor: 2.0)], \
+             plugins: [{plugins}], {tail})"
+        );
+        Scene::from_str(
+            &text,
+            std::path::Path::new("f.ron"),
+            &crate::default_registry(),
+        )
+        .unwrap_or_else(|e| panic!("{e}"))
+    }
+
+    #[test]
+    fn fingerprint_is_of_the_settings_not_their_spelling() {
+        let tail = "integrator: (dt: Fixed(1e-4)), end_time: 1.0";
+        let base = fingerprint(&scene(
+            "TaitEos(rho0: 1000.0, gamma: 7.0, c0: 20.0), PressureForce()",
+            tail,
+        ));
+        // field order, number spelling, comments, whitespace: the same settings
+        let respelled = scene(
+            "TaitEos(c0: 2e1, // speed of sound\n gamma: 7.00, rho0: 1000.)  ,PressureForce()",
+            "end_time: 1.0, integrator: (dt: Fixed(0.0001))",
+        );
+        assert_eq!(fingerprint(&respelled), base);
+        // the end time and the output are not part of the trajectory's settings
+        let longer = scene(
+            "TaitEos(rho0: 1000.0, gamma: 7.0, c0: 20.0), PressureForce()",
+            "integrator: (dt: Fixed(1e-4)), end_time: 2.0, output: (diagnostics_every: 3)",
+        );
+        assert_eq!(fingerprint(&longer), base);
+        // any setting of a plugin, or a plugin more, changes it
+        for other in [
+            "TaitEos(rho0: 1000.0, gamma: 7.0, c0: 20.000001), PressureForce()",
+            "TaitEos(rho0: 1000.0, gamma: 7.0, c0: 20.0), PressureForce(), Gravity(g: [0.0, -9.81])",
+        ] {
+            assert_ne!(fingerprint(&scene(other, tail)), base, "{other}");
+        }
+        let smaller_step = scene(
+            "TaitEos(rho0: 1000.0, gamma: 7.0, c0: 20.0), PressureForce()",
+            "integrator: (dt: Fixed(2e-4)), end_time: 1.0",
+        );
+        assert_ne!(fingerprint(&smaller_step), base);
+    }
 
     fn sample() -> Checkpoint {
         let awkward = vec![

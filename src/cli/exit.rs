@@ -17,6 +17,9 @@ pub const INVALID_INPUT: u8 = 2;
 pub const BLOW_UP: u8 = 3;
 /// A file could not be read or written.
 pub const IO: u8 = 4;
+/// The run was interrupted (Ctrl-C): it stopped after a whole step and wrote a checkpoint
+/// (128 + SIGINT, the shells' convention).
+pub const INTERRUPTED: u8 = 130;
 
 /// A failed command: its exit code and its message.
 #[derive(Debug)]
@@ -68,13 +71,27 @@ pub fn of_run(e: &RunError) -> u8 {
         RunError::Checkpoint(_) => INVALID_INPUT,
         RunError::InvalidOutput(_) => INVALID_INPUT,
         RunError::BlowUp { .. } => BLOW_UP,
+        RunError::Interrupted { .. } => INTERRUPTED,
+    }
+}
+
+/// The word for a failure of `code`, as `run.json` records it.
+pub fn cause(code: u8) -> &'static str {
+    match code {
+        SUCCESS => "completed",
+        INVALID_INPUT => "invalid input",
+        BLOW_UP => "blow-up",
+        IO => "io error",
+        INTERRUPTED => "interrupted",
+        _ => "failed",
     }
 }
 
 /// The table of codes, for `--help` and the README.
 pub const HELP: &str = "Exit status: 0 success, 1 other failure, 2 invalid input (scene, \
-options, checkpoint), 3 blow-up (the last good state is written), 4 a file could not be read \
-or written.";
+options, checkpoint, an output directory in use), 3 blow-up or stalled run (the last good \
+state is written), 4 a file could not be read or written, 130 interrupted by Ctrl-C (a \
+checkpoint of the last whole step is written).";
 
 #[cfg(test)]
 mod tests {

@@ -119,19 +119,7 @@ pub fn coarsen(scene: &mut Scene, factor: Real) {
     }
 }
 
-/// CPU seconds (user + system) used so far by this process, all threads
-/// (`/proc/self/stat` fields 14 and 15; 0 where that file does not exist).
-pub fn process_cpu_seconds() -> f64 {
-    let Ok(stat) = std::fs::read_to_string("/proc/self/stat") else {
-        return 0.0;
-    };
-    // The command name (field 2) may hold spaces; fields after its closing parenthesis.
-    let rest = stat.rsplit_once(')').map_or("", |(_, r)| r);
-    let f: Vec<&str> = rest.split_whitespace().collect();
-    let ticks = |k: usize| f.get(k).and_then(|s| s.parse::<f64>().ok()).unwrap_or(0.0);
-    // After ")" the fields start at #3 (state): utime is #14 → index 11, stime #15 → 12.
-    (ticks(11) + ticks(12)) / 100.0
-}
+pub use crate::perf::cpu_seconds as process_cpu_seconds;
 
 fn largest_x<V: Vector>(sim: &mut Sim<V>) -> Real {
     let mut q = sim.world.query::<&Position<V>>();

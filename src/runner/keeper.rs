@@ -93,6 +93,20 @@ impl Keeper {
         Ok(())
     }
 
+    /// Writes a checkpoint of the current state now, whatever the cadence, and returns its
+    /// path (an interrupted run's).
+    pub(crate) fn write_now<V: Vector>(
+        &mut self,
+        sim: &mut Sim<V>,
+        initial: &Diagnostics,
+        last_diagnostics_step: u64,
+    ) -> Result<PathBuf, RunError> {
+        let path = self.dir.join(checkpoint_file_name(sim.clock().step));
+        self.keep(sim, initial, last_diagnostics_step)
+            .write(&path)?;
+        Ok(path)
+    }
+
     /// The error for a blow-up `e`, after writing the last good state (particles as
     /// `last_good.csv` and, with VTK snapshots, `.vtp`; the state as `last_good.ckpt`) to the
     /// output directory.

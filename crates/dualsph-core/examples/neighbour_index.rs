@@ -13,16 +13,9 @@ use dualsph_core::math::{Real, Vector};
 use dualsph_core::neighbours::GridPlan;
 use std::time::Instant;
 
+/// CPU seconds of the process, all threads (NaN where the platform cannot tell).
 fn cpu_seconds() -> f64 {
-    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
-    let f: Vec<&str> = stat
-        .rsplit(')')
-        .next()
-        .unwrap_or("")
-        .split_whitespace()
-        .collect();
-    let t = |k: usize| f.get(k).and_then(|s| s.parse::<f64>().ok()).unwrap_or(0.0);
-    (t(11) + t(12)) / 100.0
+    cpu_time::ProcessTime::try_now().map_or(f64::NAN, |t| t.as_duration().as_secs_f64())
 }
 
 /// A staggered lattice column with spacing `dx` on `z ∈ [z0, z1)`, h = 2·spacing.

@@ -7,6 +7,7 @@
 use crate::math::{Real, Vec1, Vector};
 use crate::sim::{Sim, SimError};
 use glam::{DVec2, DVec3};
+use serde::Serialize;
 use serde::de::DeserializeOwned;
 use std::any::Any;
 use std::fmt::Debug;
@@ -57,8 +58,9 @@ pub enum Role {
     Diagnostics,
 }
 
-/// A plugin: its settings (deserialized from the scene) and how it builds itself.
-pub trait SimPlugin: DeserializeOwned + Debug + Send + Sync + 'static {
+/// A plugin: its settings (deserialized from the scene; serialized for the scene's canonical
+/// form, see [`PluginConfig::canonical`]) and how it builds itself.
+pub trait SimPlugin: Serialize + DeserializeOwned + Debug + Send + Sync + 'static {
     /// The name used in RON scenes.
     const NAME: &'static str;
     /// One line for listings and error messages.
@@ -83,6 +85,11 @@ pub trait PluginConfig: Debug + Send + Sync {
     fn validate(&self, info: &SceneInfo) -> Result<(), String>;
     /// Builds into a simulation of any dimension.
     fn build_dyn(&self, sim: &mut dyn Any) -> Result<(), SimError>;
+    /// The settings in a canonical form: the name, then the settings as they were resolved
+    /// (defaults filled in) in postcard's encoding. Two spellings of the same settings (field
+    /// order, whitespace, comments, a default written out or left out) give the same bytes; it
+    /// does not depend on `Debug`.
+    fn canonical(&self) -> Vec<u8>;
 }
 
 impl<P: SimPlugin> PluginConfig for P {
@@ -94,6 +101,16 @@ impl<P: SimPlugin> PluginConfig for P {
     }
     fn validate(&self, info: &SceneInfo) -> Result<(), String> {
         SimPlugin::validate(self, info)
+    }
+    fn canonical(&self) -> Vec<u8> {
+        let mut bytes = P::NAME.as_bytes().to_vec();
+        bytes.push(0);
+        // postcard fails only on what it cannot encode (a sequence of unknown length); such
+        // settings fall back to their `Debug` text, still one form per value
+        postcard::to_extend(self, bytes.clone()).unwrap_or_else(|_| {
+            bytes.extend(format!("{self:?}").into_bytes());
+            bytes
+        })
     }
     fn build_dyn(&self, sim: &mut dyn Any) -> Result<(), SimError> {
         if let Some(s) = sim.downcast_mut::<Sim<Vec1>>() {

@@ -1,12 +1,12 @@
 //! The parts of a scene file. Every struct rejects unknown fields; vectors are RON lists whose
 //! length must equal the scene dimension (checked by validation, not by the parser).
 
-use serde::Deserialize;
 use serde::de::{self, DeserializeSeed, Deserializer, MapAccess, Visitor};
+use serde::{Deserialize, Serialize};
 use std::fmt;
 
 /// Which SPH formulation the engine runs (mapped onto the core's sweep by the engine).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Deserialize, Serialize)]
 pub enum Formulation {
     /// Dual-support SPH: every pair interacts through the support of one particle and the
     /// dual-support of the other, so momentum and energy are conserved exactly (§5 of Ren, Dai,
@@ -22,7 +22,7 @@ pub enum Formulation {
 }
 
 /// The simulation box `[min, max]` (one component per axis).
-#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Domain {
     /// Lower corner.
@@ -33,7 +33,7 @@ pub struct Domain {
 
 /// An axis-aligned box used by `clip` and `cut`; a point is inside when
 /// `min_k <= x_k <= max_k` on every axis.
-#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct BoxRegion {
     /// Lower corner.
@@ -54,7 +54,7 @@ impl BoxRegion {
 }
 
 /// How lattice points fill a generator's box.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Deserialize, Serialize)]
 pub enum Lattice {
     /// Cell-centred square/cubic lattice: `min + (i + 0.5)·Δx` on every axis.
     Square,
@@ -65,7 +65,7 @@ pub enum Lattice {
 }
 
 /// The initial velocity of a generator's particles.
-#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 pub enum Velocity {
     /// The same velocity for every particle.
     Uniform(Vec<f64>),
@@ -74,7 +74,7 @@ pub enum Velocity {
 }
 
 /// A rectangular block of particles.
-#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Block {
     /// Lower corner.
@@ -109,7 +109,7 @@ pub struct Block {
 
 /// A disk (2-D), ball (3-D) or segment (1-D): the points of the lattice of the bounding box
 /// `[center − radius, center + radius]` with `|x − center| <= radius`.
-#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Disk {
     /// Centre.
@@ -143,7 +143,7 @@ pub struct Disk {
 }
 
 /// What moves a body's particles.
-#[derive(Clone, Debug, PartialEq, Default, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Default, Deserialize, Serialize)]
 pub enum BodyKind {
     /// Integrated in time by the forces on them (the default).
     #[default]
@@ -157,7 +157,7 @@ pub enum BodyKind {
 
 /// A prescribed body's law of motion (time from the start of the run; vectors with the
 /// scene's dimension).
-#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub enum MotionSettings {
     /// `x = x_0 + velocity·t`.
@@ -189,7 +189,7 @@ pub enum MotionSettings {
 }
 
 /// A named body: `Body(name: "water")`, `Body(name: "tank", kind: Fixed)`.
-#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields, rename = "Body")]
 pub struct BodySettings {
     /// The name generators and plugins refer to it by.
@@ -200,7 +200,7 @@ pub struct BodySettings {
 }
 
 /// One entry of the scene's `particles` list.
-#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 pub enum Generator {
     /// `Block(min: [..], max: [..], spacing: .., ...)`.
     Block(Block),
@@ -265,7 +265,7 @@ impl Generator {
 }
 
 /// Optional neighbour-search settings.
-#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct NeighbourSettings {
     /// Verlet skin added to the search radius, as a fraction of h (>= 0); default 0.15.
@@ -299,7 +299,7 @@ fn default_viscous() -> f64 {
 }
 
 /// How the time step is chosen.
-#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub enum TimeStep {
     /// A constant step `Fixed(1e-4)`.
@@ -319,7 +319,7 @@ pub enum TimeStep {
 }
 
 /// The `integrator` section.
-#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct IntegratorSettings {
     /// Time-step rule.
@@ -329,9 +329,12 @@ pub struct IntegratorSettings {
     pub max_dt: Option<f64>,
 }
 
+/// Default of [`HealthSettings::dt_below`].
+pub const DEFAULT_DT_BELOW: f64 = 1e6;
+
 /// The optional `health` section: how far density and h may leave their ranges at
 /// initialisation before a run counts as blown up (`[min/below, max·above]`; see
-/// `dualsph_diagnostics::HealthBounds`). Each factor must be a finite number > 1; a
+/// `dualsph_diagnostics::HealthBounds`), and how far dt may fall below the first step's. Each factor must be a finite number > 1; a
 /// bad value is a parse error at its own position.
 #[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -348,6 +351,10 @@ pub struct HealthSettings {
     /// Factor above the initial maximum h; default 300.
     #[serde(deserialize_with = "factor")]
     pub h_above: f64,
+    /// The run stops as a blow-up when dt falls this factor below the dt of its first step;
+    /// default 10^6.
+    #[serde(deserialize_with = "factor")]
+    pub dt_below: f64,
 }
 
 impl Default for HealthSettings {
@@ -358,6 +365,7 @@ impl Default for HealthSettings {
             density_above: DEFAULT_DENSITY_FACTORS.1,
             h_below: DEFAULT_H_FACTORS.0,
             h_above: DEFAULT_H_FACTORS.1,
+            dt_below: DEFAULT_DT_BELOW,
         }
     }
 }

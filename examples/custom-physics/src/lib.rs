@@ -15,10 +15,10 @@
 use bevy_ecs::prelude::*;
 use dualsph::core::chunks::DENSE;
 use dualsph::prelude::*;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 /// The settings, as written in a scene: `PairDrag(gamma: 2e4, gamma_gradient: [1e4, 0.0])`.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct PairDrag {
     /// Drag coefficient γ at the origin (1/(kg·s)).

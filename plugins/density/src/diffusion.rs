@@ -32,10 +32,10 @@
 //! j through its dual-support like every other sum of the sweep, in a fixed order.
 
 use dualsph_core::prelude::*;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 /// δ-SPH density diffusion settings.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct DensityDiffusion {
     /// δ, on the classical smoothing length h/2 (Molteni & Colagrossi, Antuono et al.: 0.1).

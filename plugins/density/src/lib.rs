@@ -10,10 +10,10 @@ pub mod diffusion;
 pub use diffusion::DensityDiffusion;
 
 use dualsph_core::prelude::*;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 /// `ρ_i = Σ_{j ∈ H_i ∪ {i}} m_j W(r_ij, h_i)` every step.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct SummationDensity {}
 
@@ -87,7 +87,7 @@ impl<V: Vector> BoundTerm<V> for BoundSummation<'_, V> {
 }
 
 /// Which discrete form of `dρ/dt = −ρ ∇·v`.
-#[derive(Debug, Clone, Copy, Default, Deserialize, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, Default, Deserialize, Serialize, PartialEq, Eq)]
 pub enum ContinuityForm {
     /// `dρ_i/dt = Σ_j m_j v_ij · ∇_iW_ij` (Eq. 4.9).
     #[default]
@@ -97,7 +97,7 @@ pub enum ContinuityForm {
 }
 
 /// Integrated density.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContinuityDensity {
     /// Discrete form (default `Pairwise`).

@@ -24,11 +24,11 @@ pub use totals::*;
 
 use dualsph_core::bevy_ecs::system::RunSystemOnce;
 use dualsph_core::prelude::*;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 /// `Diagnostics()`: the plugin (no settings; the cadence is the scene's
 /// `output.diagnostics_every`, the health factors its `health` section).
-#[derive(Debug, Clone, Default, Deserialize)]
+#[derive(Debug, Clone, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct DiagnosticsPlugin {}
 

@@ -9,11 +9,11 @@ use dualsph_core::chunks::DENSE;
 use dualsph_core::integrate::ensure_energy_equation;
 use dualsph_core::prelude::*;
 use rayon::prelude::*;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 /// Weakly compressible Tait equation (Eq. 7.5): `p = p0((ρ/ρ0)^γ − 1)`, `p0 = c0²ρ0/γ`,
 /// `c = c0 (ρ/ρ0)^{(γ−1)/2}`. Give either `c0` or `p0`.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct TaitEos {
     /// Reference density ρ0.
@@ -42,7 +42,7 @@ pub struct TaitEos {
 }
 
 /// A body's Tait parameters (see [`TaitEos::materials`]).
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct TaitMaterial {
     /// The body's name.
@@ -62,7 +62,7 @@ pub struct TaitMaterial {
 pub struct Materials(pub Vec<Eos>);
 
 /// Ideal gas (Eq. 7.3): `p = (γ − 1) ρ ε`, `c = sqrt(γ p / ρ)`.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct IdealGas {
     /// Adiabatic index γ.

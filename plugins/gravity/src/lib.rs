@@ -7,10 +7,10 @@ use dualsph_core::chunks::{DENSE, MIN_LEN};
 use dualsph_core::potentials::ExternalPotentials;
 use dualsph_core::prelude::*;
 use rayon::prelude::*;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 /// Uniform gravity.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Gravity {
     /// Acceleration vector, one component per dimension.

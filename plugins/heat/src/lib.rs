@@ -7,10 +7,10 @@
 
 use dualsph_core::integrate::ensure_energy_equation;
 use dualsph_core::prelude::*;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 /// Heat conduction.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct HeatConduction {
     /// Thermal conductivity κ.

@@ -25,7 +25,7 @@ mod settings;
 pub use settings::{check_box, lattice};
 
 /// An inlet (see the module docs).
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Inlet {
     /// Lower corner of the box the layer fills.
@@ -56,7 +56,7 @@ fn default_body() -> String {
 }
 
 /// An outlet (see the module docs).
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Outlet {
     /// Lower corner of the box.

@@ -22,7 +22,7 @@ pub mod verlet;
 
 use dualsph_core::integrate::{ScalarEquation, ScalarKernel};
 use dualsph_core::prelude::*;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 /// The registered name of [`LeapfrogPC`].
 pub const LEAPFROG_PC: &str = "LeapfrogPC";
@@ -57,7 +57,7 @@ fn only_scheme<V: Vector>(sim: &Sim<V>, name: &str) -> Result<(), SimError> {
 }
 
 /// `LeapfrogPC()`: the leapfrog predictor–corrector of RenDSSPH §6 (see [`leapfrog`]).
-#[derive(Debug, Clone, Default, Deserialize)]
+#[derive(Debug, Clone, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct LeapfrogPC {}
 
@@ -74,7 +74,7 @@ impl SimPlugin for LeapfrogPC {
 }
 
 /// `PositionVerlet()`: the Störmer–Verlet scheme in drift–kick–drift form (see [`verlet`]).
-#[derive(Debug, Clone, Default, Deserialize)]
+#[derive(Debug, Clone, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct PositionVerlet {}
 

@@ -21,10 +21,10 @@
 use crate::{add_pressure_like, is_corrected, neighbour_lanes, owner_factor};
 use dualsph_core::integrate::ensure_energy_equation;
 use dualsph_core::prelude::*;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 /// Artificial stress settings.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct ArtificialStress {
     /// ε: the strength of the repulsion relative to the tension (Monaghan: 0.2 for fluids).

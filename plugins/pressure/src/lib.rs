@@ -14,10 +14,10 @@ pub use artificial_stress::{ArtificialStress, ArtificialStressTerm};
 
 use dualsph_core::integrate::ensure_energy_equation;
 use dualsph_core::prelude::*;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 /// Pressure force.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct PressureForce {}
 

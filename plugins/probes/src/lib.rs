@@ -44,7 +44,7 @@ pub use plot::{ProbeTable, plot_probes, read_probes};
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::prelude::*;
 use dualsph_core::sampling::SamplingCloud;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
@@ -54,7 +54,7 @@ pub const PROBES_FILE: &str = "probes.csv";
 pub const PROBE_POINTS_FILE: &str = "probes_points.csv";
 
 /// What a point or line probe measures.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
 pub enum Quantity {
     /// Density ρ.
     Density,
@@ -75,7 +75,7 @@ pub enum Quantity {
 }
 
 /// One probe of the scene.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub enum Probe {
     /// A fixed point.
@@ -116,7 +116,7 @@ pub enum Probe {
 }
 
 /// The plugin's settings.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Probes {
     /// Sample every this many steps (≥ 1).

@@ -22,10 +22,10 @@ use dualsph_core::math::{Matrix, Real, Vector};
 use dualsph_core::neighbours::{NeighbourIndex, radius_csr};
 use dualsph_core::prelude::Kernel;
 use rayon::prelude::*;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 /// Settings of the isotropy enlargement (see the module docs).
-#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Isotropy {
     /// Smallest admissible `I_i = det S_i / (tr S_i / d)^d`, in (0, 1).

@@ -10,10 +10,10 @@ pub use isotropy::Isotropy;
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::neighbours::Neighbours;
 use dualsph_core::prelude::*;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 /// The h-update of §6.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct SmoothingLengthUpdate {
     /// Update period m in steps (paper: about 50).

@@ -46,10 +46,10 @@
 #![warn(missing_docs)]
 
 use dualsph_core::prelude::*;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 /// Pairwise cohesion surface tension (Akinci et al. 2013), calibrated to a surface tension σ.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct SurfaceTension {
     /// Surface tension σ (N/m in 3-D, N in 2-D), ≥ 0.

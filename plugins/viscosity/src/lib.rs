@@ -21,10 +21,10 @@ use dualsph_core::integrate::ensure_energy_equation;
 use dualsph_core::prelude::*;
 use dualsph_core::sim::MaxViscosity;
 use dualsph_kernel_correction::ensure_velocity_gradient;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 /// Monaghan artificial viscosity.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct ArtificialViscosity {
     /// Linear coefficient α.
@@ -40,7 +40,7 @@ pub struct ArtificialViscosity {
 }
 
 /// A body's own artificial-viscosity coefficients (see [`ArtificialViscosity::materials`]).
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct AvMaterial {
     /// The body's name.
@@ -213,7 +213,7 @@ impl SimPlugin for ArtificialViscosity {
 }
 
 /// Morris-type physical viscosity.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct PhysicalViscosity {
     /// Dynamic viscosity μ.
@@ -224,7 +224,7 @@ pub struct PhysicalViscosity {
 }
 
 /// A body's own dynamic viscosity (see [`PhysicalViscosity::materials`]).
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct MuMaterial {
     /// The body's name.
@@ -327,7 +327,7 @@ impl SimPlugin for PhysicalViscosity {
 }
 
 /// Newtonian viscous stress.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct NewtonianViscosity {
     /// Dynamic viscosity μ.

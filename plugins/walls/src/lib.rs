@@ -16,10 +16,10 @@ use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::chunks::{DENSE, MIN_LEN};
 use dualsph_core::prelude::*;
 use rayon::prelude::*;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 /// Specular reflection on the domain box.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct SpecularWalls {
     /// κ: a particle closer to a face than `κ h_i` and approaching it is reflected.

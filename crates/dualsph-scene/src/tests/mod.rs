@@ -9,11 +9,11 @@ use crate::{Registry, Scene, SceneError};
 use dualsph_core::math::Vector;
 use dualsph_core::plugin::{SceneInfo, SimPlugin};
 use dualsph_core::sim::{Sim, SimError};
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 use std::path::Path;
 
 /// Test plugin with settings.
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct Gravity {
     pub g: Vec<f64>,
@@ -39,7 +39,7 @@ impl SimPlugin for Gravity {
 }
 
 /// Test plugin without settings.
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct Walls {}
 
