@@ -151,8 +151,9 @@ fn grid_command(
         .map_err(|e| e.to_string())?;
     let stem = format!("{}_grid", field.to_lowercase());
     let title = format!("{} — {field} from {file}", s.name);
-    let (vti, png) =
-        crate::gridded::write_field(&f, &dir, &stem, &title).map_err(|e| e.to_string())?;
+    let encoding = runner::snapshots::output_options(&s.output).encoding;
+    let (vti, png) = crate::gridded::write_field(&f, &dir, &stem, &title, encoding)
+        .map_err(|e| e.to_string())?;
     say!("wrote {}", vti.display());
     if s.dimension >= 2 {
         say!("wrote {}", png.display());

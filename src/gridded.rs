@@ -1,5 +1,5 @@
-//! Fields sampled on a regular grid: a VTK ImageData file (`.vti`) for ParaView and a filled
-//! contour PNG.
+//! Fields sampled on a regular grid: a VTK ImageData file (`.vti`, written by
+//! [`dualsph_io::write_vti`] in any [`VtkEncoding`]) for ParaView and a filled contour PNG.
 //!
 //! Every grid point gets the Shepard-normalised SPH interpolant of the chosen quantity,
 //! `A(x) = Σ_j A_j V_j W_j / Σ_j V_j W_j`, with each particle's own kernel and support radius
@@ -20,8 +20,7 @@
 use crate::probes::Quantity;
 use dualsph_core::prelude::*;
 use dualsph_core::sampling::SamplingCloud;
-use dualsph_io::ParticleRecord;
-use std::fmt::Write as _;
+use dualsph_io::{ArrayValues, ImageGrid, ParticleRecord, VtkArray, VtkEncoding};
 use std::path::{Path, PathBuf};
 
 /// Points with a Shepard sum below this are outside the fluid.
@@ -223,67 +222,25 @@ pub fn sample_sim<V: Vector>(
     sample_records(&records, V::DIM, kernel, q, dx, Some(bounds))
 }
 
-/// Writes the field as ASCII VTK XML ImageData (`.vti`, point data `<name>`, `shepard_sum`,
-/// `inside`), atomically.
-pub fn write_vti(path: &Path, f: &GriddedField) -> Result<(), GridError> {
+/// Writes the field as VTK XML ImageData (`.vti`, point data `<name>` and `shepard_sum`
+/// as Float64, `inside` as UInt8) in `encoding`, atomically.
+pub fn write_vti(path: &Path, f: &GriddedField, encoding: VtkEncoding) -> Result<(), GridError> {
     let g = f.grid;
-    let ext = format!(
-        "0 {} 0 {} 0 {}",
-        g.dims[0] - 1,
-        g.dims[1] - 1,
-        g.dims[2] - 1
-    );
-    let mut s = String::new();
-    let _ = writeln!(s, "<?xml version=\"1.0\"?>");
-    let _ = writeln!(
-        s,
-        "<VTKFile type=\"ImageData\" version=\"0.1\" byte_order=\"LittleEndian\">"
-    );
-    let _ = writeln!(
-        s,
-        "  <ImageData WholeExtent=\"{ext}\" Origin=\"{} {} {}\" Spacing=\"{} {} {}\">",
-        g.origin[0], g.origin[1], g.origin[2], g.spacing, g.spacing, g.spacing
-    );
-    let _ = writeln!(s, "    <Piece Extent=\"{ext}\">");
-    let _ = writeln!(s, "      <PointData Scalars=\"{}\">", f.name);
-    let arrays: [(&str, &str, Vec<String>); 3] = [
-        (
-            &f.name,
-            "Float64",
-            f.values
-                .iter()
-                .map(|v| format!("{}", v.unwrap_or(0.0)))
-                .collect(),
-        ),
-        (
-            "shepard_sum",
-            "Float64",
-            f.shepard.iter().map(|v| format!("{v}")).collect(),
-        ),
-        (
-            "inside",
-            "UInt8",
-            f.values
-                .iter()
-                .map(|v| (v.is_some() as u8).to_string())
-                .collect(),
-        ),
+    let grid = ImageGrid {
+        origin: g.origin,
+        spacing: [g.spacing; 3],
+        dims: g.dims,
+    };
+    let values: Vec<Real> = f.values.iter().map(|v| v.unwrap_or(0.0)).collect();
+    let inside: Vec<u8> = f.values.iter().map(|v| v.is_some() as u8).collect();
+    let arrays = [
+        VtkArray::new(&f.name, 1, ArrayValues::Float64(&values)),
+        VtkArray::new("shepard_sum", 1, ArrayValues::Float64(&f.shepard)),
+        VtkArray::new("inside", 1, ArrayValues::UInt8(&inside)),
     ];
-    for (name, ty, vals) in arrays {
-        let _ = writeln!(
-            s,
-            "        <DataArray type=\"{ty}\" Name=\"{name}\" format=\"ascii\">"
-        );
-        for chunk in vals.chunks(8) {
-            let _ = writeln!(s, "          {}", chunk.join(" "));
-        }
-        let _ = writeln!(s, "        </DataArray>");
-    }
-    let _ = writeln!(s, "      </PointData>");
-    let _ = writeln!(s, "    </Piece>");
-    let _ = writeln!(s, "  </ImageData>");
-    let _ = writeln!(s, "</VTKFile>");
-    dualsph_io::write_atomic(path, s.as_bytes())?;
+    dualsph_io::write_atomic_with(path, |w| {
+        dualsph_io::write_vti(w, &grid, Some(&f.name), &arrays, encoding)
+    })?;
     Ok(())
 }
 
@@ -322,8 +279,8 @@ pub fn write_png(path: &Path, f: &GriddedField, title: &str) -> Result<(), GridE
 }
 
 /// The density of particle records on a grid of spacing `dx` (bounds: the particles'
-/// box grown by h) written as `DIR/density_grid.vti` and `DIR/density_grid.png`; returns the
-/// two paths.
+/// box grown by h) written as `DIR/density_grid.vti` (binary) and `DIR/density_grid.png`;
+/// returns the two paths.
 pub fn write_density_grid(
     records: &[ParticleRecord],
     dim: usize,
@@ -337,6 +294,7 @@ pub fn write_density_grid(
         out_dir,
         "density_grid",
         "density (SPH interpolant, σ ≥ 0.5)",
+        VtkEncoding::default(),
     )
 }
 
@@ -353,16 +311,18 @@ pub fn write_density_grid_sim<V: Vector>(
         out_dir,
         "density_grid",
         &format!("density at t = {t:.3} s"),
+        VtkEncoding::default(),
     )
 }
 
-/// Writes `DIR/<stem>.vti` and, in 2-D/3-D, `DIR/<stem>.png` (in 1-D the PNG path is returned
-/// but not written).
+/// Writes `DIR/<stem>.vti` (arrays stored as `encoding` says) and, in 2-D/3-D,
+/// `DIR/<stem>.png` (in 1-D the PNG path is returned but not written).
 pub fn write_field(
     f: &GriddedField,
     out_dir: &Path,
     stem: &str,
     title: &str,
+    encoding: VtkEncoding,
 ) -> Result<(PathBuf, PathBuf), GridError> {
     std::fs::create_dir_all(out_dir).map_err(|source| dualsph_io::OutputError::Io {
         path: out_dir.to_path_buf(),
@@ -373,7 +333,7 @@ pub fn write_field(
         out_dir.join(format!("{stem}.vti")),
         out_dir.join(format!("{stem}.png")),
     );
-    write_vti(&vti, f)?;
+    write_vti(&vti, f, encoding)?;
     if f.dim >= 2 {
         write_png(&png, f, title)?;
     }

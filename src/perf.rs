@@ -123,7 +123,7 @@ impl Case {
     ],
     integrator: (dt: Adaptive(courant: 0.1, force: 0.25, viscous: 0.125)),
     end_time: 1.0,
-    output: (diagnostics_every: 20, snapshot_every: 0, vtk: false),
+    output: (diagnostics_every: 20, snapshot_every: 0, formats: []),
 )",
             dim = self.dim,
             domain_min = at(0.0, 0.0),

@@ -3,15 +3,17 @@
 mod dt_floor;
 mod keeper;
 pub mod memory;
+pub mod snapshots;
 
 pub use dt_floor::{DT_FLOOR_KEY, DtFloor, MAX_PROJECTED_STEPS};
 
 pub use keeper::{DEFAULT_KEEP_EVERY, KEEP_CHECKPOINTS, RestartOptions};
+pub use snapshots::SnapshotSchedule;
 
 use crate::checkpoint::{self, Checkpoint, CheckpointError};
 use crate::{build_sim, with_dimension};
 use dualsph_core::bodies::Bodies;
-use dualsph_core::columns::{Column, Columns};
+use dualsph_core::columns::Column;
 use dualsph_core::neighbours::Neighbours;
 use dualsph_core::population::Population;
 use dualsph_core::prelude::*;
@@ -95,6 +97,10 @@ pub enum RunError {
     /// A checkpoint could not be read, written or used.
     #[error(transparent)]
     Checkpoint(#[from] CheckpointError),
+    /// The scene's `output` section asks for something the simulation does not have (a
+    /// column no plugin registers); the message names it and what is available.
+    #[error("{0}")]
+    InvalidOutput(String),
     /// The state became unphysical; `message` names the step, time, particle, quantity and
     /// likely cause, and where the last good state was written.
     #[error("blow-up: {message}")]
@@ -134,8 +140,9 @@ pub fn interrupted() -> bool {
     INTERRUPTED.load(Ordering::SeqCst)
 }
 
-/// The scene's output columns (see `dualsph_core::columns`) as a table, rows in id order:
-/// what snapshots and `final.csv` hold. Vectors are padded to three components.
+/// The scene's output columns (see `dualsph_core::columns`; those of `output.columns` when the
+/// run chose some, see [`snapshots::select_columns`]) as a table, rows in id order: what
+/// snapshots and `final.csv` hold. Vectors are padded to three components.
 pub fn particle_table<V: Vector>(sim: &mut Sim<V>) -> ParticleTable {
     let world = &mut sim.world;
     let mut ids: Vec<u64> = world
@@ -144,7 +151,7 @@ pub fn particle_table<V: Vector>(sim: &mut Sim<V>) -> ParticleTable {
         .map(|id| u64::from(id.0))
         .collect();
     ids.sort_unstable();
-    let columns: Vec<Column> = world.resource::<Columns>().output().cloned().collect();
+    let columns: Vec<Column> = snapshots::chosen_columns(world);
     let columns = columns
         .iter()
         .map(|c| {
@@ -322,15 +329,17 @@ pub fn run_dim_with<V: Vector>(
         sim.world.insert_resource(StepLimit(limit));
     }
     let extra = diagnostics_columns(sim.world.resource::<Bodies>());
-    let snap_every = scene.output.snapshot_every;
+    snapshots::select_columns(&mut sim, &scene.output).map_err(RunError::InvalidOutput)?;
+    let formats = snapshots::output_options(&scene.output);
+    let mut snapshots = SnapshotSchedule::new(&scene.output);
     let (mut out, initial, mut last_written) = match &restart.resume {
         None => {
             sim.initialize()?;
             check(&sim)?;
-            let mut out = OutputDir::create(&opts.out, extra)?;
+            let mut out = OutputDir::create(&opts.out, extra, formats)?;
             let initial = sim.diagnostics();
             out.push_diagnostics(diag_row(&initial))?;
-            if snap_every > 0 {
+            if snapshots.initial() {
                 out.write_snapshot(0, 0.0, &particle_table(&mut sim))?;
             }
             (out, initial, 0)
@@ -342,7 +351,7 @@ pub fn run_dim_with<V: Vector>(
                 path: path.clone(),
                 why,
             })?;
-            let out = OutputDir::reopen(&opts.out, extra, ck.step)?;
+            let out = OutputDir::reopen(&opts.out, extra, ck.step, formats)?;
             (
                 out,
                 checkpoint::initial_diagnostics(&ck),
@@ -350,6 +359,7 @@ pub fn run_dim_with<V: Vector>(
             )
         }
     };
+    snapshots.resume_at(sim.clock().t);
     if opts.profile {
         sim.enable_profile()?;
     }
@@ -386,7 +396,7 @@ pub fn run_dim_with<V: Vector>(
             out.push_diagnostics(diag_row(&sim.diagnostics()))?;
             last_written = c.step;
         }
-        if snap_every > 0 && c.step % snap_every == 0 {
+        if snapshots.after_step(c.step, c.t) {
             out.write_snapshot(c.step, c.t, &particle_table(&mut sim))?;
         }
         keeper.after_step(&mut sim, &initial, last_written)?;
@@ -437,7 +447,7 @@ pub fn run_dim_with<V: Vector>(
         out.push_diagnostics(diag_row(&last))?;
     }
     let records = particle_table(&mut sim);
-    if snap_every > 0 && last.step % snap_every != 0 {
+    if snapshots.at_end(last.step) {
         out.write_snapshot(last.step, last.t, &records)?;
     }
     out.write_final(&records)?;

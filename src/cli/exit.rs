@@ -69,6 +69,7 @@ pub fn of_run(e: &RunError) -> u8 {
         RunError::Output(_) => IO,
         RunError::Checkpoint(CheckpointError::Io { .. } | CheckpointError::Output(_)) => IO,
         RunError::Checkpoint(_) => INVALID_INPUT,
+        RunError::InvalidOutput(_) => INVALID_INPUT,
         RunError::BlowUp { .. } => BLOW_UP,
         RunError::Interrupted { .. } => INTERRUPTED,
     }
@@ -103,8 +104,9 @@ mod tests {
             message: "x".into(),
             last_good: None,
         };
-        let codes = [of_run(&build), of_run(&blow), OTHER, IO];
-        assert_eq!(codes, [INVALID_INPUT, BLOW_UP, 1, 4]);
+        let columns = RunError::InvalidOutput("x".into());
+        let codes = [of_run(&build), of_run(&blow), OTHER, IO, of_run(&columns)];
+        assert_eq!(codes, [INVALID_INPUT, BLOW_UP, 1, 4, INVALID_INPUT]);
         let io = SceneError::Io {
             path: "s.ron".into(),
             source: std::io::Error::other("gone"),

@@ -56,6 +56,19 @@ fn vti_and_png_are_written() {
     let dir = tempfile::tempdir().unwrap();
     let (vti, png) =
         write_density_grid(&block(), 2, KernelKind::CubicSpline, 0.02, dir.path()).unwrap();
+    let binary = std::fs::read(&vti).unwrap();
+    assert!(String::from_utf8_lossy(&binary).contains("<AppendedData encoding=\"raw\">"));
+    // the same field in ASCII, to read its values
+    let f = sample_records(
+        &block(),
+        2,
+        KernelKind::CubicSpline,
+        Quantity::Density,
+        0.02,
+        None,
+    )
+    .unwrap();
+    write_vti(&vti, &f, VtkEncoding::Ascii).unwrap();
     let text = std::fs::read_to_string(&vti).unwrap();
     assert!(text.starts_with("<?xml"));
     assert!(text.contains("type=\"ImageData\"") && text.trim_end().ends_with("</VTKFile>"));

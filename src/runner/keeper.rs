@@ -108,7 +108,8 @@ impl Keeper {
     }
 
     /// The error for a blow-up `e`, after writing the last good state (particles as
-    /// `last_good.csv` and `.vtp`, the state as `last_good.ckpt`) to the output directory.
+    /// `last_good.csv` and, with VTK snapshots, `.vtp`; the state as `last_good.ckpt`) to the
+    /// output directory.
     pub(crate) fn blow_up<V: Vector>(
         &mut self,
         sim: &mut Sim<V>,
@@ -132,9 +133,14 @@ impl Keeper {
         });
         match written {
             Ok(()) => {
+                let vtp = if out.options().vtk {
+                    format!("{LAST_GOOD_STEM}.vtp, ")
+                } else {
+                    String::new()
+                };
                 message.push_str(&format!(
                     "; the last good state (step {}, t = {:.6e}) is written to {}/{LAST_GOOD_STEM}.csv, \
-                     {LAST_GOOD_STEM}.vtp and {LAST_GOOD_STEM}.ckpt",
+                     {vtp}{LAST_GOOD_STEM}.ckpt",
                     ck.step,
                     ck.t,
                     out.dir().display()

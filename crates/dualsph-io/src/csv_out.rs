@@ -226,7 +226,8 @@ pub struct SnapshotEntry {
     pub step: u64,
     /// Simulation time of the snapshot.
     pub t: Real,
-    /// File name (relative to the output directory) of the particle CSV.
+    /// File name (relative to the output directory) of the particle CSV, or of the `.vtp`
+    /// when the run writes no CSV snapshots.
     pub file: String,
 }
 
@@ -235,6 +236,7 @@ impl SnapshotEntry {
     pub fn vtp_file(&self) -> String {
         match self.file.strip_suffix(".csv") {
             Some(stem) => format!("{stem}.vtp"),
+            None if self.file.ends_with(".vtp") => self.file.clone(),
             None => format!("{}.vtp", self.file),
         }
     }

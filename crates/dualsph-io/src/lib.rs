@@ -17,11 +17,16 @@
 //! | file | content |
 //! |------|---------|
 //! | `diagnostics.csv` | `t,step,dt,n,mass,px,py,pz,lz,e_kin,e_int,e_pot,e_tot` + extra columns |
-//! | `particles_NNNNNN.csv` | particle table at step `NNNNNN`: `id` and the labels of every column of the [`ParticleTable`] (the scene's output columns: `x,y,z,vx,vy,vz,m,rho,h`, then the plugins') |
-//! | `particles_NNNNNN.vtp` | the same particles as ASCII VTK XML PolyData (`position` as the points, every other column as point data) |
-//! | `snapshots.csv` | snapshot index `step,t,file` |
-//! | `particles.pvd` | ParaView collection of all `.vtp` files with their times |
+//! | `particles_NNNNNN.csv` | particle table at step `NNNNNN`: `id` and the labels of every column of the [`ParticleTable`] (the scene's chosen output columns: `x,y,z,vx,vy,vz,m,rho,h`, then the plugins') |
+//! | `particles_NNNNNN.vtp` | the same particles as VTK XML PolyData (`position` as the points, every other column as point data), in the [`VtkEncoding`] of the [`OutputOptions`] |
+//! | `snapshots.csv` | snapshot index `step,t,file` (file: the CSV, or the `.vtp` without CSV snapshots) |
+//! | `particles.pvd` | ParaView collection of all `.vtp` files with their times (only with VTK snapshots) |
 //! | `final.csv` | particle table at the end of the run |
+//!
+//! Which snapshot files are written is set by [`OutputOptions`]; `diagnostics.csv`,
+//! `snapshots.csv` and `final.csv` are always written. The VTK writer ([`write_vti`] for
+//! grids) is described in its module: ASCII, raw appended binary, or zlib-compressed
+//! appended binary.
 //!
 //! Reals are written with the shortest decimal text that parses back to the
 //! identical `f64`, so CSV round trips are bit-exact.
@@ -35,6 +40,8 @@ mod vtk;
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod vtk_tests;
 
 use std::io;
 use std::path::{Path, PathBuf};
@@ -45,9 +52,11 @@ pub use csv_out::{
     read_diagnostics_csv, read_particles_csv,
 };
 pub use output_dir::{
-    DIAGNOSTICS_FILE, FINAL_FILE, OutputDir, PVD_FILE, SNAPSHOT_INDEX_FILE, snapshot_stem,
+    DIAGNOSTICS_FILE, FINAL_FILE, OutputDir, OutputOptions, PVD_FILE, SNAPSHOT_INDEX_FILE,
+    snapshot_stem,
 };
 pub use table::{POSITION, ParticleTable, TableColumn};
+pub use vtk::{ArrayValues, ImageGrid, VtkArray, VtkEncoding, ZLIB_BLOCK, write_vti};
 
 /// Floating-point type of all written quantities.
 pub type Real = f64;

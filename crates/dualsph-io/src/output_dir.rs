@@ -8,7 +8,8 @@ use crate::csv_out::{
     header_mismatch, parse_field, read_snapshot_index, read_table, write_particles,
     write_snapshot_index,
 };
-use crate::{DiagnosticsRow, OutputError, ParticleTable, Real, vtk, write_atomic_with};
+use crate::vtk::{self, VtkEncoding};
+use crate::{DiagnosticsRow, OutputError, ParticleTable, Real, write_atomic_with};
 
 /// File name of the diagnostics table.
 pub const DIAGNOSTICS_FILE: &str = "diagnostics.csv";
@@ -25,6 +26,36 @@ pub fn snapshot_stem(step: u64) -> String {
     format!("particles_{step:06}")
 }
 
+/// Which files a snapshot is written as: the particle CSV, the VTK PolyData (`.vtp`) in
+/// `encoding`, both, or neither (then no snapshot is written or indexed).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct OutputOptions {
+    /// Write `particles_NNNNNN.csv`.
+    pub csv: bool,
+    /// Write `particles_NNNNNN.vtp` and list it in `particles.pvd`.
+    pub vtk: bool,
+    /// How the `.vtp` arrays are stored.
+    pub encoding: VtkEncoding,
+}
+
+impl Default for OutputOptions {
+    /// CSV and binary VTK.
+    fn default() -> Self {
+        OutputOptions {
+            csv: true,
+            vtk: true,
+            encoding: VtkEncoding::Binary,
+        }
+    }
+}
+
+impl OutputOptions {
+    /// True when snapshots are written in at least one format.
+    pub fn any(&self) -> bool {
+        self.csv || self.vtk
+    }
+}
+
 /// The output directory of a run and the in-memory state of its growing
 /// files (diagnostics rows and snapshot index).
 ///
@@ -34,6 +65,7 @@ pub fn snapshot_stem(step: u64) -> String {
 pub struct OutputDir {
     dir: PathBuf,
     extra: Vec<String>,
+    options: OutputOptions,
     /// `(step, formatted CSV line)` of every diagnostics row, in file order.
     diag: Vec<(u64, String)>,
     /// Snapshot index, sorted by step.
@@ -43,20 +75,25 @@ pub struct OutputDir {
 impl OutputDir {
     /// Create `dir` (and its parents) if needed and start a fresh run there.
     ///
-    /// `diagnostics.csv` (header only), `snapshots.csv` (header only) and an
-    /// empty `particles.pvd` are written immediately, replacing those of any
-    /// earlier run in the same directory; this also checks that the directory
-    /// is writable. Old snapshot files are left alone. Extra column names must
-    /// be non-empty, unique, and free of `,` `"` and line breaks.
-    pub fn create(dir: &Path, extra_diag_columns: Vec<String>) -> Result<Self, OutputError> {
-        let out = Self::empty(dir, extra_diag_columns)?;
+    /// `diagnostics.csv` (header only), `snapshots.csv` (header only) and, when
+    /// `options.vtk`, an empty `particles.pvd` are written immediately, replacing
+    /// those of any earlier run in the same directory; this also checks that the
+    /// directory is writable. Old snapshot files are left alone. Extra column
+    /// names must be non-empty, unique, and free of `,` `"` and line breaks.
+    pub fn create(
+        dir: &Path,
+        extra_diag_columns: Vec<String>,
+        options: OutputOptions,
+    ) -> Result<Self, OutputError> {
+        let out = Self::empty(dir, extra_diag_columns, options)?;
         out.rewrite_indexes()?;
         Ok(out)
     }
 
     /// Resume a run in `dir`: re-read its `diagnostics.csv` and
     /// `snapshots.csv`, keep only rows with `step <= up_to_step`, and rewrite
-    /// both files and `particles.pvd` atomically with the kept rows.
+    /// both files and (when `options.vtk`) `particles.pvd` atomically with the
+    /// kept rows.
     ///
     /// Missing index files (or a missing directory) count as empty. The
     /// diagnostics header must match `extra_diag_columns`. Snapshot files of
@@ -66,8 +103,9 @@ impl OutputDir {
         dir: &Path,
         extra_diag_columns: Vec<String>,
         up_to_step: u64,
+        options: OutputOptions,
     ) -> Result<Self, OutputError> {
-        let mut out = Self::empty(dir, extra_diag_columns)?;
+        let mut out = Self::empty(dir, extra_diag_columns, options)?;
 
         let diag_path = out.path(DIAGNOSTICS_FILE);
         if diag_path.exists() {
@@ -97,7 +135,7 @@ impl OutputDir {
     }
 
     /// Validate the column names and create the directory; no file is written.
-    fn empty(dir: &Path, extra: Vec<String>) -> Result<Self, OutputError> {
+    fn empty(dir: &Path, extra: Vec<String>, options: OutputOptions) -> Result<Self, OutputError> {
         let diag_path = dir.join(DIAGNOSTICS_FILE);
         for (i, name) in extra.iter().enumerate() {
             let bad = name.is_empty()
@@ -120,6 +158,7 @@ impl OutputDir {
         Ok(Self {
             dir: dir.to_path_buf(),
             extra,
+            options,
             diag: Vec::new(),
             snapshots: Vec::new(),
         })
@@ -128,6 +167,11 @@ impl OutputDir {
     /// The output directory.
     pub fn dir(&self) -> &Path {
         &self.dir
+    }
+
+    /// The snapshot formats.
+    pub fn options(&self) -> OutputOptions {
+        self.options
     }
 
     /// Names of the extra diagnostics columns, in order.
@@ -181,10 +225,11 @@ impl OutputDir {
         res
     }
 
-    /// Write `DIR/particles_NNNNNN.csv` and `DIR/particles_NNNNNN.vtp`
-    /// (`NNNNNN` = step zero-padded to 6 digits, more digits if needed), then
-    /// rewrite `DIR/snapshots.csv` (`step,t,file`, file = the CSV name) and
-    /// `DIR/particles.pvd` (every `.vtp` with `timestep` = t) atomically.
+    /// Write the snapshot of `step` in the chosen formats, `DIR/particles_NNNNNN.csv` and/or
+    /// `DIR/particles_NNNNNN.vtp` (`NNNNNN` = step zero-padded to 6 digits, more digits if
+    /// needed), then rewrite `DIR/snapshots.csv` (`step,t,file`, file = the CSV name, or the
+    /// `.vtp` name when no CSV is written) and `DIR/particles.pvd` (every `.vtp` with
+    /// `timestep` = t) atomically. Without any format nothing is written or indexed.
     ///
     /// The CSV holds `id` and every column of the table; the VTK file one
     /// point and one vertex per particle with point data `id` (Int64) and
@@ -196,18 +241,16 @@ impl OutputDir {
         t: Real,
         particles: &ParticleTable,
     ) -> Result<(), OutputError> {
+        if !self.options.any() {
+            return Ok(());
+        }
         let stem = snapshot_stem(step);
-        let csv_name = format!("{stem}.csv");
-        valid(&self.path(&csv_name), particles)?;
-        write_atomic_with(&self.path(&csv_name), |w| write_particles(w, particles))?;
-        write_atomic_with(&self.path(&format!("{stem}.vtp")), |w| {
-            vtk::write_vtp(w, particles)
-        })?;
-
+        self.write_formats(&stem, particles, self.options.csv)?;
+        let ext = if self.options.csv { "csv" } else { "vtp" };
         let entry = SnapshotEntry {
             step,
             t,
-            file: csv_name,
+            file: format!("{stem}.{ext}"),
         };
         let old = self.snapshots.clone();
         match self.snapshots.binary_search_by_key(&step, |e| e.step) {
@@ -221,20 +264,34 @@ impl OutputDir {
         res
     }
 
-    /// Write `DIR/<stem>.csv` and `DIR/<stem>.vtp` (the snapshot formats) atomically, without
-    /// indexing them (e.g. the last good state of a run that blew up).
+    /// Write `DIR/<stem>.csv` and, when VTK is among the formats, `DIR/<stem>.vtp`
+    /// atomically, without indexing them (e.g. the last good state of a run that blew up).
     pub fn write_particles_as(
         &self,
         stem: &str,
         particles: &ParticleTable,
     ) -> Result<(), OutputError> {
-        valid(&self.path(&format!("{stem}.csv")), particles)?;
-        write_atomic_with(&self.path(&format!("{stem}.csv")), |w| {
-            write_particles(w, particles)
-        })?;
-        write_atomic_with(&self.path(&format!("{stem}.vtp")), |w| {
-            vtk::write_vtp(w, particles)
-        })
+        self.write_formats(stem, particles, true)
+    }
+
+    /// Writes `DIR/<stem>.csv` when `csv` and `DIR/<stem>.vtp` when VTK is chosen.
+    fn write_formats(
+        &self,
+        stem: &str,
+        particles: &ParticleTable,
+        csv: bool,
+    ) -> Result<(), OutputError> {
+        let csv_path = self.path(&format!("{stem}.csv"));
+        valid(&csv_path, particles)?;
+        if csv {
+            write_atomic_with(&csv_path, |w| write_particles(w, particles))?;
+        }
+        if self.options.vtk {
+            write_atomic_with(&self.path(&format!("{stem}.vtp")), |w| {
+                vtk::write_vtp(w, particles, self.options.encoding)
+            })?;
+        }
+        Ok(())
     }
 
     /// Write `DIR/final.csv` with the same columns as the snapshot CSVs.
@@ -258,6 +315,9 @@ impl OutputDir {
         write_atomic_with(&self.path(SNAPSHOT_INDEX_FILE), |w| {
             write_snapshot_index(w, &self.snapshots)
         })?;
+        if !self.options.vtk {
+            return Ok(());
+        }
         write_atomic_with(&self.path(PVD_FILE), |w| vtk::write_pvd(w, &self.snapshots))
     }
 

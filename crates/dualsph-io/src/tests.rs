@@ -1,6 +1,6 @@
 //! Tests of the output directory, the CSV round trips and the VTK files.
 
-use crate::vtk::check::{check_vtp, check_xml_balanced};
+use crate::vtk_tests::{check_vtp, check_xml_balanced};
 use crate::*;
 
 fn particles(n: usize) -> Vec<ParticleRecord> {
@@ -63,7 +63,7 @@ fn row(step: u64, extra: Vec<Real>) -> DiagnosticsRow {
 #[test]
 fn particles_round_trip_bitwise() {
     let tmp = tempfile::tempdir().unwrap();
-    let out = OutputDir::create(tmp.path(), vec![]).unwrap();
+    let out = OutputDir::create(tmp.path(), vec![], OutputOptions::default()).unwrap();
     let ps = particles(40);
     out.write_final(&ParticleTable::from_records(&ps)).unwrap();
     let path = tmp.path().join(FINAL_FILE);
@@ -87,7 +87,7 @@ fn particles_round_trip_bitwise() {
 #[test]
 fn empty_particle_set_round_trips() {
     let tmp = tempfile::tempdir().unwrap();
-    let mut out = OutputDir::create(tmp.path(), vec![]).unwrap();
+    let mut out = OutputDir::create(tmp.path(), vec![], OutputOptions::default()).unwrap();
     out.write_snapshot(0, 0.0, &ParticleTable::from_records(&[]))
         .unwrap();
     let back = read_particles_csv(&tmp.path().join("particles_000000.csv")).unwrap();
@@ -120,7 +120,7 @@ fn particle_csv_with_wrong_header_is_a_parse_error() {
 fn diagnostics_header_and_rows() {
     let tmp = tempfile::tempdir().unwrap();
     let extra = vec!["l1_err".to_string(), "max_h".to_string()];
-    let mut out = OutputDir::create(tmp.path(), extra.clone()).unwrap();
+    let mut out = OutputDir::create(tmp.path(), extra.clone(), OutputOptions::default()).unwrap();
     let path = tmp.path().join(DIAGNOSTICS_FILE);
     let (header, rows) = read_diagnostics_csv(&path).unwrap();
     assert_eq!(
@@ -194,7 +194,7 @@ fn invalid_extra_column_names_are_rejected() {
         vec!["q\n"],
     ] {
         let cols = bad.iter().map(|s| s.to_string()).collect();
-        let err = OutputDir::create(tmp.path(), cols).unwrap_err();
+        let err = OutputDir::create(tmp.path(), cols, OutputOptions::default()).unwrap_err();
         assert!(matches!(err, OutputError::Invalid { .. }), "{bad:?}: {err}");
     }
 }
@@ -202,7 +202,7 @@ fn invalid_extra_column_names_are_rejected() {
 #[test]
 fn snapshot_index_and_pvd() {
     let tmp = tempfile::tempdir().unwrap();
-    let mut out = OutputDir::create(tmp.path(), vec![]).unwrap();
+    let mut out = OutputDir::create(tmp.path(), vec![], OutputOptions::default()).unwrap();
     let ps = particles(5);
     out.write_snapshot(0, 0.0, &ParticleTable::from_records(&ps))
         .unwrap();
@@ -250,7 +250,7 @@ fn unwritable_directory_gives_error_naming_path() {
     let file = tmp.path().join("not_a_dir");
     std::fs::write(&file, b"").unwrap();
     let dir = file.join("out");
-    let err = OutputDir::create(&dir, vec![]).unwrap_err();
+    let err = OutputDir::create(&dir, vec![], OutputOptions::default()).unwrap_err();
     assert!(matches!(err, OutputError::Io { .. }), "{err}");
     assert!(err.to_string().contains(&*dir.to_string_lossy()), "{err}");
     assert_eq!(err.path(), dir);
@@ -260,7 +260,7 @@ fn unwritable_directory_gives_error_naming_path() {
 fn reopen_truncates_after_up_to_step() {
     let tmp = tempfile::tempdir().unwrap();
     let extra = vec!["err".to_string()];
-    let mut out = OutputDir::create(tmp.path(), extra.clone()).unwrap();
+    let mut out = OutputDir::create(tmp.path(), extra.clone(), OutputOptions::default()).unwrap();
     let ps = particles(3);
     for s in 0..10 {
         out.push_diagnostics(row(s, vec![s as f64])).unwrap();
@@ -271,7 +271,8 @@ fn reopen_truncates_after_up_to_step() {
     }
     drop(out);
 
-    let mut out = OutputDir::reopen(tmp.path(), extra.clone(), 4).unwrap();
+    let mut out =
+        OutputDir::reopen(tmp.path(), extra.clone(), 4, OutputOptions::default()).unwrap();
     assert_eq!(out.diagnostics_len(), 5);
     let steps: Vec<u64> = out.snapshots().iter().map(|e| e.step).collect();
     assert_eq!(steps, [0, 3]);
@@ -315,12 +316,12 @@ fn reopen_truncates_after_up_to_step() {
     assert_eq!(index.lines().count(), 4);
 
     // A different extra column set does not match the existing file.
-    let err = OutputDir::reopen(tmp.path(), vec![], 4).unwrap_err();
+    let err = OutputDir::reopen(tmp.path(), vec![], 4, OutputOptions::default()).unwrap_err();
     assert!(matches!(err, OutputError::Parse { .. }), "{err}");
 
     // Reopening a fresh directory works and starts empty.
     let fresh = tmp.path().join("fresh");
-    let out = OutputDir::reopen(&fresh, vec![], 100).unwrap();
+    let out = OutputDir::reopen(&fresh, vec![], 100, OutputOptions::default()).unwrap();
     assert_eq!(out.diagnostics_len(), 0);
     assert!(out.snapshots().is_empty());
     assert_eq!(out.dir(), fresh);
@@ -329,7 +330,7 @@ fn reopen_truncates_after_up_to_step() {
 #[test]
 fn output_files_leave_no_temporaries() {
     let tmp = tempfile::tempdir().unwrap();
-    let mut out = OutputDir::create(tmp.path(), vec![]).unwrap();
+    let mut out = OutputDir::create(tmp.path(), vec![], OutputOptions::default()).unwrap();
     out.push_diagnostics(row(0, vec![])).unwrap();
     out.write_snapshot(0, 0.0, &ParticleTable::from_records(&particles(2)))
         .unwrap();
@@ -356,7 +357,7 @@ fn output_files_leave_no_temporaries() {
 #[test]
 fn a_table_of_any_columns_is_written_and_read_back_by_name() {
     let tmp = tempfile::tempdir().unwrap();
-    let mut out = OutputDir::create(tmp.path(), vec![]).unwrap();
+    let mut out = OutputDir::create(tmp.path(), vec![], OutputOptions::default()).unwrap();
     let ps = particles(5);
     let mut table = ParticleTable::from_records(&ps);
     // a scene without EOS or energy equation, and a plugin's 2×2 matrix column
@@ -385,8 +386,12 @@ fn a_table_of_any_columns_is_written_and_read_back_by_name() {
     let (header, rows) = read_diagnostics_csv(&csv).unwrap();
     let s_yx = header.iter().position(|h| h == "s_yx").unwrap();
     assert_eq!(rows[4][s_yx], 18.0 * 0.25);
-    let vtp = std::fs::read_to_string(tmp.path().join("particles_000003.vtp")).unwrap();
-    check_xml_balanced(&vtp);
+    let vtp = std::fs::read(tmp.path().join("particles_000003.vtp")).unwrap();
+    let vtp = String::from_utf8_lossy(&vtp);
+    check_xml_balanced(&format!(
+        "{}</VTKFile>",
+        &vtp[..vtp.find("<AppendedData").unwrap()]
+    ));
     assert!(
         vtp.contains("Name=\"stress\" NumberOfComponents=\"4\""),
         "{vtp}"
@@ -397,4 +402,62 @@ fn a_table_of_any_columns_is_written_and_read_back_by_name() {
     let err = out.write_final(&table).unwrap_err();
     assert!(matches!(err, OutputError::Invalid { .. }), "{err}");
     assert!(!tmp.path().join(FINAL_FILE).exists());
+}
+
+#[test]
+fn snapshots_are_written_in_the_chosen_formats_only() {
+    let names = |dir: &std::path::Path| {
+        let mut v: Vec<String> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        v.sort();
+        v
+    };
+    let table = ParticleTable::from_records(&particles(3));
+    let tmp = tempfile::tempdir().unwrap();
+    let (csv, vtk, none) = (
+        tmp.path().join("csv"),
+        tmp.path().join("vtk"),
+        tmp.path().join("none"),
+    );
+    let only = |csv, vtk| OutputOptions {
+        csv,
+        vtk,
+        encoding: VtkEncoding::Compressed,
+    };
+    let mut out = OutputDir::create(&csv, vec![], only(true, false)).unwrap();
+    out.write_snapshot(4, 0.5, &table).unwrap();
+    out.write_final(&table).unwrap();
+    assert_eq!(
+        names(&csv),
+        [
+            "diagnostics.csv",
+            "final.csv",
+            "particles_000004.csv",
+            "snapshots.csv"
+        ]
+    );
+    let mut out = OutputDir::create(&vtk, vec![], only(false, true)).unwrap();
+    out.write_snapshot(4, 0.5, &table).unwrap();
+    assert_eq!(
+        names(&vtk),
+        [
+            "diagnostics.csv",
+            "particles.pvd",
+            "particles_000004.vtp",
+            "snapshots.csv"
+        ]
+    );
+    assert_eq!(out.snapshots()[0].file, "particles_000004.vtp");
+    assert_eq!(out.snapshots()[0].vtp_file(), "particles_000004.vtp");
+    check_vtp(&vtk.join("particles_000004.vtp"), 3);
+    let pvd = std::fs::read_to_string(vtk.join(PVD_FILE)).unwrap();
+    assert!(pvd.contains("file=\"particles_000004.vtp\""), "{pvd}");
+    let out = OutputDir::reopen(&vtk, vec![], 10, only(false, true)).unwrap();
+    assert_eq!(out.snapshots().len(), 1);
+    let mut out = OutputDir::create(&none, vec![], only(false, false)).unwrap();
+    out.write_snapshot(4, 0.5, &table).unwrap();
+    assert!(out.snapshots().is_empty());
+    assert_eq!(names(&none), ["diagnostics.csv", "snapshots.csv"]);
 }

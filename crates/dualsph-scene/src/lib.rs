@@ -20,7 +20,8 @@
 //!
 //! Optional: `neighbours` (`skin: 0.15, tune_skin: true`: the first build's skin, then one chosen
 //! from the measured motion), `plugins` (none), `max_steps` (None), `output`
-//! (`diagnostics_every: 10, snapshot_every: 200, vtk: true`), `health` (`density_below: 300,
+//! (`diagnostics_every: 10, snapshot_every: 200, snapshot_dt: None, formats: [Csv, Vtk],
+//! vtk_encoding: Binary, columns: None`; see [`OutputSettings`]), `health` (`density_below: 300,
 //! density_above: 10, h_below: 10, h_above: 300`: the run stops when a density or h leaves its
 //! initial range widened by those factors; each must be > 1, refused at its position), `integrator.max_dt` (None), and
 //! on every generator `clip`, `cut`, `velocity` (`Uniform([..])` or `Linear(G)`, `v = G·x`;
@@ -37,7 +38,8 @@
 //! block corners, disk centre, clip/cut corners, uniform velocity, rows of a linear velocity
 //! matrix) without exactly `dimension` finite components; domain or block `max <= min` on an
 //! axis; non-positive or non-finite spacing, density, h_factor, radius, end_time or fixed dt;
-//! adaptive coefficients outside (0, 1]; negative skin; `diagnostics_every == 0`; a plugin's
+//! adaptive coefficients outside (0, 1]; negative skin; `diagnostics_every == 0`; both
+//! `snapshot_dt` and a `snapshot_every` other than its default or 0; a plugin's
 //! own `validate`; two integrators (or two diagnostics plugins), naming both; more than [`MAX_PARTICLES`] particles (estimated before generating); a
 //! generator that yields no particles; a particle outside the domain; two generators whose
 //! particles come closer than half the smaller spacing; a body declared twice or with an
@@ -47,6 +49,7 @@
 
 mod error;
 mod generate;
+mod output;
 mod plugins_list;
 mod schema;
 mod validate;
@@ -55,10 +58,10 @@ pub use dualsph_core::kernels::KernelKind;
 pub use dualsph_core::plugin::{PluginConfig, Registry};
 pub use error::SceneError;
 pub use generate::{MAX_PARTICLES, ParticleSpec};
+pub use output::{DEFAULT_SNAPSHOT_EVERY, OutputFormat, OutputSettings, VtkEncoding};
 pub use schema::{
     Block, BodyKind, BodySettings, BoxRegion, Disk, Domain, Formulation, Generator, HealthSettings,
-    IntegratorSettings, Lattice, MotionSettings, NeighbourSettings, OutputSettings, TimeStep,
-    Velocity,
+    IntegratorSettings, Lattice, MotionSettings, NeighbourSettings, TimeStep, Velocity,
 };
 
 use ron::extensions::Extensions;

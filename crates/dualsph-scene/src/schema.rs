@@ -329,30 +329,6 @@ pub struct IntegratorSettings {
     pub max_dt: Option<f64>,
 }
 
-/// The optional `output` section.
-#[derive(Clone, Debug, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct OutputSettings {
-    /// Steps between diagnostics lines (>= 1); default 10.
-    #[serde(deserialize_with = "int::de")]
-    pub diagnostics_every: u64,
-    /// Steps between snapshots (0 = none); default 200.
-    #[serde(deserialize_with = "int::de")]
-    pub snapshot_every: u64,
-    /// Whether snapshots are also written as VTK; default true.
-    pub vtk: bool,
-}
-
-impl Default for OutputSettings {
-    fn default() -> Self {
-        OutputSettings {
-            diagnostics_every: 10,
-            snapshot_every: 200,
-            vtk: true,
-        }
-    }
-}
-
 /// Default of [`HealthSettings::dt_below`].
 pub const DEFAULT_DT_BELOW: f64 = 1e6;
 

@@ -188,12 +188,7 @@ fn settings(s: &Scene) -> Check {
     if s.max_steps == Some(0) {
         return Err(Problem::new("max_steps", "must be at least 1 (or None)"));
     }
-    if s.output.diagnostics_every == 0 {
-        return Err(Problem::new(
-            "output.diagnostics_every",
-            "must be at least 1",
-        ));
-    }
+    s.output.check()?;
     bodies(s)?;
     let info = SceneInfo {
         dimension: d,

@@ -101,7 +101,8 @@ fn its_columns_are_written_and_a_resumed_run_is_bitwise_the_same() {
     }
     assert!(rows.windows(2).all(|w| w[1][ek] < w[0][ek]));
     // and in the VTK file as point data
-    let vtp = std::fs::read_to_string(a.join("particles_000100.vtp")).unwrap();
+    let vtp = std::fs::read(a.join("particles_000100.vtp")).unwrap();
+    let vtp = String::from_utf8_lossy(&vtp);
     for name in ["drag_gamma", "path_length"] {
         assert!(
             vtp.contains(&format!("Name=\"{name}\"")),
@@ -144,5 +145,28 @@ fn its_columns_are_written_and_a_resumed_run_is_bitwise_the_same() {
             x.unwrap() == y.unwrap(),
             "{name:?} differs after the resume"
         );
+    }
+}
+
+#[test]
+fn the_scene_can_choose_the_plugins_column_alone() {
+    let tmp = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(scene()).unwrap().replace(
+        "output: (snapshot_every: 25, diagnostics_every: 10)",
+        "output: (snapshot_every: 25, diagnostics_every: 10, columns: [\"drag_gamma\"])",
+    );
+    let path = tmp.path().join("chosen.ron");
+    std::fs::write(&path, text).unwrap();
+    let out = tmp.path().join("out");
+    cli(&[
+        "run",
+        path.to_str().unwrap(),
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    for file in ["particles_000025.csv", "final.csv"] {
+        let (header, _) = csv(&out.join(file));
+        assert_eq!(header, ["id", "x", "y", "z", "gamma"], "{file}");
     }
 }

@@ -1,6 +1,7 @@
 //! Shared fixtures: two tiny plugins, a registry, a valid base scene and helpers.
 
 mod generate;
+mod output;
 mod parse;
 mod validate;
 

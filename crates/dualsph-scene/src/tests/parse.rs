@@ -1,7 +1,9 @@
 //! Parsing: the schema, defaults, plugins and the parse errors.
 
 use super::*;
-use crate::{Formulation, Generator, KernelKind, Lattice, TimeStep, Velocity};
+use crate::{
+    Formulation, Generator, KernelKind, Lattice, OutputFormat, TimeStep, Velocity, VtkEncoding,
+};
 
 #[test]
 fn base_scene_parses_with_defaults() {
@@ -28,10 +30,13 @@ fn base_scene_parses_with_defaults() {
         (
             s.output.diagnostics_every,
             s.output.snapshot_every,
-            s.output.vtk
+            s.output.snapshot_dt
         ),
-        (10, 200, true)
+        (10, 200, None)
     );
+    assert_eq!(s.output.formats, [OutputFormat::Csv, OutputFormat::Vtk]);
+    assert_eq!(s.output.vtk_encoding, VtkEncoding::Binary);
+    assert_eq!(s.output.columns, None);
 }
 
 #[test]
@@ -64,7 +69,8 @@ fn every_optional_field_parses() {
         ),
         (
             "end_time: 1.0,",
-            "end_time: 1.0, max_steps: Some(100), output: (snapshot_every: 0, vtk: false),",
+            "end_time: 1.0, max_steps: Some(100), output: (snapshot_every: 0, snapshot_dt: 0.25, formats: [Vtk], \
+             vtk_encoding: Compressed, columns: [\"pressure\", \"velocity\"]),",
         ),
     ]);
     let s = load(&text).unwrap();
@@ -100,9 +106,15 @@ fn every_optional_field_parses() {
         (
             s.output.diagnostics_every,
             s.output.snapshot_every,
-            s.output.vtk
+            s.output.snapshot_dt
         ),
-        (10, 0, false)
+        (10, 0, Some(0.25))
+    );
+    assert_eq!(s.output.formats, [OutputFormat::Vtk]);
+    assert_eq!(s.output.vtk_encoding, VtkEncoding::Compressed);
+    assert_eq!(
+        s.output.columns.as_deref(),
+        Some(&["pressure".to_string(), "velocity".to_string()][..])
     );
 }
 
