@@ -120,7 +120,8 @@ impl<V: Vector> Sim<V> {
 
     /// Lets plugins add and remove particles during the run ([`crate::population`]): puts
     /// the [`Population`] resource in the world and the system that applies its requests
-    /// at the end of [`StepSet::Population`] (once, however many plugins call this).
+    /// at the end of [`crate::sim::StepSet::Population`] (once, however many plugins call
+    /// this).
     pub fn enable_population(&mut self) {
         if self.enable_feature("population") {
             self.world.insert_resource(Population::<V>::default());

@@ -1,10 +1,10 @@
 //! One block of consecutive owner rows of the dual-support sweep: pass 1 row by row, and the
-//! pass-2 wavefront behind it (see [`super::dual_support`]).
+//! pass-2 wavefront behind it (see `sweep::dual_support`).
 //!
-//! The block loop is compiled once per way of evaluating a row ([`RowEval`]): a sweep whose
+//! The block loop is compiled once per way of evaluating a row (`RowEval`): a sweep whose
 //! pair terms are one term (or one fused chain) runs the term's own instance of the loop
 //! ([`crate::pair::RowTerm::run_block`]) — one dynamic call per block and a direct call per
-//! row. The row is a function of its own ([`super::row::row_apart`]): inlined into the block
+//! row. The row is a function of its own (`row::row_apart`): inlined into the block
 //! loop, its compaction and pair loops lost registers to the block's state (callgrind: 30 →
 //! 33 instructions per candidate, 170 → 173 per two pairs, more than the call costs).
 
