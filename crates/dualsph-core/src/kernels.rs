@@ -1,10 +1,10 @@
 //! Smoothing kernels, each written once as a 1-D radial profile and normalised in 1, 2 and 3 D.
 //!
-//! Notation (paper 001, Eq. 2.1): **h is the support radius**, `W_ij = w(r_ij / h_i)` and the
+//! Notation (Ren, Dai, Zhuang & Rabczuk, *Dual-support Smoothed Particle Hydrodynamics*, preprint, Bauhaus-Universität Weimar; Eq. 2.1): **h is the support radius**, `W_ij = w(r_ij / h_i)` and the
 //! kernel vanishes for `r >= h`. (Many codes call this radius 2h or 3h.)
 //!
-//! A profile `f(q)`, `q = r/h ∈ [0, 1]`, becomes a d-dimensional kernel through the FLUISIM
-//! construction (notes 002, Defs. 2.1–2.3): `W(r, h) = C_d / h^d · f(r/h)` with
+//! A profile `f(q)`, `q = r/h ∈ [0, 1]`, becomes a d-dimensional kernel through the construction
+//! of R. E. Fry, *FLUISIM: Smoothed Particle Hydrodynamics*, notes, 2025 (Defs. 2.1–2.3): `W(r, h) = C_d / h^d · f(r/h)` with
 //! `1/C_d = ∫_0^1 f(q) dB(d, q)/dq dq = S_d ∫_0^1 f(q) q^{d-1} dq`, where
 //! `B(d, r) = π^{d/2} r^d / Γ(1 + d/2)` is the volume of the d-ball and `S_d = dB/dr|_{r=1}`
 //! its surface. FLUISIM's Def. 2.2 as printed weights the profile by the ball *volume*

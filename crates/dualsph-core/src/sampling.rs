@@ -1,8 +1,9 @@
-//! Field sampling at arbitrary points: the SPH interpolant of FLUISIM (notes 002) evaluated
+//! Field sampling at arbitrary points: the SPH interpolant of R. E. Fry, *FLUISIM:
+//! Smoothed Particle Hydrodynamics*, notes, 2025 ("FLUISIM" below), evaluated
 //! with each particle's **own** kernel and support radius.
 //!
 //! For a point x, its support is the set of particles whose support reaches it,
-//! `S(x) = { j : |x − x_j| < h_j }` — the dual-support view of a point (paper 001, Eq. 3.2):
+//! `S(x) = { j : |x − x_j| < h_j }` — the dual-support view of a point (Ren, Dai, Zhuang & Rabczuk, *Dual-support SPH*, Eq. 3.2):
 //! x is "in the support" of j. It is found with a kiddo k-d tree queried with the largest
 //! radius `h_max`, then filtered by each particle's own `h_j`, and summed in ascending j, so a
 //! result never depends on the thread count. With `V_j = m_j/ρ_j` and
@@ -18,7 +19,7 @@
 //! * first-order consistent value `A_1(x)`: the weighted least-squares fit
 //!   `min_{a,g} Σ_j V_j W_j (A_j − a − g·(x_j − x))²`, `A_1 = a` (a moving-least-squares
 //!   interpolant with the SPH weights), exact for linear fields;
-//! * corrected gradient, the difference form with the kernel-gradient correction of paper 001
+//! * corrected gradient, the difference form with the kernel-gradient correction of Ren, Dai, Zhuang & Rabczuk
 //!   Eq. 2.10 evaluated at x: `∇̃A(x) = L(x) Σ_j (A_j − A_1(x)) V_j ∇W_j`,
 //!   `L(x) = [Σ_j V_j ∇W_j ⊗ (x_j − x)]^{-1}`, exact for linear fields.
 //!
