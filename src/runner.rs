@@ -404,10 +404,8 @@ pub fn run_dim_with<V: Vector>(
             if let Some(b) = &bar {
                 b.finish_and_clear();
             }
-            if c.step != last_written {
-                out.push_diagnostics(diag_row(&sim.diagnostics()))?;
-                last_written = c.step;
-            }
+            // no diagnostics row off the cadence: the resumed run's file is then the
+            // uninterrupted run's
             let checkpoint = keeper.write_now(&mut sim, &initial, last_written)?;
             return Err(RunError::Interrupted {
                 step: c.step,

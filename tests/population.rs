@@ -4,14 +4,16 @@
 //! and VTK) hold the varying count, a resumed run is bitwise the uninterrupted one, and 1 and
 //! 2 threads give the same bits.
 
+mod common;
+use common::{read, run};
+
 use dualsph::checkpoint::{Checkpoint, checkpoint_file_name};
 use dualsph::prelude::*;
-use dualsph::runner::{self, Progress, RestartOptions, RunOptions};
 use dualsph::scene::Scene;
 use dualsph_core::population::Population;
 use glam::DVec2;
 use std::collections::BTreeSet;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 const SCENE: &str = "scenes/channel_inflow_2d.ron";
 /// Particles per inlet layer (0.1 m / 0.005 m) and the layer period Δx / U.
@@ -121,23 +123,6 @@ fn the_inlet_and_outlet_change_the_count_exactly_and_ids_are_never_reused() {
         .map(|(v, rho)| (v.0 - DVec2::X).length() + (rho.0 - 1000.0).abs())
         .fold(0.0, Real::max);
     assert_eq!(worst, 0.0, "the stream is disturbed");
-}
-
-fn run(scene: &Scene, out: &Path, every: u64, resume: Option<PathBuf>) -> runner::RunSummary {
-    let opts = RunOptions {
-        out: out.to_path_buf(),
-        progress: Progress::Silent,
-        profile: false,
-    };
-    let restart = RestartOptions {
-        checkpoint_every: Some(every),
-        resume,
-    };
-    runner::run_with(scene, &opts, &restart).unwrap()
-}
-
-fn read(path: &Path) -> Vec<u8> {
-    std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
 #[test]

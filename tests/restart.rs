@@ -2,6 +2,9 @@
 //! uninterrupted one, also after the process was killed; a blow-up writes the last good
 //! state and exits non-zero; a damaged or foreign checkpoint is refused with a clear message.
 
+mod common;
+use common::{read, run};
+
 use dualsph::checkpoint::{Checkpoint, checkpoint_file_name};
 use dualsph::runner::{self, Progress, RestartOptions, RunError, RunOptions};
 use dualsph::scene::Scene;
@@ -21,23 +24,6 @@ fn load_text(text: &str) -> Scene {
 
 fn bin() -> Command {
     Command::new(env!("CARGO_BIN_EXE_dualsph"))
-}
-
-fn run(scene: &Scene, out: &Path, every: u64, resume: Option<PathBuf>) -> runner::RunSummary {
-    let opts = RunOptions {
-        out: out.to_path_buf(),
-        progress: Progress::Silent,
-        profile: false,
-    };
-    let restart = RestartOptions {
-        checkpoint_every: Some(every),
-        resume,
-    };
-    runner::run_with(scene, &opts, &restart).unwrap()
-}
-
-fn read(path: &Path) -> Vec<u8> {
-    std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
 fn copy_dir(from: &Path, to: &Path) {

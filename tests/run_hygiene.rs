@@ -151,7 +151,8 @@ fn ctrl_c_writes_a_checkpoint_that_resumes_bitwise() {
         .arg(&long)
         .spawn()
         .unwrap();
-    // wait until it is stepping (diagnostics beyond the first rows), then interrupt it
+    // wait until it is stepping (diagnostics beyond the first rows), then interrupt it: at
+    // whatever step the signal lands, on the diagnostics cadence or off it
     let started = Instant::now();
     loop {
         let rows =

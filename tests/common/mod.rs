@@ -1,4 +1,5 @@
-//! Shared helpers for the end-to-end tests: random particle clouds built in code.
+//! Shared helpers for the end-to-end tests: random particle clouds built in code, runs with
+//! checkpoints, files read or the test fails.
 #![allow(dead_code)]
 
 use dualsph::core::sim::{Domain, SimConfig, TimeStepping};
@@ -135,4 +136,29 @@ pub fn imbalances<V: Vector>(rows: &[(Real, V, V, V, Real)]) -> (Real, Real, Rea
         l.length() / l_scale.max(1e-300),
         e.abs() / e_scale,
     )
+}
+
+/// Runs `scene` into `out` with a checkpoint every `every` steps, from `resume` if given.
+pub fn run(
+    scene: &dualsph::scene::Scene,
+    out: &std::path::Path,
+    every: u64,
+    resume: Option<std::path::PathBuf>,
+) -> dualsph::runner::RunSummary {
+    use dualsph::runner::{self, Progress, RestartOptions, RunOptions};
+    let opts = RunOptions {
+        out: out.to_path_buf(),
+        progress: Progress::Silent,
+        profile: false,
+    };
+    let restart = RestartOptions {
+        checkpoint_every: Some(every),
+        resume,
+    };
+    runner::run_with(scene, &opts, &restart).unwrap()
+}
+
+/// The bytes of `path`; a missing file fails the test with its path.
+pub fn read(path: &std::path::Path) -> Vec<u8> {
+    std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }

@@ -46,6 +46,16 @@ impl SceneInfo {
     }
 }
 
+/// `Ok` when `x` is a finite number > 0, else the message plugins' `validate` gives for it:
+/// `"<field>: must be positive, got <x>"`.
+pub fn positive(field: &str, x: Real) -> Result<(), String> {
+    if x.is_finite() && x > 0.0 {
+        Ok(())
+    } else {
+        Err(format!("{field}: must be positive, got {x}"))
+    }
+}
+
 /// The part a plugin plays in a scene.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Role {

@@ -5,12 +5,12 @@
 //! deterministic and [`Sim::plan`] can print exactly what will execute.
 
 use crate::columns::Columns;
-use crate::kernels::{Kernel, KernelKind};
+use crate::kernels::Kernel;
 use crate::math::{Real, Vector};
-use crate::neighbours::{Neighbours, SkinRule};
+use crate::neighbours::Neighbours;
 use crate::order::Placement;
 use crate::plugin::PluginConfig;
-use crate::sweep::{Formulation, PairSweeps, ParticleData};
+use crate::sweep::{PairSweeps, ParticleData};
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::{ScheduleLabel, SingleThreadedExecutor};
 use bevy_ecs::system::ScheduleSystem;
@@ -18,7 +18,12 @@ use std::collections::BTreeSet;
 
 mod particles;
 mod plan;
+mod state;
 pub use plan::Plan;
+pub use state::{
+    Domain, InitialInternalEnergy, KernelRes, MaxViscosity, ParticleInit, SimClock, SimConfig,
+    TimeStepping,
+};
 use std::marker::PhantomData;
 
 /// Errors from building or running a simulation.
@@ -114,113 +119,6 @@ struct Slot(usize);
 /// first slot.
 #[derive(SystemSet, Debug, Clone, Copy, PartialEq, Eq, Hash)]
 struct Mark(Option<usize>);
-
-/// Time, step counter and dt.
-#[derive(Resource, Clone, Copy, Debug, PartialEq)]
-pub struct SimClock {
-    /// Simulated time.
-    pub t: Real,
-    /// Completed steps.
-    pub step: u64,
-    /// Time step of the current (or last) step.
-    pub dt: Real,
-    /// True during the initial evaluation of rates at t = 0.
-    pub initializing: bool,
-    /// End time: the last dt is shortened to land on it exactly.
-    pub t_end: Real,
-}
-
-/// The kernel of the scene, normalised for its dimension.
-#[derive(Resource, Clone, Copy, Debug)]
-pub struct KernelRes(pub Kernel);
-
-/// The computational box.
-#[derive(Resource, Clone, Copy, Debug)]
-pub struct Domain<V: Vector> {
-    /// Lower corner.
-    pub min: V,
-    /// Upper corner.
-    pub max: V,
-}
-
-/// How dt is chosen.
-#[derive(Resource, Clone, Copy, Debug, PartialEq)]
-pub enum TimeStepping {
-    /// A fixed dt.
-    Fixed(Real),
-    /// `dt = min(C_cfl h_i/(c_i + |v_i|), C_f sqrt(h_i/|a_i|), C_v ρ_i h_i²/μ)`, capped by `max_dt`.
-    Adaptive {
-        /// Courant number (on the support radius h).
-        courant: Real,
-        /// Force criterion coefficient.
-        force: Real,
-        /// Viscous criterion coefficient.
-        viscous: Real,
-        /// Upper bound on dt.
-        max_dt: Real,
-    },
-}
-
-/// Largest kinematic viscosity source `μ` in the scene (set by viscosity plugins, used by dt).
-#[derive(Resource, Clone, Copy, Debug, Default)]
-pub struct MaxViscosity(pub Real);
-
-/// Initial state of one particle.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ParticleInit<V: Vector> {
-    /// Position.
-    pub pos: V,
-    /// Velocity.
-    pub vel: V,
-    /// Mass.
-    pub mass: Real,
-    /// Density.
-    pub density: Real,
-    /// Support radius.
-    pub h: Real,
-    /// Specific internal energy (used only if an energy equation is added).
-    pub internal_energy: Real,
-    /// The body it belongs to (an index into [`crate::bodies::Bodies`]).
-    pub body: u16,
-}
-
-/// The initial internal energies of the particles spawned before [`Sim::finish`], by id:
-/// their seeds' energies when the columns are put on them (dropped after).
-#[derive(Resource, Clone, Debug, Default)]
-pub struct InitialInternalEnergy(Vec<Real>);
-
-impl InitialInternalEnergy {
-    /// Records particle `id`'s energy.
-    pub fn set(&mut self, id: u32, e: Real) {
-        let i = id as usize;
-        if self.0.len() <= i {
-            self.0.resize(i + 1, 0.0);
-        }
-        self.0[i] = e;
-    }
-
-    /// Particle `id`'s energy (0 when none was recorded).
-    pub fn get(&self, id: u32) -> Real {
-        self.0.get(id as usize).copied().unwrap_or(0.0)
-    }
-}
-
-/// Static settings of a simulation.
-#[derive(Clone, Copy, Debug)]
-pub struct SimConfig<V: Vector> {
-    /// Kernel profile.
-    pub kernel: KernelKind,
-    /// Support/dual-support formulation.
-    pub formulation: Formulation,
-    /// Domain box.
-    pub domain: Domain<V>,
-    /// Verlet skin (fraction of h): of every build, or of the first with a tuned rule.
-    pub skin: Real,
-    /// How the skin of later builds is chosen.
-    pub skin_rule: SkinRule,
-    /// dt rule.
-    pub time_stepping: TimeStepping,
-}
 
 type Adder = Box<dyn FnOnce(&mut Schedule, Slot) + Send + Sync>;
 

@@ -7,6 +7,7 @@ use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::bodies::Bodies;
 use dualsph_core::chunks::DENSE;
 use dualsph_core::integrate::ensure_energy_equation;
+use dualsph_core::plugin::positive;
 use dualsph_core::prelude::*;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -243,14 +244,6 @@ fn install<V: Vector>(
     }
     sim.world.insert_resource(Materials(materials));
     Ok(())
-}
-
-fn positive(name: &str, x: Real) -> Result<(), String> {
-    if x.is_finite() && x > 0.0 {
-        Ok(())
-    } else {
-        Err(format!("{name}: must be positive, got {x}"))
-    }
 }
 
 impl SimPlugin for TaitEos {

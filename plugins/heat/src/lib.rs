@@ -6,6 +6,7 @@
 #![warn(missing_docs)]
 
 use dualsph_core::integrate::ensure_energy_equation;
+use dualsph_core::plugin::positive;
 use dualsph_core::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -90,12 +91,7 @@ impl SimPlugin for HeatConduction {
                 self.conductivity
             ));
         }
-        if !(self.heat_capacity.is_finite() && self.heat_capacity > 0.0) {
-            return Err(format!(
-                "heat_capacity: must be positive, got {}",
-                self.heat_capacity
-            ));
-        }
+        positive("heat_capacity", self.heat_capacity)?;
         Ok(())
     }
 

@@ -17,6 +17,7 @@
 
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::bodies::{Bodies, BodyKind};
+use dualsph_core::plugin::positive;
 use dualsph_core::population::Population;
 use dualsph_core::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -106,13 +107,6 @@ impl SimPlugin for Inlet {
         if self.velocity.iter().all(|&v| v == 0.0) {
             return Err("velocity: must not be zero (the layers would never leave)".into());
         }
-        let positive = |name: &str, x: Real| {
-            if x.is_finite() && x > 0.0 {
-                Ok(())
-            } else {
-                Err(format!("{name}: must be > 0, got {x}"))
-            }
-        };
         positive("spacing", self.spacing)?;
         positive("density", self.density)?;
         positive("h_factor", self.h_factor)?;

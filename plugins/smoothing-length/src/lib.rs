@@ -9,6 +9,7 @@ pub use isotropy::Isotropy;
 
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::neighbours::Neighbours;
+use dualsph_core::plugin::positive;
 use dualsph_core::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -130,9 +131,7 @@ impl SimPlugin for SmoothingLengthUpdate {
         if self.every == 0 {
             return Err("every: must be at least 1".into());
         }
-        if !(self.n.is_finite() && self.n > 0.0) {
-            return Err(format!("n: must be positive, got {}", self.n));
-        }
+        positive("n", self.n)?;
         if let Some(r) = self.max_ratio
             && !(r.is_finite() && r >= 1.0)
         {
