@@ -76,7 +76,7 @@ pub struct ParticleInit<V: Vector> {
     pub body: u16,
 }
 
-/// The initial internal energies of the particles spawned before [`Sim::finish`], by id:
+/// The initial internal energies of the particles spawned before [`Sim::finish`](super::Sim::finish), by id:
 /// their seeds' energies when the columns are put on them (dropped after).
 #[derive(Resource, Clone, Debug, Default)]
 pub struct InitialInternalEnergy(Vec<Real>);
