@@ -5,18 +5,13 @@
 //! Header of each file (line 3): `// expect: TEXT` (TEXT must appear in the message) or
 //! `// expect: TEXT @ L:C` / `// expect: @ L:C` (a parse error at line L, column C).
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
 fn corpus() -> Vec<PathBuf> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/bad_scenes");
-    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "ron"))
-        .collect();
-    files.sort();
-    files
+    common::ron_files("tests/bad_scenes")
 }
 
 /// `(text that must appear, optional (line, column))` from the file's header.

@@ -3,10 +3,13 @@
 //! each parsed and validated. Whatever the input, the result is `Ok` or one error message
 //! naming the file — never a panic — and no input takes more than a few seconds.
 
+mod common;
+use common::ron_files;
+
 use dualsph::scene::Scene;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::{Duration, Instant};
 
 /// Particles a mutated scene may generate (a mutation that multiplies the count is refused
@@ -15,21 +18,6 @@ const LIMIT: usize = 2_000_000;
 
 /// The longest one input may take to parse and validate.
 const PER_INPUT: Duration = Duration::from_secs(10);
-
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
-
-/// The `.ron` files of `dir`, sorted.
-fn ron_files(dir: &str) -> Vec<PathBuf> {
-    let mut files: Vec<PathBuf> = std::fs::read_dir(root().join(dir))
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "ron"))
-        .collect();
-    files.sort();
-    files
-}
 
 /// Parses and validates `text` as `fuzz.ron`; a failure says which input and why.
 /// `Ok(true)` when it is a valid scene, `Ok(false)` when it is refused cleanly.
