@@ -13,19 +13,24 @@ pub const RUN_FILE: &str = "run.json";
 /// Whether `name` is a file a run (or the commands that post-process one: `grid`,
 /// `plot-probes`) writes into its output directory — what `--force` clears.
 pub fn written_by_a_run(name: &str) -> bool {
-    const FILES: [&str; 7] = [
+    use crate::checkpoint::LAST_GOOD_STEM;
+    use crate::probes::{PROBE_POINTS_FILE, PROBES_FILE};
+    use dualsph_io::{DIAGNOSTICS_FILE, FINAL_FILE, PVD_FILE, SNAPSHOT_INDEX_FILE};
+    let files = [
         RUN_FILE,
-        "diagnostics.csv",
-        "snapshots.csv",
-        "particles.pvd",
-        "final.csv",
-        "probes.csv",
-        "probes_points.csv",
+        DIAGNOSTICS_FILE,
+        SNAPSHOT_INDEX_FILE,
+        PVD_FILE,
+        FINAL_FILE,
+        PROBES_FILE,
+        PROBE_POINTS_FILE,
     ];
-    const PREFIXES: [&str; 4] = ["particles_", "checkpoint_", "last_good.", "probes_"];
+    // snapshots (`particles_NNNNNN`), checkpoints, the last good state, the probes' plots
+    let last_good = format!("{LAST_GOOD_STEM}.");
+    let stems = ["particles_", "checkpoint_", last_good.as_str(), "probes_"];
     let temporary = name.starts_with('.') && name.ends_with(".tmp");
     let grid = name.contains("_grid.") && (name.ends_with(".vti") || name.ends_with(".png"));
-    FILES.contains(&name) || PREFIXES.iter().any(|p| name.starts_with(p)) || temporary || grid
+    files.contains(&name) || stems.iter().any(|p| name.starts_with(p)) || temporary || grid
 }
 
 /// Makes `dir` ready for a new run: a directory that does not exist or is empty is fine; one
@@ -214,7 +219,7 @@ impl RunRecord {
             Ok(summary) => {
                 self.summary = Some(summary.into());
                 Ending {
-                    cause: "completed",
+                    cause: exit::cause(exit::SUCCESS),
                     exit_code: exit::SUCCESS,
                     message: None,
                 }
