@@ -47,7 +47,7 @@ pub mod plugins {
     pub use dualsph_gravity::Gravity;
     pub use dualsph_heat::HeatConduction;
     pub use dualsph_inout::{Inlet, Outlet};
-    pub use dualsph_integrator::{LeapfrogPC, PositionVerlet};
+    pub use dualsph_integrator::{EnergyUpdate, LeapfrogPC, PositionVerlet};
     pub use dualsph_kernel_correction::KernelCorrection;
     pub use dualsph_pressure::{ArtificialStress, PressureForce};
     pub use dualsph_probes::{Probe, Probes, Quantity};
@@ -275,7 +275,9 @@ struct RolePlugins<'s> {
     diagnostics: &'s dyn PluginConfig,
 }
 
-static DEFAULT_INTEGRATOR: plugins::LeapfrogPC = plugins::LeapfrogPC {};
+static DEFAULT_INTEGRATOR: plugins::LeapfrogPC = plugins::LeapfrogPC {
+    energy: plugins::EnergyUpdate::Consistent,
+};
 static DEFAULT_DIAGNOSTICS: plugins::DiagnosticsPlugin = plugins::DiagnosticsPlugin {};
 
 impl<'s> RolePlugins<'s> {

@@ -8,7 +8,7 @@ use dualsph::prelude::*;
 use glam::DVec2;
 
 fn run_steps(threads: usize) -> Vec<(Real, DVec2, DVec2, DVec2, Real)> {
-    run_steps_with(threads, &LeapfrogPC {})
+    run_steps_with(threads, &LeapfrogPC::default())
 }
 
 /// 20 steps of a cloud with every kind of term, advanced by `integrator`, on `threads` threads.
@@ -95,8 +95,8 @@ fn one_and_two_threads_give_bitwise_identical_states() {
 #[test]
 fn the_position_verlet_gives_bitwise_identical_states_on_1_and_2_threads() {
     let (a, b) = (
-        run_steps_with(1, &PositionVerlet {}),
-        run_steps_with(2, &PositionVerlet {}),
+        run_steps_with(1, &PositionVerlet::default()),
+        run_steps_with(2, &PositionVerlet::default()),
     );
     assert!(a == b, "1 and 2 threads differ");
     // another scheme, another state

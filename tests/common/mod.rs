@@ -82,7 +82,7 @@ pub fn sim_with_kernel<V: Vector>(
     let (roles, physics): (Vec<&dyn PluginConfig>, Vec<&dyn PluginConfig>) =
         plugins.iter().partition(|p| p.role() != Role::Physics);
     let defaults: [&dyn PluginConfig; 2] = [
-        &dualsph::plugins::LeapfrogPC {},
+        &dualsph::plugins::LeapfrogPC::default(),
         &dualsph::plugins::DiagnosticsPlugin {},
     ];
     for d in defaults {

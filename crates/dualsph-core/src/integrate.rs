@@ -350,6 +350,10 @@ impl<V: Vector> Sim<V> {
     }
 }
 
+/// The name under which [`ensure_energy_equation`] declares the internal energy (what a
+/// [`Scheme`] sees as [`ScalarEquation::name`]).
+pub const INTERNAL_ENERGY: &str = "internal_energy";
+
 /// Adds the internal-energy equation once: `InternalEnergy` (initial ε from the scene) and
 /// `EnergyRate` on every particle, and declares `dε/dt` integrated.
 pub fn ensure_energy_equation<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimError> {
@@ -360,7 +364,7 @@ pub fn ensure_energy_equation<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimErro
     sim.add_column(spec, |seed| InternalEnergy(seed.init.internal_energy))?;
     let spec = ColumnSpec::restart_only("energy_rate");
     sim.add_column(spec, move |_| EnergyRate { rate: 0.0 })?;
-    sim.integrate::<InternalEnergy, EnergyRate>("internal_energy")?;
+    sim.integrate::<InternalEnergy, EnergyRate>(INTERNAL_ENERGY)?;
     Ok(())
 }
 

@@ -123,7 +123,7 @@ mod tests {
         };
         sim.spawn_particles(&[p(-1.0, -1.0), p(1.0, 3.0)])
             .expect("fresh particle ids");
-        let integrator: &dyn PluginConfig = &dualsph_integrator::LeapfrogPC {};
+        let integrator: &dyn PluginConfig = &dualsph_integrator::LeapfrogPC::default();
         sim.build_plugin(integrator).unwrap();
         if with_plugin {
             sim.build_plugin(&DiagnosticsPlugin {}).unwrap();

@@ -18,10 +18,11 @@
 //! [`dualsph_core::chunks`]): each particle is updated from its own data, so the result does
 //! not depend on the number of threads.
 
+use crate::energy::{EnergyUpdate, Evaluations};
 use crate::time_step::add_time_step_systems;
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::chunks::{DENSE, MIN_LEN};
-use dualsph_core::integrate::{ScalarEquation, ScalarRows, Scheme};
+use dualsph_core::integrate::{INTERNAL_ENERGY, ScalarEquation, ScalarRows, Scheme};
 use dualsph_core::prelude::*;
 use rayon::prelude::*;
 use std::sync::Arc;
@@ -113,8 +114,32 @@ pub fn correct_scalar(clock: &SimClock, rows: ScalarRows<'_>) {
     }
 }
 
+/// The work-consistent correction of the internal energy (see [`crate::energy`]) for the
+/// predictor–corrector: `ε −= Δt/2 [a^n·(v̄ − v^ev,n) + a^{n+1}·(v̄ − v^ev,n+1)]` with
+/// `v̄ = ½(v^n + v^{n+1})` and `a` the pair accelerations of the two evaluations.
+#[inline(never)] // a frame of its own in profiles
+pub fn correct_energy_work<V: Vector>(
+    clock: Res<SimClock>,
+    mut q: Query<(
+        &mut InternalEnergy,
+        &Velocity<V>,
+        &StartOfStep<V>,
+        &Evaluations<V>,
+    )>,
+) {
+    let half = 0.5 * clock.dt;
+    for (mut e, v, k, ev) in q.contiguous_iter_mut().expect(DENSE) {
+        let rows = (&mut *e, v, k, ev).into_par_iter().with_min_len(MIN_LEN);
+        rows.for_each(|(e, v, k, ev)| {
+            let vbar = (k.v0 + v.0) * 0.5;
+            let terms = [(half, ev.a_prev, ev.w_prev), (half, ev.a, ev.w)];
+            e.0 += crate::energy::correction(terms, vbar);
+        });
+    }
+}
+
 /// The scheme's systems.
-pub(crate) struct Leapfrog;
+pub(crate) struct Leapfrog(pub(crate) EnergyUpdate);
 
 impl<V: Vector> Scheme<V> for Leapfrog {
     fn name(&self) -> &'static str {
@@ -131,13 +156,22 @@ impl<V: Vector> Scheme<V> for Leapfrog {
             equation,
             ("predict", Arc::new(predict_scalar)),
             ("correct", Arc::new(correct_scalar)),
-        )
+        )?;
+        if equation.name() == INTERNAL_ENERGY && self.0 == EnergyUpdate::Consistent {
+            crate::energy::install(sim)?;
+            let system = correct_energy_work::<V>;
+            sim.add_system(StepSet::Correct, crate::energy::CORRECT_LABEL, system)
+                .after("correct_kinematics")
+                .after(&format!("correct_{INTERNAL_ENERGY}"))
+                .before("drive_bodies");
+        }
+        Ok(())
     }
 }
 
 /// Installs the scheme: its kinematics systems, its start-of-step column and the time-step
 /// rule; the declared scalars follow through [`Scheme::integrate_scalar`].
-pub(crate) fn install<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimError> {
+pub(crate) fn install<V: Vector>(sim: &mut Sim<V>, energy: EnergyUpdate) -> Result<(), SimError> {
     sim.add_column(ColumnSpec::scratch("leapfrog_start_of_step"), |_| {
         StartOfStep::<V>::default()
     })?;
@@ -154,7 +188,7 @@ pub(crate) fn install<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimError> {
         correct_kinematics::<V>,
     )
     .before("drive_bodies");
-    sim.set_integrator(Leapfrog)
+    sim.set_integrator(Leapfrog(energy))
 }
 
 #[cfg(test)]

@@ -16,12 +16,14 @@
 //! `ROLE = Role::Integrator`.
 #![warn(missing_docs)]
 
+pub mod energy;
 pub mod leapfrog;
 pub mod time_step;
 pub mod verlet;
 
 use dualsph_core::integrate::{ScalarEquation, ScalarKernel};
 use dualsph_core::prelude::*;
+pub use energy::EnergyUpdate;
 use serde::{Deserialize, Serialize};
 
 /// The registered name of [`LeapfrogPC`].
@@ -59,7 +61,12 @@ fn only_scheme<V: Vector>(sim: &Sim<V>, name: &str) -> Result<(), SimError> {
 /// `LeapfrogPC()`: the leapfrog predictor–corrector of RenDSSPH §6 (see [`leapfrog`]).
 #[derive(Debug, Clone, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
-pub struct LeapfrogPC {}
+pub struct LeapfrogPC {
+    /// How the internal energy is advanced (see [`energy`]): `Consistent` (the default) or
+    /// `Rates`.
+    #[serde(default)]
+    pub energy: EnergyUpdate,
+}
 
 impl SimPlugin for LeapfrogPC {
     const NAME: &'static str = LEAPFROG_PC;
@@ -69,14 +76,19 @@ impl SimPlugin for LeapfrogPC {
 
     fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
         only_scheme(sim, Self::NAME)?;
-        leapfrog::install(sim)
+        leapfrog::install(sim, self.energy)
     }
 }
 
 /// `PositionVerlet()`: the Störmer–Verlet scheme in drift–kick–drift form (see [`verlet`]).
 #[derive(Debug, Clone, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
-pub struct PositionVerlet {}
+pub struct PositionVerlet {
+    /// How the internal energy is advanced (see [`energy`]): `Consistent` (the default) or
+    /// `Rates`.
+    #[serde(default)]
+    pub energy: EnergyUpdate,
+}
 
 impl SimPlugin for PositionVerlet {
     const NAME: &'static str = POSITION_VERLET;
@@ -86,6 +98,6 @@ impl SimPlugin for PositionVerlet {
 
     fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
         only_scheme(sim, Self::NAME)?;
-        verlet::install(sim)
+        verlet::install(sim, self.energy)
     }
 }

@@ -174,14 +174,14 @@ fn assert_second_order(name: &str, orders: &[[Real; 3]], finest: [Real; 3], boun
 
 #[test]
 fn position_verlet_is_second_order_on_a_damped_oscillator_and_a_decaying_scalar() {
-    let (orders, finest) = convergence(&PositionVerlet {});
+    let (orders, finest) = convergence(&PositionVerlet::default());
     // measured at n = 800: r 6.09e-6, v 8.42e-5, ρ 8.77e-7 (relative)
     assert_second_order("PositionVerlet", &orders, finest, [7.5e-6, 1.05e-4, 1.1e-6]);
 }
 
 #[test]
 fn leapfrog_pc_is_second_order_on_the_same_problem() {
-    let (orders, finest) = convergence(&LeapfrogPC {});
+    let (orders, finest) = convergence(&LeapfrogPC::default());
     // measured at n = 800: r 6.08e-6, v 8.46e-5, ρ 8.77e-7 (relative)
     assert_second_order("LeapfrogPC", &orders, finest, [7.5e-6, 1.05e-4, 1.1e-6]);
 }
@@ -194,7 +194,10 @@ fn both_schemes_fall_freely_exactly() {
         gamma: 0.0,
         lambda: 0.0,
     };
-    for scheme in [&LeapfrogPC {} as &dyn PluginConfig, &PositionVerlet {}] {
+    for scheme in [
+        &LeapfrogPC::default() as &dyn PluginConfig,
+        &PositionVerlet::default(),
+    ] {
         let (t, r, v, _) = run(scheme, fall, 1e-2, 100);
         let g = DVec2::from(fall.g);
         let (r_exact, v_exact) = (R0 + g * (0.5 * t * t), g * t);
@@ -209,8 +212,8 @@ fn both_schemes_fall_freely_exactly() {
 
 #[test]
 fn the_schemes_differ_and_a_second_one_is_refused_naming_both() {
-    let a = errors(&LeapfrogPC {}, 100);
-    let b = errors(&PositionVerlet {}, 100);
+    let a = errors(&LeapfrogPC::default(), 100);
+    let b = errors(&PositionVerlet::default(), 100);
     println!("errors at n = 100: LeapfrogPC {a:?}, PositionVerlet {b:?}");
     // forces at the end and at the middle of the step: other position and velocity errors
     // (for the linear scalar rate the two updates are the same recursion, so ρ agrees to
@@ -233,8 +236,11 @@ fn the_schemes_differ_and_a_second_one_is_refused_naming_both() {
         skin_rule: SkinRule::Fixed,
         time_stepping: TimeStepping::Fixed(1e-3),
     });
-    s.build_plugin(&LeapfrogPC {}).unwrap();
-    let e = s.build_plugin(&PositionVerlet {}).unwrap_err().to_string();
+    s.build_plugin(&LeapfrogPC::default()).unwrap();
+    let e = s
+        .build_plugin(&PositionVerlet::default())
+        .unwrap_err()
+        .to_string();
     assert!(
         e.contains("LeapfrogPC") && e.contains("PositionVerlet"),
         "{e}"
@@ -244,7 +250,7 @@ fn the_schemes_differ_and_a_second_one_is_refused_naming_both() {
 #[test]
 fn the_schemes_systems_are_attributed_to_their_plugin_whenever_the_scalar_is_declared() {
     for order in [[0, 1], [1, 0]] {
-        let plugins: [&dyn PluginConfig; 2] = [&PositionVerlet {}, &OSCILLATOR];
+        let plugins: [&dyn PluginConfig; 2] = [&PositionVerlet::default(), &OSCILLATOR];
         let mut s = Sim::<DVec2>::new(SimConfig {
             kernel: KernelKind::CubicSpline,
             formulation: Formulation::DualSupport,

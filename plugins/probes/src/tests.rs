@@ -40,7 +40,7 @@ fn block_sim(depth: Real, dx: Real) -> Sim<DVec2> {
         })
         .collect();
     sim.spawn_particles(&parts).expect("fresh particle ids");
-    let integrator: &dyn PluginConfig = &dualsph_integrator::LeapfrogPC {};
+    let integrator: &dyn PluginConfig = &dualsph_integrator::LeapfrogPC::default();
     sim.build_plugin(integrator).unwrap();
     sim
 }

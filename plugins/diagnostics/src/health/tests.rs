@@ -31,7 +31,7 @@ fn sim() -> Sim<DVec2> {
         .expect("fresh particle ids");
     let plugins: [&dyn dualsph_core::plugin::PluginConfig; 2] = [
         &crate::DiagnosticsPlugin {},
-        &dualsph_integrator::LeapfrogPC {},
+        &dualsph_integrator::LeapfrogPC::default(),
     ];
     for p in plugins {
         sim.build_plugin(p).unwrap();
