@@ -7,6 +7,8 @@
 //! * [`heat`]: the erf profile of 1-D heat conduction between two half-bars (Eq. 7.1);
 //! * [`mod@drop`]: the ODE of the free elliptical drop's semi-axes (Eq. 7.6);
 //! * [`dam_break`]: the experimental water-front positions of Koshizuka & Oka (1996);
+//! * [`sedov`]: the self-similar Sedov–Taylor point explosion in planar, cylindrical and
+//!   spherical geometry (Sedov 1959; Kamm & Timmes 2007);
 //! * [`norms`]: the error norms and interpolation used by the reports.
 #![warn(missing_docs)]
 
@@ -15,3 +17,4 @@ pub mod drop;
 pub mod heat;
 pub mod norms;
 pub mod riemann;
+pub mod sedov;
