@@ -4,8 +4,7 @@
 //! geometry (Sedov, *Similarity and Dimensional Methods in Mechanics*, 1959, ch. IV; Sedov1959
 //! in docs/references.md). The closed-form parametric solution is the one written out by Kamm &
 //! Timmes, *On Efficient Generation of Numerically Robust Sedov Solutions*, LA-UR-07-2849, 2007
-//! (KammTimmes2007), for the standard case with uniform ambient density (`ω = 0`); see also
-//! Book, *The Sedov–Taylor problem*, 1994 (Book1994).
+//! (KammTimmes2007), for the standard case with uniform ambient density (`ω = 0`).
 //!
 //! The shock radius is `R(t) = ξ₀ (E t²/ρ₀)^{1/(j+2)}`, `ξ₀ = α^{−1/(j+2)}`, with `α` the
 //! dimensionless energy integral. Behind the shock, with `λ = r/R` and `Ṙ = 2R/((j+2) t)`,
