@@ -57,6 +57,7 @@ enum FormulationArg {
     SingleSupport,
     ConstantH,
     AveragedKernel,
+    GradH,
 }
 
 impl From<FormulationArg> for Formulation {
@@ -66,6 +67,7 @@ impl From<FormulationArg> for Formulation {
             FormulationArg::SingleSupport => Formulation::SingleSupport,
             FormulationArg::ConstantH => Formulation::ConstantH,
             FormulationArg::AveragedKernel => Formulation::AveragedKernel,
+            FormulationArg::GradH => Formulation::GradH,
         }
     }
 }

@@ -117,6 +117,7 @@ pub fn formulation_of(f: dualsph_scene::Formulation) -> Formulation {
         dualsph_scene::Formulation::SingleSupport => Formulation::SingleSupport,
         dualsph_scene::Formulation::ConstantH => Formulation::ConstantH,
         dualsph_scene::Formulation::AveragedKernel => Formulation::AveragedKernel,
+        dualsph_scene::Formulation::GradH => Formulation::GradH,
     }
 }
 

@@ -32,13 +32,20 @@ pub struct SodCase {
     pub samples: usize,
 }
 
-/// DualSupport (the scene) and SingleSupport, both with h from Eq. 6.1.
+/// DualSupport (the scene) and SingleSupport, both with h from Eq. 6.1, and grad-h SPH (h
+/// solved with the summation density at every step, with the Ω terms), in this order.
 pub fn cases(opts: &ReportOptions) -> Result<Vec<CaseSpec>, ReportError> {
-    opts.dual_and_single(
+    let mut cases = opts.dual_and_single(
         "sod_1d.ron",
         "DualSupport, variable h",
         "SingleSupport, variable h",
-    )
+    )?;
+    cases.push(CaseSpec::new(
+        "grad-h, variable h",
+        opts.scene("sod_1d.ron")?,
+        Some(dualsph_scene::Formulation::GradH),
+    ));
+    Ok(cases)
 }
 
 /// Grades a run at its end time against the exact solution.

@@ -133,7 +133,8 @@ scalar_column!(
     Pressure,
     SoundSpeed,
     InternalEnergy,
-    Conductivity
+    Conductivity,
+    GradHFactor
 );
 vector_column!(Position, Velocity, Acceleration);
 matrix_column!(GradientCorrection, VelocityGradient);

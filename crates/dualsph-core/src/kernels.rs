@@ -267,6 +267,13 @@ impl Kernel {
         self.norm / (self.h_pow(h) * h) * self.kind.profile_derivative(r / h)
     }
 
+    /// `∂W/∂h (r, h) = −(d W + r ∂W/∂r)/h` (from `W = C_d h^{-d} f(r/h)`), zero for `r >= h`:
+    /// what the grad-h factor Ω sums.
+    #[inline]
+    pub fn dw_dh(&self, r: Real, h: Real) -> Real {
+        -(self.dim as Real * self.w(r, h) + r * self.dw_dr(r, h)) / h
+    }
+
     /// `∇_i W_ij = ∂W/∂r · r_ij / r_ij` (Eq. 2.2) for `r_ij = r_i − r_j`, `r = |r_ij|`.
     /// Zero at `r = 0` and for `r >= h`.
     #[inline]

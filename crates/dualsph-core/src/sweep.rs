@@ -27,7 +27,10 @@
 //! * `ConstantH` — classical SPH with one h (run with the dual-support sweep, to which it is
 //!   identical when every h is equal);
 //! * `AveragedKernel` — the conventional reference, Eq. 2.13:
-//!   `W̄_ij = ½[W(r, h_i) + W(r, h_j)]` over `H_i ∪ H'_i`, classical symmetric sums.
+//!   `W̄_ij = ½[W(r, h_i) + W(r, h_j)]` over `H_i ∪ H'_i`, classical symmetric sums;
+//! * `GradH` — grad-h SPH: `−m_i m_j [P_i/(Ω_i ρ_i²) ∇_iW_ij(h_i) + P_j/(Ω_j ρ_j²) ∇_iW_ij(h_j)]`
+//!   is the sum of two support/dual-support pairs (i's term in `H_i`, j's in `H_j` with its
+//!   reaction on i), so it runs on the dual-support sweep with `P/(Ωρ²)` as the owner's factor.
 
 use crate::accum::Layout;
 use crate::components::{GradientCorrection, Position, SmoothingLength};
@@ -68,6 +71,11 @@ pub enum Formulation {
     ConstantH,
     /// Averaged kernel over the union of support and dual-support (Eq. 2.13).
     AveragedKernel,
+    /// Grad-h SPH (Springel & Hernquist 2002; Price 2012): h tied to the summation density at
+    /// every step, with the Ω correction. Its pair forces are support/dual-support pairs (the
+    /// owner's pressure with the owner's kernel, the reaction to the neighbour), so it runs on
+    /// the dual-support sweep; the h solve and Ω come from the smoothing-length plugin.
+    GradH,
 }
 
 /// Everything a pass over neighbours needs.
@@ -324,7 +332,9 @@ pub fn evaluate<V: Vector>(
     let all: Vec<&dyn RowTerm<V>> = bound.iter().map(|t| &**t).collect();
     let pairs: Vec<&dyn RowTerm<V>> = all.iter().copied().filter(|t| t.has_pairs()).collect();
     match ctx.formulation {
-        Formulation::DualSupport | Formulation::ConstantH => dual_support(ctx, (&all, &pairs), buf),
+        Formulation::DualSupport | Formulation::ConstantH | Formulation::GradH => {
+            dual_support(ctx, (&all, &pairs), buf)
+        }
         Formulation::SingleSupport | Formulation::AveragedKernel => {
             buf.sums.fill(0.0);
             classical::classical(ctx, (&all, &pairs), &buf.layout, &mut buf.sums)

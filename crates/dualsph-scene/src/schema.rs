@@ -19,6 +19,11 @@ pub enum Formulation {
     ConstantH,
     /// Variable-h SPH symmetrised by averaging the two kernels of a pair.
     AveragedKernel,
+    /// Grad-h SPH (Springel & Hernquist 2002; Price 2012): h tied to the summation density at
+    /// every step, `h_i = n (m_i/ρ_i)^{1/d}` with `ρ_i = Σ_j m_j W(r_ij, h_i)` solved together
+    /// (n from the scene's `SmoothingLengthUpdate`), and the Ω terms in the pressure and
+    /// viscous forces. Needs `SummationDensity()` and `SmoothingLengthUpdate(...)`.
+    GradH,
 }
 
 /// The simulation box `[min, max]` (one component per axis).

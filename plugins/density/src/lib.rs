@@ -27,7 +27,10 @@ impl SimPlugin for SummationDensity {
                 "SummationDensity and ContinuityDensity cannot both set the density".into(),
             ));
         }
-        if sim.enable_feature("summation_density") {
+        // with grad-h the density is summed by the h solve, at the h it solves for (the
+        // smoothing-length plugin's `grad_h`)
+        let grad_h = *sim.world.resource::<Formulation>() == Formulation::GradH;
+        if sim.enable_feature("summation_density") && !grad_h {
             sim.add_pair_term_to("summation_density", StepSet::Density, SummationTerm)?;
         }
         Ok(())

@@ -77,6 +77,8 @@ pub struct BoundPressure<'w, V: Vector> {
     data: ParticleData<'w, V>,
     pressure: &'w [Pressure],
     corrected: bool,
+    /// Ω of the grad-h formulation, which divides the owner's factor.
+    omega: Option<&'w [GradHFactor]>,
 }
 
 impl<V: Vector> PairTerm<V> for PressureTerm {
@@ -93,17 +95,23 @@ impl<V: Vector> PairTerm<V> for PressureTerm {
             data: b.data(),
             pressure: b.require()?,
             corrected: is_corrected(b),
+            omega: b.column(),
         })
     }
 }
 
 impl<V: Vector> BoundTerm<V> for BoundPressure<'_, V> {
-    /// `m_i p_i/ρ_i²` (`m_i p_i/ρ_i` with the kernel correction).
+    /// `m_i p_i/ρ_i²` (`m_i p_i/ρ_i` with the kernel correction; `m_i p_i/(Ω_i ρ_i²)` with
+    /// the grad-h formulation, Springel & Hernquist 2002, Eq. 7).
     type Owner = Real;
 
     #[inline(always)]
     fn owner(&self, i: usize) -> Real {
-        owner_factor(&self.data, self.corrected, i, self.pressure[i].0)
+        let f = owner_factor(&self.data, self.corrected, i, self.pressure[i].0);
+        match self.omega {
+            Some(o) => f / o[i].0,
+            None => f,
+        }
     }
 
     #[inline(always)]

@@ -2,8 +2,12 @@
 //! The neighbour lists are marked for rebuild after an update. Two optional steps may then
 //! only raise h: [`isotropy`] (h from the particle distribution: each support populated in
 //! every direction) and the h-ratio limiter ([`limit_ratio`]), in this order.
+//!
+//! With the grad-h formulation the same relation holds at every step with the density summed
+//! at the same h, solved together ([`grad_h`]); `every` is then not used.
 #![warn(missing_docs)]
 
+pub mod grad_h;
 pub mod isotropy;
 pub use isotropy::Isotropy;
 
@@ -149,6 +153,9 @@ impl SimPlugin for SmoothingLengthUpdate {
                 "SmoothingLengthUpdate cannot be used with formulation ConstantH".into(),
             ));
         }
+        if *sim.world.resource::<Formulation>() == Formulation::GradH {
+            return self.build_grad_h(sim);
+        }
         sim.world.insert_resource(HUpdate {
             every: self.every,
             n: self.n,
@@ -162,6 +169,40 @@ impl SimPlugin for SmoothingLengthUpdate {
                 self.every
             ),
             update_h::<V>,
+        );
+        Ok(())
+    }
+}
+
+impl SmoothingLengthUpdate {
+    /// The grad-h formulation's h: solved with the summation density at every step
+    /// ([`grad_h`]), η = `n`; Ω on every particle.
+    fn build_grad_h<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
+        if self.max_ratio.is_some() || self.isotropy.is_some() {
+            return Err(SimError::Build(
+                "SmoothingLengthUpdate: max_ratio and isotropy raise h off the density; the \
+                 grad-h formulation ties h to it (remove them, or choose another formulation)"
+                    .into(),
+            ));
+        }
+        sim.require_feature(
+            "summation_density",
+            "the grad-h formulation needs SummationDensity() (h is solved with the summed density)",
+        );
+        sim.world.insert_resource(grad_h::GradHSettings {
+            eta: self.n,
+            tolerance: 1e-10,
+            max_iterations: 50,
+        });
+        sim.world.insert_resource(grad_h::GradHStats::default());
+        sim.add_column(
+            ColumnSpec::scratch("grad_h_omega").with_output("omega"),
+            |_| GradHFactor(1.0),
+        )?;
+        sim.add_system(
+            StepSet::Density,
+            "grad_h (h and summation density solved together, Ω)",
+            grad_h::grad_h::<V>,
         );
         Ok(())
     }

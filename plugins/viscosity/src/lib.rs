@@ -104,6 +104,8 @@ pub struct BoundAv<'w, V: Vector> {
     data: ParticleData<'w, V>,
     sound: &'w [SoundSpeed],
     body: Option<&'w [BodyId]>,
+    /// Ω of the grad-h formulation, which divides the owner's mass.
+    omega: Option<&'w [GradHFactor]>,
 }
 
 impl<V: Vector> PairTerm<V> for ArtificialViscosityTerm {
@@ -126,12 +128,15 @@ impl<V: Vector> PairTerm<V> for ArtificialViscosityTerm {
             data: b.data(),
             sound: b.require()?,
             body,
+            omega: b.column(),
         })
     }
 }
 
 impl<V: Vector> BoundTerm<V> for BoundAv<'_, V> {
-    /// `(m_i, (h_i, c_i, ρ_i), (α_i, β_i, η_f))` (`η_f` read once per row, not per pair).
+    /// `(m_i, (h_i, c_i, ρ_i), (α_i, β_i, η_f))` (`η_f` read once per row, not per pair);
+    /// `m_i/Ω_i` for the grad-h formulation, whose viscous force on i from its own support is
+    /// `−m_i m_j (Π_ij/2) ∇_iW_ij(h_i)/Ω_i` (Price 2012, Eq. 101, in its dual-support half).
     type Owner = (Real, AvSide<Real>, (Real, Real, Real));
 
     #[inline(always)]
@@ -143,7 +148,11 @@ impl<V: Vector> BoundTerm<V> for BoundAv<'_, V> {
             Some(b) => t.by_body[b[i].0 as usize],
         };
         let coefs = (coefs.0, coefs.1, t.eta_factor);
-        (d.mass[i].0, (d.h[i].0, self.sound[i].0, d.rho[i].0), coefs)
+        let m = match self.omega {
+            Some(o) => d.mass[i].0 / o[i].0,
+            None => d.mass[i].0,
+        };
+        (m, (d.h[i].0, self.sound[i].0, d.rho[i].0), coefs)
     }
 
     /// The pair's force `−m_i m_j (Π_ij/2) ∇_iW_ij` and its heat, half to each (Eqs. 4.17,
