@@ -12,6 +12,7 @@ pub mod dam_break;
 pub mod drop;
 pub mod heat;
 mod markdown;
+pub mod sedov;
 pub mod sod;
 pub mod speed_error;
 pub mod three_d;
@@ -157,15 +158,19 @@ pub enum Benchmark {
     SpeedError,
     /// The 3-D drop and dam break (dimension genericity).
     ThreeD,
+    /// The Sedov–Taylor blast wave in 2-D and 3-D: DualSupport, grad-h and SingleSupport.
+    Sedov,
 }
 
 impl Benchmark {
-    /// The paper's four, in its order (the speed-against-error study is asked for by name).
-    pub const ALL: [Benchmark; 4] = [
+    /// The paper's four, in its order, and the Sedov blast (the speed-against-error study
+    /// and the 3-D cases are asked for by name).
+    pub const ALL: [Benchmark; 5] = [
         Benchmark::Heat,
         Benchmark::Sod,
         Benchmark::Drop,
         Benchmark::DamBreak,
+        Benchmark::Sedov,
     ];
 
     /// Runs the benchmark and returns its section.
@@ -177,6 +182,7 @@ impl Benchmark {
             Benchmark::DamBreak => dam_break::run(opts)?.0,
             Benchmark::SpeedError => speed_error::run(opts)?.0,
             Benchmark::ThreeD => three_d::run(opts)?.0,
+            Benchmark::Sedov => sedov::run(opts)?.0,
         })
     }
 }
