@@ -8,6 +8,7 @@ use super::{
     drop, image, sod,
 };
 use dualsph_plot::{LinePlot, Series, SeriesStyle};
+use dualsph_scene::Formulation;
 
 /// One run of the study.
 #[derive(Clone, Debug)]
@@ -31,7 +32,8 @@ pub struct Point {
 struct Study {
     name: &'static str,
     error_name: &'static str,
-    variants: [(&'static str, &'static str); 2],
+    /// `(label, scene file, formulation replacing the scene's)`.
+    variants: Vec<(&'static str, &'static str, Option<Formulation>)>,
     factors: [f64; 3],
     end_time: Option<f64>,
     recording: Recording,
@@ -43,9 +45,14 @@ fn studies() -> [Study; 3] {
         Study {
             name: "Sod shock tube",
             error_name: "density L1 on [−0.5, 0.5]",
-            variants: [
-                ("DualSupport, equal masses (variable h)", "sod_1d.ron"),
-                ("uniform spacing", "sod_1d_uniform.ron"),
+            variants: vec![
+                ("DualSupport, equal masses (variable h)", "sod_1d.ron", None),
+                (
+                    "grad-h, equal masses (variable h)",
+                    "sod_1d.ron",
+                    Some(Formulation::GradH),
+                ),
+                ("uniform spacing", "sod_1d_uniform.ron", None),
             ],
             factors: [4.0, 2.0, 1.0],
             end_time: None,
@@ -58,9 +65,9 @@ fn studies() -> [Study; 3] {
         Study {
             name: "Elliptical drop",
             error_name: "|b/b_ODE − 1| at t = 0.008 s",
-            variants: [
-                ("DualSupport, half-spacing quadrant", "drop_2d.ron"),
-                ("uniform fine spacing", "drop_2d_uniform.ron"),
+            variants: vec![
+                ("DualSupport, half-spacing quadrant", "drop_2d.ron", None),
+                ("uniform fine spacing", "drop_2d_uniform.ron", None),
             ],
             factors: [4.0, 2.0, 1.0],
             end_time: None,
@@ -76,11 +83,16 @@ fn studies() -> [Study; 3] {
         Study {
             name: "Dam break",
             error_name: "front RMS vs Koshizuka & Oka, t ≤ 0.70 s (m)",
-            variants: [
-                ("Case II: DualSupport, two resolutions", "dam_break_2d.ron"),
+            variants: vec![
+                (
+                    "Case II: DualSupport, two resolutions",
+                    "dam_break_2d.ron",
+                    None,
+                ),
                 (
                     "Case III: uniform fine, constant h",
                     "dam_break_2d_uniform.ron",
+                    None,
                 ),
             ],
             factors: [4.0, 2.0, 1.0],
@@ -97,7 +109,7 @@ fn studies() -> [Study; 3] {
 
 fn run_study(study: &Study, opts: &ReportOptions) -> Result<Vec<Point>, ReportError> {
     let mut points = Vec::new();
-    for (label, file) in study.variants {
+    for &(label, file, formulation) in &study.variants {
         for factor in study.factors {
             let mut scene = opts.scene(file)?;
             coarsen(&mut scene, factor);
@@ -107,7 +119,7 @@ fn run_study(study: &Study, opts: &ReportOptions) -> Result<Vec<Point>, ReportEr
             let spec = CaseSpec::new(
                 format!("{} — {label}, spacing × {factor}", study.name),
                 scene,
-                None,
+                formulation,
             );
             let run = opts.run(&spec, &study.recording)?;
             let (particles, steps, cpu_seconds) = (run.particles, run.steps, run.cpu_seconds);
@@ -151,7 +163,7 @@ pub fn run(
         );
         plot.log_x = true;
         plot.log_y = true;
-        for (k, (label, _)) in study.variants.iter().enumerate() {
+        for (k, (label, ..)) in study.variants.iter().enumerate() {
             let mine: Vec<&Point> = points.iter().filter(|p| p.variant == *label).collect();
             for p in &mine {
                 table.row(vec![
@@ -192,7 +204,13 @@ pub fn run(
     ))
 }
 
-/// The finest variable-resolution run against the uniform runs: CPU ratio at comparable error.
+/// The uniform variant of a study (its last).
+fn uniform(study: &Study) -> &'static str {
+    study.variants.last().map_or("", |v| v.0)
+}
+
+/// Each variable-resolution variant's finest run against the uniform runs: CPU ratio at
+/// comparable error.
 fn compare(points: &[Point], study: &Study) -> String {
     let finest = |label: &str| {
         points
@@ -200,22 +218,28 @@ fn compare(points: &[Point], study: &Study) -> String {
             .filter(|p| p.variant == label)
             .min_by(|a, b| a.factor.total_cmp(&b.factor))
     };
-    let (Some(var), Some(uni)) = (finest(study.variants[0].0), finest(study.variants[1].0)) else {
+    let Some(uni) = finest(uniform(study)) else {
         return String::new();
     };
-    format!(
-        "At the scenes' own resolution, {} reaches an error of {:.3e} in {:.1} CPU s with {} particles; {} reaches \
-         {:.3e} in {:.1} CPU s with {} particles (CPU ratio {:.2}).\n\n",
-        var.variant,
-        var.error,
-        var.cpu_seconds,
-        var.particles,
-        uni.variant,
-        uni.error,
-        uni.cpu_seconds,
-        uni.particles,
-        var.cpu_seconds / uni.cpu_seconds.max(1e-9)
-    ) + &matched(points, study, var)
+    let mut md = String::new();
+    for &(label, ..) in &study.variants[..study.variants.len() - 1] {
+        let Some(var) = finest(label) else { continue };
+        md += &format!(
+            "At the scenes' own resolution, {} reaches an error of {:.3e} in {:.1} CPU s with {} particles; {} \
+             reaches {:.3e} in {:.1} CPU s with {} particles (CPU ratio {:.2}).\n\n",
+            var.variant,
+            var.error,
+            var.cpu_seconds,
+            var.particles,
+            uni.variant,
+            uni.error,
+            uni.cpu_seconds,
+            uni.particles,
+            var.cpu_seconds / uni.cpu_seconds.max(1e-9)
+        );
+        md += &matched(points, study, var);
+    }
+    md
 }
 
 /// CPU seconds the uniform variant would need to reach the variable-resolution run's error:
@@ -223,18 +247,25 @@ fn compare(points: &[Point], study: &Study) -> String {
 fn matched(points: &[Point], study: &Study, var: &Point) -> String {
     let mut uni: Vec<&Point> = points
         .iter()
-        .filter(|p| p.variant == study.variants[1].0)
+        .filter(|p| p.variant == uniform(study))
         .collect();
     uni.sort_by(|a, b| a.cpu_seconds.total_cmp(&b.cpu_seconds));
     match cpu_at_error(&uni, var.error) {
-        Some(cpu) => format!(
-            "To reach the same error ({:.3e}), {} would need about {:.1} CPU s (log-log \
-             interpolation between its runs): variable resolution is {:.1}× cheaper.\n\n",
-            var.error,
-            study.variants[1].0,
-            cpu,
-            cpu / var.cpu_seconds.max(1e-9)
-        ),
+        Some(cpu) => {
+            let ratio = cpu / var.cpu_seconds.max(1e-9);
+            let verdict = if ratio >= 1.0 {
+                format!("{} is {ratio:.1}× cheaper", var.variant)
+            } else {
+                format!("{} costs {:.1}× more", var.variant, 1.0 / ratio)
+            };
+            format!(
+                "To reach the same error ({:.3e}), {} would need about {:.1} CPU s (log-log \
+                 interpolation between its runs): {verdict}.\n\n",
+                var.error,
+                uniform(study),
+                cpu,
+            )
+        }
         None => format!(
             "The error {:.3e} lies outside the range the uniform runs span, so no CPU time at \
              equal error is interpolated.\n\n",
