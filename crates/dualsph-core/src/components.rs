@@ -68,7 +68,7 @@ pub struct Conductivity(pub Real);
 pub struct GradientCorrection<V: Vector>(pub V::Mat);
 
 /// The grad-h factor `Ω_i = 1 − (∂h_i/∂ρ_i) Σ_j m_j ∂W(r_ij, h_i)/∂h_i` (Springel & Hernquist
-/// 2002, Eq. 8; Price 2012, Eq. 31), added with the grad-h formulation; the pressure and
+/// 2002; Price 2012: SpringelHernquist2002 and Price2012 in docs/references.md), added with the grad-h formulation; the pressure and
 /// viscous forces divide the owner's factor by it.
 #[derive(Component, Clone, Copy, Debug, PartialEq)]
 pub struct GradHFactor(pub Real);

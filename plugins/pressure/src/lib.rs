@@ -102,7 +102,7 @@ impl<V: Vector> PairTerm<V> for PressureTerm {
 
 impl<V: Vector> BoundTerm<V> for BoundPressure<'_, V> {
     /// `m_i p_i/ρ_i²` (`m_i p_i/ρ_i` with the kernel correction; `m_i p_i/(Ω_i ρ_i²)` with
-    /// the grad-h formulation, Springel & Hernquist 2002, Eq. 7).
+    /// the grad-h formulation, Springel & Hernquist 2002).
     type Owner = Real;
 
     #[inline(always)]

@@ -5,14 +5,14 @@
 //!
 //! i.e. Eq. 6.1 (`h_i = η (m_i/ρ_i)^{1/d}`, η the scene's `n`) holding exactly with the density
 //! summed at the same h (Springel & Hernquist, *Cosmological smoothed particle hydrodynamics
-//! simulations: the entropy equation*, MNRAS 333 (2002) 649–664, Eqs. 5–8; Price, *Smoothed
-//! particle hydrodynamics and magnetohydrodynamics*, J. Comput. Phys. 231 (2012) 759–794,
-//! §2.4; SpringelHernquist2002 and Price2012 in `docs/references.md`), here with h the support
+//! simulations: the entropy equation*, MNRAS 333 (2002) 649–664; Price, *Smoothed particle
+//! hydrodynamics and magnetohydrodynamics*, J. Comput. Phys. 231 (2012) 759–794;
+//! SpringelHernquist2002 and Price2012 in `docs/references.md`), here with h the support
 //! radius. Then
 //!
 //! `Ω_i = 1 − (∂h_i/∂ρ_i) Σ_j m_j ∂W(r_ij, h_i)/∂h_i = 1 + h_i/(d ρ_i) Σ_j m_j ∂W(r_ij, h_i)/∂h_i`
 //!
-//! (Price 2012, Eq. 31 with `∂h/∂ρ = −h/(dρ)`), which the pressure and viscous forces divide
+//! (with `∂h/∂ρ = −h/(dρ)`), which the pressure and viscous forces divide
 //! the owner's factor by ([`GradHFactor`]).
 //!
 //! Per particle, `f(h) = Σ_j m_j W(r_ij, h) − m_i (η/h)^d` is solved by Newton–Raphson

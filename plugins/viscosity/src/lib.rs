@@ -136,7 +136,8 @@ impl<V: Vector> PairTerm<V> for ArtificialViscosityTerm {
 impl<V: Vector> BoundTerm<V> for BoundAv<'_, V> {
     /// `(m_i, (h_i, c_i, ρ_i), (α_i, β_i, η_f))` (`η_f` read once per row, not per pair);
     /// `m_i/Ω_i` for the grad-h formulation, whose viscous force on i from its own support is
-    /// `−m_i m_j (Π_ij/2) ∇_iW_ij(h_i)/Ω_i` (Price 2012, Eq. 101, in its dual-support half).
+    /// `−m_i m_j (Π_ij/2) ∇_iW_ij(h_i)/Ω_i` (the viscosity of Price 2012 with the
+    /// kernel gradients over Ω, in its dual-support half).
     type Owner = (Real, AvSide<Real>, (Real, Real, Real));
 
     #[inline(always)]
