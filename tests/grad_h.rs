@@ -125,3 +125,30 @@ fn grad_h_runs_the_sod_tube_with_h_tied_to_its_density_and_conserving() {
     let p = d.last().unwrap().momentum[0].abs() / d.last().unwrap().momentum_scale;
     assert!(p <= 1e-14, "grad-h momentum {p:e}");
 }
+
+#[test]
+fn grad_h_is_bitwise_the_same_on_one_and_two_threads() {
+    let opts = options();
+    let spec = &sod::cases(&opts).unwrap()[2];
+    let rec = dualsph::report::Recording::default();
+    let on = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| opts.run(spec, &rec).unwrap())
+    };
+    let (one, two) = (on(1), on(2));
+    assert!(one.steps > 1000 && one.steps == two.steps);
+    let bits = |r: &dualsph::report::CaseRun| {
+        r.last
+            .iter()
+            .flat_map(|p| [p.pos[0], p.vel[0], p.rho, p.h, p.e])
+            .map(f64::to_bits)
+            .collect::<Vec<_>>()
+    };
+    assert!(
+        bits(&one) == bits(&two),
+        "grad-h differs between 1 and 2 threads"
+    );
+}

@@ -169,6 +169,23 @@ fn resume_from_half_way_is_bitwise_identical_1d_sod() {
     }
 }
 
+#[test]
+fn resume_from_half_way_is_bitwise_identical_1d_sod_grad_h() {
+    // h solved with the density every step, and the energy update's record of the last
+    // evaluation, which the next step reads before it writes
+    let text =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/sod_1d.ron"))
+            .unwrap()
+            .replace("formulation: DualSupport,", "formulation: GradH,")
+            .replace("end_time: 0.2,", "end_time: 0.2,\n    max_steps: 40,");
+    check_resume_text(
+        "sod_1d.ron with GradH",
+        &text,
+        &["EnergyRate", "Evaluations"],
+        true,
+    );
+}
+
 fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
