@@ -11,6 +11,10 @@ use dualsph::prelude::*;
 use glam::{DVec2, DVec3};
 
 fn pressure_av_heat_case<V: Vector>(f: Formulation, side: usize) -> (Real, Real, Real) {
+    imbalances(&pressure_av_heat_rates::<V>(f, side))
+}
+
+fn pressure_av_heat_rates<V: Vector>(f: Formulation, side: usize) -> Vec<(Real, V, V, V, Real)> {
     let particles = cloud::<V>(side, 1.5, 12.0, 42);
     let (eos, pf, av, heat, cont) = (
         tait(),
@@ -30,7 +34,7 @@ fn pressure_av_heat_case<V: Vector>(f: Formulation, side: usize) -> (Real, Real,
         },
     );
     let mut sim = sim_with::<V>(&particles, f, &[&cont, &eos, &pf, &av, &heat]);
-    imbalances(&rates(&mut sim))
+    rates(&mut sim)
 }
 
 #[test]
@@ -78,8 +82,29 @@ fn single_support_violates_conservation_by_orders_of_magnitude() {
 
 #[test]
 fn averaged_kernel_conserves_momentum_but_is_a_different_operator() {
-    let (p, _, _) = pressure_av_heat_case::<DVec2>(Formulation::AveragedKernel, 20);
+    let avg = pressure_av_heat_rates::<DVec2>(Formulation::AveragedKernel, 20);
+    let (p, _, _) = imbalances(&avg);
     assert!(p <= 1e-12, "averaged kernel momentum imbalance {p:e}");
+    // A different operator: on the same cloud (support radii varying 8 : 1 between neighbours)
+    // its rates differ from the dual-support ones by far more than round-off.
+    let ds = pressure_av_heat_rates::<DVec2>(Formulation::DualSupport, 20);
+    let scale_a = ds.iter().map(|r| r.3.length()).fold(0.0, Real::max);
+    let scale_e = ds.iter().map(|r| r.4.abs()).fold(0.0, Real::max);
+    let pairs = || ds.iter().zip(&avg);
+    let da = pairs()
+        .map(|(a, b)| (a.3 - b.3).length())
+        .fold(0.0, Real::max)
+        / scale_a;
+    let de = pairs().map(|(a, b)| (a.4 - b.4).abs()).fold(0.0, Real::max) / scale_e;
+    println!(
+        "AveragedKernel vs DualSupport: max |Δa|/max|a| = {da:.3e}, max |Δε̇|/max|ε̇| = {de:.3e}"
+    );
+    // Measured on this cloud (fixed seed, bitwise reproducible): 4.02e-2 and 4.41e-2; at equal
+    // h the two agree to 2.6e-16 (equal_h_formulations_agree_to_round_off). The bounds sit 25 %
+    // and 32 % below the measured values: a change of the cloud or the plugin constants may
+    // move them by that much without the operators becoming alike.
+    assert!(da >= 0.03, "accelerations differ by only {da:e}");
+    assert!(de >= 0.03, "energy rates differ by only {de:e}");
 }
 
 fn stress_case<V: Vector>(f: Formulation, side: usize) -> (Real, Real, Real) {

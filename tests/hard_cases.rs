@@ -93,7 +93,9 @@ fn fixed_dt_that_drifts_above_the_cfl_limit_is_stopped_mid_run() {
         step > 0.0,
         "refused at the start, but dt is within the limit at rest: {err}"
     );
-    assert!(t < 0.5, "detected late, at t = {t}");
+    // Measured: stopped at step 295, t = 0.0723 s (fixed dt: bitwise reproducible); the bound
+    // is that + 10 %, i.e. about 30 steps.
+    assert!(t < 0.08, "detected late, at t = {t}");
     // the limit it reports is below dt and is 0.25 h/(c + |v|) with h = 0.1 m: c + |v| > c0
     let limit = number_after(&err, "the CFL limit ");
     assert!(limit < 2.45e-4 && limit > 0.25 * 0.1 / 150.0, "{limit:e}");
@@ -127,9 +129,17 @@ fn strong_shock_tube_with_pressure_ratio_1e5_is_stable_conservative_and_accurate
         "strong shock: ΔE/E {de:.2e}, momentum {dp:.2e}, L1 ρ {:.4} u {:.4} p {:.4} e {:.4}",
         graded.l1[0], graded.l1[1], graded.l1[2], graded.l1[3]
     );
-    assert!(de < 1e-4, "energy drift {de:e}");
+    // Measured: ΔE/E 5.0e-15 (the work-consistent energy update keeps the total to round-off;
+    // 1e-12 leaves 200 × for round-off accumulating over the 788 steps), momentum 1.4e-15.
+    assert!(de < 1e-12, "energy drift {de:e}");
     assert!(dp < 1e-12, "momentum {dp:e}");
-    assert!(graded.l1[0] < 0.02, "density L1 {}", graded.l1[0]);
+    // Measured L1 ρ 0.0051, u 0.0136, p 0.0025, e 0.0082; the run is bitwise reproducible
+    // (tests/determinism.rs) and these did not move (to the 4 digits printed) across the change
+    // of the internal-energy update, so each bound is the measured value + about 20 %.
+    let bounds = [("ρ", 0.006), ("u", 0.016), ("p", 0.003), ("e", 0.0098)];
+    for (k, (name, bound)) in bounds.into_iter().enumerate() {
+        assert!(graded.l1[k] < bound, "L1 {name} {}", graded.l1[k]);
+    }
 }
 
 #[test]
@@ -145,8 +155,18 @@ fn dam_break_runs_to_eight_seconds_through_the_sloshing() {
             .fold(0.0, f64::max)
     };
     let (to_paper, to_end) = (drift(2.5), drift(8.0));
-    println!("dam break to 8 s: |ΔE/E| ≤ {to_paper:.4} to 2.5 s, {to_end:.4} to 8 s");
-    assert!(to_paper <= 0.04, "energy varies by {to_paper} before 2.5 s");
+    println!(
+        "dam break to 8 s: {} steps; |ΔE/E| ≤ {to_paper:.3e} to 2.5 s, {to_end:.3e} to 8 s",
+        run.final_diagnostics().step
+    );
+    // Measured: 1.4e-15 to 2.5 s, 2.4e-15 to 8 s (the work-consistent internal-energy update;
+    // the walls' clearance reflection only reverses normal velocities): round-off, bounded at
+    // 1e-12 over the whole run as in the conservation tests.
+    assert!(
+        to_paper <= 1e-12,
+        "energy varies by {to_paper:e} before 2.5 s"
+    );
+    assert!(to_end <= 1e-12, "energy varies by {to_end:e} before 8 s");
     // the walls keep every particle in the tank
     for p in &run.last {
         assert!(p.pos[0] >= 0.0 && p.pos[0] <= 4.0 && p.pos[1] >= 0.0 && p.pos[1] <= 3.0);
@@ -188,6 +208,12 @@ mod drops {
             "angular momentum drift {:e}",
             case.angular_momentum_drift
         );
+        // measured 3.3e-15 (1:4), 7.9e-15 (1:8), 5.8e-15 (stretched): round-off
+        assert!(
+            case.energy_drift <= 1e-12,
+            "energy drift {:e}",
+            case.energy_drift
+        );
         let err = (case.axes.1 / case.ode.1 - 1.0).abs();
         assert!(
             err <= b_tolerance,
@@ -199,14 +225,18 @@ mod drops {
 
     #[test]
     fn drop_with_a_one_to_four_support_jump_conserves_and_follows_the_ode() {
-        assert_pass(&graded("drop_support_jump_1to4.ron", 0.008), 0.02);
+        // b measured +0.02 % off the ODE; the bound 0.1 % is within the spread of the passing
+        // variants of the harder drops (docs/validation/hard_cases.md: up to 0.13 %)
+        assert_pass(&graded("drop_support_jump_1to4.ron", 0.008), 0.001);
     }
 
     /// The 1:8 jump needs h from the particle distribution (`isotropy`), see the scene.
     #[test]
     #[ignore = "second tier (cargo test --release -- --ignored): a long drop run"]
     fn drop_with_a_one_to_eight_support_jump_conserves_and_follows_the_ode() {
-        assert_pass(&graded("drop_support_jump_1to8.ron", 0.008), 0.02);
+        // b measured −0.08 %; the passing isotropy variants of this scene spread over −0.11 % …
+        // +0.02 % (docs/validation/hard_cases.md): bound 0.15 %
+        assert_pass(&graded("drop_support_jump_1to8.ron", 0.008), 0.0015);
     }
 
     /// The drop to t = 0.02 s (b ≈ 3.7, the lattice sheared 13.5 : 1): h from the particle
@@ -216,7 +246,9 @@ mod drops {
     fn stretched_drop_to_twenty_milliseconds_conserves_and_follows_the_ode() {
         let case = graded("drop_stretched.ron", 0.02);
         assert!(case.ode.1 > 3.6, "the ODE's b = {} at 0.02 s", case.ode.1);
-        assert_pass(&case, 0.02);
+        // b measured +0.05 %; the passing variants of this scene spread over −0.13 % … +0.08 %
+        // (docs/validation/hard_cases.md): bound 0.15 %
+        assert_pass(&case, 0.0015);
     }
 }
 
@@ -355,7 +387,7 @@ mod dam_break_jumps {
             rms_experiment(&uniform.front, end),
         );
         println!(
-            "{file} ({} particles; uniform {}): front at {end} s {:.3} m (uniform {:.3} m); RMS vs uniform {vs_uniform:.3} m, vs K&O {vs_ko:.3} m (uniform {uniform_vs_ko:.3} m); |ΔE/E| ≤ {:.4}; pair force {:.1e}, torque {:.1e}",
+            "{file} ({} particles; uniform {}): front at {end} s {:.3} m (uniform {:.3} m); RMS vs uniform {vs_uniform:.3} m, vs K&O {vs_ko:.3} m (uniform {uniform_vs_ko:.3} m); |ΔE/E| ≤ {:.2e}; pair force {:.1e}, torque {:.1e}",
             jump.particles,
             uniform.particles,
             at(&jump.front, end),
@@ -389,13 +421,17 @@ mod dam_break_jumps {
         );
     }
 
+    // Energy: measured 1.6e-15 (1:4) and 6.7e-16 (1:8), round-off: bound 1e-12. Front RMS
+    // against the experiment: measured 0.226 m (1:4) and 0.346 m (1:8), unchanged to the
+    // millimetre across the change of the internal-energy update; bounds 0.25 m and 0.38 m
+    // (about 10 %, a few particle spacings of the fine layer).
     #[test]
     fn dam_break_with_a_one_to_four_support_jump() {
-        check("dam_break_support_jump_1to4.ron", 0.1, 0.3, 0.02);
+        check("dam_break_support_jump_1to4.ron", 0.1, 0.25, 1e-12);
     }
 
     #[test]
     fn dam_break_with_a_one_to_eight_support_jump() {
-        check("dam_break_support_jump_1to8.ron", 0.2, 0.4, 0.02);
+        check("dam_break_support_jump_1to8.ron", 0.2, 0.38, 1e-12);
     }
 }
