@@ -115,6 +115,10 @@ pub struct Step;
 #[derive(SystemSet, Debug, Clone, Copy, PartialEq, Eq, Hash)]
 struct Slot(usize);
 
+/// The first slot number of the systems added after the schedule was built (below it, a slot
+/// number is a position in the built order).
+const LATE_SLOTS: usize = usize::MAX / 2;
+
 /// The profiling marker after slot `k` (see [`crate::profile`]); `None` is the one before the
 /// first slot.
 #[derive(SystemSet, Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -165,6 +169,11 @@ pub struct Sim<V: Vector> {
     schedule: Option<Schedule>,
     /// The systems' labels in schedule order (set when the schedule is built).
     labels: Vec<String>,
+    /// The systems' indices in schedule order (set when the schedule is built).
+    built_order: Vec<usize>,
+    /// Systems added after the schedule was built: `(position of the system they follow,
+    /// their slot)` (see [`Sim::add_late`]).
+    late: Vec<(Option<usize>, usize)>,
     /// The threads that run the steps (see [`Sim::step`]); made at the first step.
     pool: Option<rayon::ThreadPool>,
     _v: PhantomData<V>,
@@ -221,6 +230,8 @@ impl<V: Vector> Sim<V> {
             integration: Default::default(),
             schedule: None,
             labels: Vec::new(),
+            built_order: Vec::new(),
+            late: Vec::new(),
             pool: None,
             _v: PhantomData,
         };
@@ -267,9 +278,49 @@ impl<V: Vector> Sim<V> {
             add: Some(adder),
         });
         let last = self.systems.len() - 1;
+        if self.schedule.is_some() {
+            self.add_late(last);
+        }
         SystemOrder {
             place: &mut self.systems[last].place,
         }
+    }
+
+    /// Places system `k`, added after the schedule was built, at the end of its set: a slot of
+    /// its own after the set's last system (and the set's earlier late ones) and before the
+    /// next set's first. Its order constraints are not applied (the schedule is built); a
+    /// diagnostic added to a finished simulation (e.g. a pair-balance probe) runs so.
+    fn add_late(&mut self, k: usize) {
+        let rank = |s: StepSet| StepSet::ALL.iter().position(|&x| x == s).unwrap_or(0);
+        let own = rank(self.systems[k].set);
+        let systems = &self.systems;
+        let after = self
+            .built_order
+            .iter()
+            .rposition(|&i| rank(systems[i].set) <= own);
+        let slot = Slot(LATE_SLOTS + self.late.len());
+        let next = after.map_or(0, |p| p + 1);
+        let Some(schedule) = self.schedule.as_mut() else {
+            return;
+        };
+        if let Some(p) = after {
+            schedule.configure_sets(slot.after(Slot(p)));
+        }
+        if next < self.built_order.len() {
+            schedule.configure_sets(slot.before(Slot(next)));
+        }
+        for &(p, id) in &self.late {
+            if p == after {
+                schedule.configure_sets(slot.after(Slot(id)));
+            }
+        }
+        if self.systems[k].set.advances_state() {
+            schedule.configure_sets(slot.run_if(|c: Res<SimClock>| !c.initializing));
+        }
+        if let Some(add) = self.systems[k].add.take() {
+            add(schedule, slot);
+        }
+        self.late.push((after, slot.0));
     }
 
     /// Builds `plugin` into the simulation, its systems marked as its own (for the order
@@ -398,6 +449,7 @@ impl<V: Vector> Sim<V> {
                 add(&mut schedule, slot);
             }
         }
+        self.built_order = order.clone();
         self.labels = order
             .iter()
             .map(|&k| self.systems[k].place.label.clone())
