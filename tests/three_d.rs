@@ -64,9 +64,11 @@ fn dam_break_3d_balances_pair_forces_advances_and_keeps_energy() {
     assert!(run.torque_imbalance <= 1e-12, "{:e}", run.torque_imbalance);
     // The column collapses: the front leaves x = 1 m (Koshizuka & Oka: 1.6 m at 0.3 s).
     assert!(front > 1.2, "front only at {front} m");
-    // Energy: E_kin + E_int + E_pot changes only through the time integration.
+    // Energy: the pair sums and the work-consistent time integration keep E_kin + E_int +
+    // E_pot to round-off; what changes it is the specular walls mirroring a particle back
+    // into the box (its potential energy jumps). Measured 8e-5 at t = 0.3 s.
     assert!(
-        run.energy_drift() <= 0.01,
+        run.energy_drift() <= 2e-4,
         "energy drift {:e}",
         run.energy_drift()
     );
