@@ -152,8 +152,7 @@ fn finding(c: &[SedovCase]) -> String {
     let cost = |x: &SedovCase| x.run.cpu_seconds;
     format!(
         "**Finding.** Density L1: DualSupport {:.4}, grad-h {:.4}, SingleSupport {:.4} — {best} is the \
-         lowest. Shock radius from the density peak over the exact R = {:.4}: {:.3}, {:.3}, {:.3} (the peak sits \
-         behind the shock by about the smoothing length); peak density over the exact jump 6ρ0: {:.2}, {:.2}, \
+         lowest. Shock radius from the density peak over the exact R = {:.4}: {:.3}, {:.3}, {:.3}; peak density over the exact jump 6ρ0: {:.2}, {:.2}, \
          {:.2}. Total energy is kept to round-off (≤ 1e-12) by {}; the largest drifts are {:.1e}, {:.1e}, \
          {:.1e}. CPU seconds {:.2}, {:.2}, {:.2}.\n\n",
         c[0].l1_rho,
