@@ -170,6 +170,7 @@ pub fn build_sim<V: Vector>(scene: &Scene) -> Result<Sim<V>, SimError> {
     let domain = Domain {
         min: vector::<V>(&scene.domain.min, "domain.min")?,
         max: vector::<V>(&scene.domain.max, "domain.max")?,
+        periodic: scene.domain.periodic_axes(),
     };
     let time_stepping = match scene.integrator.dt {
         dualsph_scene::TimeStep::Fixed(dt) => TimeStepping::Fixed(dt),

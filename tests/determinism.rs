@@ -29,6 +29,7 @@ fn run_steps_with(
                 c0: Some(20.0),
                 p0: None,
                 min_pressure: None,
+                background: 0.0,
                 materials: Vec::new(),
             },
             PressureForce {},

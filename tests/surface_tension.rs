@@ -71,10 +71,7 @@ fn drop_sim(
     let mut sim = Sim::<DVec2>::new(SimConfig {
         kernel: KernelKind::CubicSpline,
         formulation,
-        domain: Domain {
-            min: DVec2::splat(-3.0),
-            max: DVec2::splat(3.0),
-        },
+        domain: Domain::closed(DVec2::splat(-3.0), DVec2::splat(3.0)),
         skin: 0.15,
         skin_rule: SkinRule::Fixed,
         time_stepping: TimeStepping::Adaptive {
@@ -96,6 +93,7 @@ fn drop_sim(
             c0: Some(100.0),
             p0: None,
             min_pressure: None,
+            background: 0.0,
             materials: Vec::new(),
         },
         &PressureForce {},

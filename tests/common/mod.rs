@@ -15,6 +15,7 @@ pub fn tait() -> dualsph::plugins::TaitEos {
         c0: Some(20.0),
         p0: None,
         min_pressure: None,
+        background: 0.0,
         materials: Vec::new(),
     }
 }
@@ -72,7 +73,7 @@ pub fn sim_with_kernel<V: Vector>(
     let mut sim = Sim::<V>::new(SimConfig {
         kernel,
         formulation,
-        domain: Domain { min: -max, max },
+        domain: Domain::closed(-max, max),
         skin: 0.1,
         skin_rule: SkinRule::Fixed,
         time_stepping: TimeStepping::Fixed(1e-4),

@@ -110,6 +110,34 @@ impl Motion {
         }
     }
 
+    /// The acceleration `a(t) = dv/dt` of a particle that starts at `x0`: zero for a
+    /// translation, `−A ω² sin(ωt + φ)` for an oscillation, `Ω n × v` (centripetal) for a
+    /// rotation.
+    pub fn acceleration<V: Vector>(&self, x0: V, t: Real) -> V {
+        match *self {
+            Motion::Translate { .. } => V::zero(),
+            Motion::Oscillate {
+                amplitude,
+                frequency,
+                phase,
+            } => {
+                let w = 2.0 * std::f64::consts::PI * frequency;
+                let a = V::from_slice(&amplitude[..V::DIM]).expect("DIM <= 3");
+                a * (-w * w * (w * t + phase).sin())
+            }
+            Motion::Rotate { axis, omega, .. } => {
+                let n = if V::DIM == 3 { axis } else { [0.0, 0.0, 1.0] };
+                let v = self.at(x0, t).1.to_xyz();
+                let a = [
+                    n[1] * v[2] - n[2] * v[1],
+                    n[2] * v[0] - n[0] * v[2],
+                    n[0] * v[1] - n[1] * v[0],
+                ];
+                V::from_slice(&a.map(|x| x * omega)[..V::DIM]).expect("DIM <= 3")
+            }
+        }
+    }
+
     /// The motion with a rotation's axis normalised; the error names what is wrong.
     pub fn checked(self) -> Result<Self, String> {
         let finite = |xs: &[Real]| xs.iter().all(|x| x.is_finite());
@@ -353,6 +381,35 @@ mod tests {
             close(x.x, 0.7) && x.y.abs() < 1e-15 && close(x.z, 1.0),
             "{x}"
         );
+    }
+
+    /// The acceleration is dv/dt (central difference, step 1e-6 s) for each law.
+    #[test]
+    fn the_acceleration_is_the_derivative_of_the_velocity() {
+        let laws = [
+            Motion::Translate {
+                velocity: [0.5, -2.0, 0.0],
+            },
+            Motion::Oscillate {
+                amplitude: [0.1, -0.2, 0.0],
+                frequency: 2.0,
+                phase: 0.3,
+            },
+            Motion::Rotate {
+                center: [2.0, 1.0, 0.0],
+                axis: [0.0, 0.0, 1.0],
+                omega: 3.0,
+            },
+        ];
+        let (x0, t, e) = (DVec2::new(3.0, 1.5), 0.37, 1e-6);
+        for m in laws {
+            let dv = (m.at(x0, t + e).1 - m.at(x0, t - e).1) / (2.0 * e);
+            let a = m.acceleration(x0, t);
+            assert!(
+                (dv - a).length() < 1e-7 * (1.0 + a.length()),
+                "{m:?}: {dv} vs {a}"
+            );
+        }
     }
 
     #[test]

@@ -397,6 +397,19 @@ pub fn update_neighbours<V: Vector>(
     );
 }
 
+/// Moves every particle that left the box across a periodic face back by whole periods
+/// (see [`crate::neighbours::Period::wrap`]); the pair separations are minimum images, so the
+/// move changes no force, only where the particle is written.
+#[inline(never)] // a frame of its own in profiles
+pub fn wrap_periodic<V: Vector>(nb: Res<Neighbours<V>>, mut q: Query<&mut Position<V>>) {
+    let Some(period) = nb.period else { return };
+    for mut r in q.contiguous_iter_mut().expect(DENSE) {
+        r.par_iter_mut()
+            .with_min_len(MIN_LEN)
+            .for_each(|r| r.0 = period.wrap(r.0));
+    }
+}
+
 /// Advances the clock after a completed step.
 pub fn advance_clock(mut clock: ResMut<SimClock>) {
     clock.t += clock.dt;
@@ -410,5 +423,12 @@ pub(crate) fn add_core_systems<V: Vector>(sim: &mut Sim<V>) {
         "update_neighbours (Verlet skin)",
         update_neighbours::<V>,
     );
+    if sim.world.resource::<Neighbours<V>>().period.is_some() {
+        sim.add_system(
+            StepSet::Boundary,
+            "wrap_periodic (positions into the box)",
+            wrap_periodic::<V>,
+        );
+    }
     sim.add_system(StepSet::Advance, "advance_clock", advance_clock);
 }

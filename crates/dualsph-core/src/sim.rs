@@ -211,7 +211,10 @@ impl<V: Vector> Sim<V> {
         world.insert_resource(config.formulation);
         world.insert_resource(config.domain);
         world.insert_resource(config.time_stepping);
-        world.insert_resource(Neighbours::<V>::with_rule(config.skin, config.skin_rule));
+        let period = config.domain.period();
+        world.insert_resource(
+            Neighbours::<V>::with_rule(config.skin, config.skin_rule).with_period(period),
+        );
         world.insert_resource(PairSweeps::<V>::default());
         world.insert_resource(MaxViscosity::default());
         world.insert_resource(InitialInternalEnergy::default());

@@ -212,7 +212,7 @@ impl<V: Vector> Support<'_, V> {
                 self.neighbours.support.row(i),
                 self.neighbours.dual.row(i),
                 |j| {
-                    let rij = xi - pos[j].0;
+                    let rij = self.neighbours.separation(xi, pos[j].0);
                     let r = rij.length();
                     let hj = h[j].0;
                     if r < hi.max(hj) {
@@ -223,18 +223,34 @@ impl<V: Vector> Support<'_, V> {
                 },
             ),
             _ => {
+                let row = self.neighbours.support.row(i);
                 let k = OwnerKernel::new(self.kernel, hi);
-                for &j in self.neighbours.support.row(i) {
-                    let j = j as usize;
-                    let rij = xi - pos[j].0;
-                    let r2 = rij.length_squared();
-                    if r2 < k.h2 {
-                        let r = r2.sqrt();
-                        let (w, g) = k.eval(rij, r);
-                        f(j, rij, r, w, g);
-                    }
+                match &self.neighbours.period {
+                    None => own_support(row, |j| xi - pos[j].0, &k, f),
+                    Some(p) => own_support(row, |j| p.image(xi - pos[j].0), &k, f),
                 }
             }
+        }
+    }
+}
+
+/// The pairs of a support row with `|r_ij| < h_i`, `rij(j)` their separation, to `f` with
+/// the owner kernel's `W` and `∇W` (see [`Support::for_each_neighbour`]).
+#[inline(always)]
+fn own_support<V: Vector>(
+    row: &[u32],
+    rij: impl Fn(usize) -> V,
+    k: &OwnerKernel,
+    mut f: impl FnMut(usize, V, Real, Real, V),
+) {
+    for &j in row {
+        let j = j as usize;
+        let rij = rij(j);
+        let r2 = rij.length_squared();
+        if r2 < k.h2 {
+            let r = r2.sqrt();
+            let (w, g) = k.eval(rij, r);
+            f(j, rij, r, w, g);
         }
     }
 }

@@ -177,6 +177,12 @@ fn velocity(v: Option<&Velocity>, p: &[f64; 3], d: usize) -> [f64; 3] {
                     .sum();
             }
         }
+        Some(Velocity::TaylorGreen { speed, wavelength }) => {
+            let k = 2.0 * std::f64::consts::PI / wavelength;
+            let ((sx, cx), (sy, cy)) = ((k * p[0]).sin_cos(), (k * p[1]).sin_cos());
+            out[0] = speed * sx * cy;
+            out[1] = -speed * cx * sy;
+        }
     }
     out
 }

@@ -34,6 +34,18 @@ pub struct Domain {
     pub min: Vec<f64>,
     /// Upper corner.
     pub max: Vec<f64>,
+    /// Which axes are periodic (one flag per axis; none when absent): a particle leaving
+    /// through one face enters through the opposite one, and pairs interact across the
+    /// period by their nearest image.
+    #[serde(default)]
+    pub periodic: Vec<bool>,
+}
+
+impl Domain {
+    /// The periodic flags of the three axes (false where none is given).
+    pub fn periodic_axes(&self) -> [bool; 3] {
+        std::array::from_fn(|k| self.periodic.get(k).copied().unwrap_or(false))
+    }
 }
 
 /// An axis-aligned box used by `clip` and `cut`; a point is inside when
@@ -76,6 +88,16 @@ pub enum Velocity {
     Uniform(Vec<f64>),
     /// `v = G·x` with `G` given by its rows (a d×d matrix) and `x` the absolute position.
     Linear(Vec<Vec<f64>>),
+    /// The 2-D Taylor–Green vortex of wavelength `L` and peak speed `U`, with `k = 2π/L` and
+    /// `x` the absolute position: `u = U sin(kx) cos(ky)`, `v = −U cos(kx) sin(ky)`
+    /// (Taylor & Green 1937, *Proc. R. Soc. Lond. A* 158, 499). Divergence-free; with
+    /// kinematic viscosity ν it is an exact Navier–Stokes solution decaying as `e^{−2νk²t}`.
+    TaylorGreen {
+        /// `U`.
+        speed: f64,
+        /// `L`.
+        wavelength: f64,
+    },
 }
 
 /// A rectangular block of particles.

@@ -103,6 +103,21 @@ fn generator(i: usize, g: &Generator, d: usize) -> Check {
                 vector(&f(&format!("velocity[{r}]")), row, d)?;
             }
         }
+        Some(Velocity::TaylorGreen { speed, wavelength }) => {
+            if d != 2 {
+                return Err(Problem::new(
+                    f("velocity"),
+                    format!("TaylorGreen is a 2-D vortex, the scene has dimension {d}"),
+                ));
+            }
+            if !speed.is_finite() {
+                return Err(Problem::new(
+                    f("velocity.speed"),
+                    format!("must be finite, got {speed}"),
+                ));
+            }
+            positive(&f("velocity.wavelength"), *wavelength)?;
+        }
     }
     if !(c.internal_energy.is_finite() && c.internal_energy >= 0.0) {
         return Err(Problem::new(
@@ -121,6 +136,39 @@ fn fraction(field: &str, x: f64) -> Check {
     }
 }
 
+/// One periodic flag per axis, and every support fitting its period: a pair must meet one
+/// image only, so `2 h (1 + skin) < L` on each periodic axis for the largest generated h.
+fn periodic(s: &Scene) -> Check {
+    let (d, p) = (s.dimension, &s.domain.periodic);
+    if p.is_empty() {
+        return Ok(());
+    }
+    if p.len() != d {
+        return Err(Problem::new(
+            "domain.periodic",
+            format!("expected {d} flags (one per axis), got {}", p.len()),
+        ));
+    }
+    let reach = s
+        .particles
+        .iter()
+        .map(|g| g.common().h_factor * g.spacing() * (1.0 + s.neighbours.skin))
+        .fold(0.0, f64::max);
+    for k in (0..d).filter(|&k| p[k]) {
+        let l = s.domain.max[k] - s.domain.min[k];
+        if 2.0 * reach >= l {
+            return Err(Problem::new(
+                "domain.periodic",
+                format!(
+                    "axis {k} is periodic with length {l}, which must exceed twice the largest \
+                     search radius h (1 + skin) = {reach}"
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// Everything that can be checked without generating particles.
 fn settings(s: &Scene) -> Check {
     let d = s.dimension;
@@ -133,6 +181,7 @@ fn settings(s: &Scene) -> Check {
     vector("domain.min", &s.domain.min, d)?;
     vector("domain.max", &s.domain.max, d)?;
     ordered("domain.max", &s.domain.min, &s.domain.max)?;
+    periodic(s)?;
     if !s.kernel.supports_dimension(d) {
         return Err(Problem::new(
             "kernel",

@@ -104,10 +104,7 @@ mod tests {
         let mut sim = Sim::<DVec2>::new(SimConfig {
             kernel: KernelKind::CubicSpline,
             formulation: Formulation::DualSupport,
-            domain: Domain {
-                min: DVec2::splat(-10.0),
-                max: DVec2::splat(10.0),
-            },
+            domain: Domain::closed(DVec2::splat(-10.0), DVec2::splat(10.0)),
             skin: 0.1,
             skin_rule: SkinRule::Fixed,
             time_stepping: TimeStepping::Fixed(1e-3),

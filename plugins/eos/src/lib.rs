@@ -35,6 +35,14 @@ pub struct TaitEos {
     /// energy equation uses the same `p`: conservation is unchanged.
     #[serde(default)]
     pub min_pressure: Option<Real>,
+    /// Background pressure `p_b`, added to Eq. 7.5: `p = p0((ρ/ρ0)^γ − 1) + p_b` (0 by
+    /// default). A positive `p_b` keeps an enclosed or periodic flow without a free surface
+    /// out of tension, where the tensile instability clumps particles (Morris, Fox & Zhu
+    /// 1997, *J. Comput. Phys.* 136, 214, §2.2, take `p = c²ρ`, i.e. `p_b = c²ρ0` for γ = 1).
+    /// A uniform `p_b` exerts no net force on a uniform lattice; the pair forces stay
+    /// antisymmetric, so conservation is unchanged. Shared by all materials.
+    #[serde(default)]
+    pub background: Real,
     /// Other materials, by body: `materials: [(body: "oil", rho0: 800.0, c0: 40.0)]`. The
     /// bodies not named here take `rho0` and `c0`/`p0` above; `gamma` and `min_pressure` are
     /// shared.
@@ -85,6 +93,8 @@ pub enum Eos {
         c0: Real,
         /// Pressure floor (−∞ for none).
         p_min: Real,
+        /// Background pressure `p_b` added to Eq. 7.5.
+        p_b: Real,
     },
     /// Ideal gas with γ.
     Ideal {
@@ -104,6 +114,7 @@ impl Eos {
                 p0,
                 c0,
                 p_min,
+                p_b,
             } => {
                 let x = rho / rho0;
                 let (x_gamma, x_c) = if gamma == 7.0 {
@@ -111,7 +122,7 @@ impl Eos {
                 } else {
                     (pow(x, gamma), pow(x, 0.5 * (gamma - 1.0)))
                 };
-                let p = p0 * (x_gamma - 1.0);
+                let p = p0 * (x_gamma - 1.0) + p_b;
                 (p.max(p_min), c0 * x_c)
             }
             Eos::Ideal { gamma } => {
@@ -275,6 +286,12 @@ impl SimPlugin for TaitEos {
                 "min_pressure: must be finite and ≤ 0 (a floor on tension), got {p}"
             ));
         }
+        if !(self.background.is_finite() && self.background >= 0.0) {
+            return Err(format!(
+                "background: must be finite and ≥ 0, got {}",
+                self.background
+            ));
+        }
         reference_scale("", self.c0, self.p0)
     }
 
@@ -309,6 +326,7 @@ impl TaitEos {
             p0,
             c0,
             p_min: self.min_pressure.unwrap_or(Real::NEG_INFINITY),
+            p_b: self.background,
         })
     }
 }
@@ -396,6 +414,7 @@ mod tests {
             p0: 100.0f64.powi(2) * 1000.0 / 7.0,
             c0: 100.0,
             p_min: Real::NEG_INFINITY,
+            p_b: 0.0,
         };
         assert_eq!(e.eval(1000.0, 0.0), (0.0, 100.0));
         assert!(e.eval(990.0, 0.0).0 < 0.0);
@@ -415,6 +434,7 @@ mod tests {
             p0,
             c0,
             p_min: Real::NEG_INFINITY,
+            p_b: 0.0,
         };
         let floored = Eos::Tait {
             rho0: 1000.0,
@@ -422,6 +442,7 @@ mod tests {
             p0,
             c0,
             p_min: 0.0,
+            p_b: 0.0,
         };
         assert_eq!(floored.eval(990.0, 0.0).0, 0.0);
         assert_eq!(floored.eval(990.0, 0.0).1, free.eval(990.0, 0.0).1);
@@ -453,6 +474,7 @@ mod tests {
             c0: Some(20.0),
             p0: None,
             min_pressure: None,
+            background: 0.0,
             materials,
         };
         let check = |m| SimPlugin::validate(&eos(m), &info);

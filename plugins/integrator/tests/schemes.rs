@@ -69,10 +69,7 @@ fn sim(scheme: &dyn PluginConfig, ode: Ode, dt: Real) -> Sim<DVec2> {
     let mut sim = Sim::<DVec2>::new(SimConfig {
         kernel: KernelKind::CubicSpline,
         formulation: Formulation::DualSupport,
-        domain: Domain {
-            min: DVec2::splat(-1e3),
-            max: DVec2::splat(1e3),
-        },
+        domain: Domain::closed(DVec2::splat(-1e3), DVec2::splat(1e3)),
         skin: 0.1,
         skin_rule: SkinRule::Fixed,
         time_stepping: TimeStepping::Fixed(dt),
@@ -228,10 +225,7 @@ fn the_schemes_differ_and_a_second_one_is_refused_naming_both() {
     let mut s = Sim::<DVec2>::new(SimConfig {
         kernel: KernelKind::CubicSpline,
         formulation: Formulation::DualSupport,
-        domain: Domain {
-            min: DVec2::splat(-1.0),
-            max: DVec2::splat(1.0),
-        },
+        domain: Domain::closed(DVec2::splat(-1.0), DVec2::splat(1.0)),
         skin: 0.1,
         skin_rule: SkinRule::Fixed,
         time_stepping: TimeStepping::Fixed(1e-3),
@@ -254,10 +248,7 @@ fn the_schemes_systems_are_attributed_to_their_plugin_whenever_the_scalar_is_dec
         let mut s = Sim::<DVec2>::new(SimConfig {
             kernel: KernelKind::CubicSpline,
             formulation: Formulation::DualSupport,
-            domain: Domain {
-                min: DVec2::splat(-1.0),
-                max: DVec2::splat(1.0),
-            },
+            domain: Domain::closed(DVec2::splat(-1.0), DVec2::splat(1.0)),
             skin: 0.1,
             skin_rule: SkinRule::Fixed,
             time_stepping: TimeStepping::Fixed(1e-3),

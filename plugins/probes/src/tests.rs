@@ -19,10 +19,7 @@ fn block_sim(depth: Real, dx: Real) -> Sim<DVec2> {
     let mut sim = Sim::<DVec2>::new(SimConfig {
         kernel: KernelKind::CubicSpline,
         formulation: Formulation::DualSupport,
-        domain: Domain {
-            min: DVec2::ZERO,
-            max: DVec2::new(1.0, 1.0),
-        },
+        domain: Domain::closed(DVec2::ZERO, DVec2::new(1.0, 1.0)),
         skin: 0.0,
         skin_rule: SkinRule::Fixed,
         time_stepping: TimeStepping::Fixed(1e-5),

@@ -158,7 +158,7 @@ pub fn grad_h<V: Vector>(
             pairs.push((0.0, mi));
             for &j in nb_ref.support.row(i) {
                 let (xj, mj, _) = rows[j as usize];
-                pairs.push(((xi - xj).length(), mj));
+                pairs.push((nb_ref.separation(xi, xj).length(), mj));
             }
             solve(k, pairs, (mi, hi, hi * (1.0 + skin)), s)
         })

@@ -19,7 +19,9 @@
 //! angular momentum exactly for any h field (§5, the dual-support sweep applies each pair
 //! force and its reaction; §5.2 with the correction `L_i`), so this costs no conservation.
 use dualsph_core::math::{Matrix, Real, Vector};
-use dualsph_core::neighbours::{NeighbourIndex, radius_csr};
+use dualsph_core::neighbours::{
+    NeighbourIndex, Period, periodic_radius_csr, radius_csr, separation,
+};
 use dualsph_core::prelude::Kernel;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -58,16 +60,20 @@ impl Isotropy {
     /// The enlarged h of every particle: for each i the smallest `h = h_i · 1.05^k ≤ G h_i`
     /// with `I_i(h) ≥ min` (or `G h_i` when none is), from positions `pos`, volumes
     /// `vol = m/ρ` and the Eq. 6.1 values `h`. Each particle's search reads only the inputs,
-    /// so the result does not depend on the order of the particles or the thread count.
+    /// so the result does not depend on the order of the particles or the thread count. On a
+    /// periodic domain (`period`) the neighbours are found, and separated, across the period.
     pub fn enlarge<V: Vector>(
         &self,
         kernel: &Kernel,
         h: &[Real],
-        pos: &[V],
+        (pos, period): (&[V], Option<&Period<V>>),
         vol: &[Real],
     ) -> Vec<Real> {
         let radii: Vec<Real> = h.iter().map(|&hi| hi * self.max_growth).collect();
-        let (cand, _) = radius_csr(pos, &radii, NeighbourIndex::Auto);
+        let (cand, _) = match period {
+            Some(p) => periodic_radius_csr(pos, &radii, NeighbourIndex::Auto, p),
+            None => radius_csr(pos, &radii, NeighbourIndex::Auto),
+        };
         (0..h.len())
             .into_par_iter()
             .map(|i| {
@@ -75,7 +81,9 @@ impl Isotropy {
                 let h_cap = radii[i];
                 let mut hi = h[i];
                 loop {
-                    if hi >= h_cap || isotropy(kernel, hi, pos[i], row, pos, vol) >= self.min {
+                    if hi >= h_cap
+                        || isotropy(kernel, hi, pos[i], row, (pos, period), vol) >= self.min
+                    {
                         return hi.min(h_cap);
                     }
                     hi *= STEP;
@@ -86,19 +94,19 @@ impl Isotropy {
 }
 
 /// `I = det S / (tr S / d)^d` of `S = Σ_j V_j W(r_ij, h) r_ij ⊗ r_ij` over the `j` in `row`
-/// with `r_ij < h`; 0 for an empty support.
+/// with `r_ij < h` (the minimum image across a `period`); 0 for an empty support.
 pub fn isotropy<V: Vector>(
     kernel: &Kernel,
     h: Real,
     xi: V,
     row: &[u32],
-    pos: &[V],
+    (pos, period): (&[V], Option<&Period<V>>),
     vol: &[Real],
 ) -> Real {
     let mut s = V::Mat::zero();
     for &j in row {
         let j = j as usize;
-        let rij = xi - pos[j];
+        let rij = separation(period, xi, pos[j]);
         let r = rij.length();
         if r < h {
             s += V::outer(rij, rij) * (vol[j] * kernel.w(r, h));
@@ -134,7 +142,7 @@ mod tests {
         let all: Vec<u32> = (0..sq.len() as u32).collect();
         let vol = vec![0.01; sq.len()];
         let c = sq.len() / 2; // the centre (0, 0)
-        let i_sq = isotropy(&k, 0.26, sq[c], &all, &sq, &vol);
+        let i_sq = isotropy(&k, 0.26, sq[c], &all, (&sq, None), &vol);
         assert!((i_sq - 1.0).abs() < 1e-12, "{i_sq}");
         // a half-plane support (free surface): isotropic in the continuum, but the lattice's
         // outermost row adds to S_xx only: I = 0.9522 at h = 2.6Δx (an independent
@@ -144,20 +152,20 @@ mod tests {
             .copied()
             .filter(|&j| sq[j as usize].y >= 0.0)
             .collect();
-        let i_half = isotropy(&k, 0.26, sq[c], &upper, &sq, &vol);
+        let i_half = isotropy(&k, 0.26, sq[c], &upper, (&sq, None), &vol);
         assert!((i_half - 0.9522).abs() < 1e-4, "{i_half}");
         let corner: Vec<u32> = upper
             .iter()
             .copied()
             .filter(|&j| sq[j as usize].x >= 0.0)
             .collect();
-        let i_corner = isotropy(&k, 0.26, sq[c], &corner, &sq, &vol);
+        let i_corner = isotropy(&k, 0.26, sq[c], &corner, (&sq, None), &vol);
         assert!((i_corner - 0.9243).abs() < 1e-4, "{i_corner}");
         // spacing 0.04 × 0.25 at h = 0.26: rows at ±0.25 carry W(0.96 h) ≈ 0
         let sh = lattice(0.04, 0.25, 12);
         let all: Vec<u32> = (0..sh.len() as u32).collect();
         let vol = vec![0.01; sh.len()];
-        let i_sh = isotropy(&k, 0.26, sh[sh.len() / 2], &all, &sh, &vol);
+        let i_sh = isotropy(&k, 0.26, sh[sh.len() / 2], &all, (&sh, None), &vol);
         assert!(i_sh < 0.05, "{i_sh}");
     }
 
@@ -172,17 +180,17 @@ mod tests {
         let h = vec![0.26; sq.len()];
         let vol = vec![0.01; sq.len()];
         let c = sq.len() / 2;
-        assert_eq!(iso.enlarge(&k, &h, &sq, &vol)[c], 0.26);
+        assert_eq!(iso.enlarge(&k, &h, (&sq, None), &vol)[c], 0.26);
         let sh = lattice(0.04, 0.25, 14);
         let h = vec![0.26; sh.len()];
         let vol = vec![0.01; sh.len()];
-        let out = iso.enlarge(&k, &h, &sh, &vol);
+        let out = iso.enlarge(&k, &h, (&sh, None), &vol);
         let c = sh.len() / 2;
         // the result satisfies the bound, one step less does not, and stays within the cap
         assert!(out[c] > 0.26 && out[c] <= 0.26 * 4.0, "{}", out[c]);
         let all: Vec<u32> = (0..sh.len() as u32).filter(|&j| j as usize != c).collect();
-        assert!(isotropy(&k, out[c], sh[c], &all, &sh, &vol) >= 0.8);
-        assert!(isotropy(&k, out[c] / STEP, sh[c], &all, &sh, &vol) < 0.8);
+        assert!(isotropy(&k, out[c], sh[c], &all, (&sh, None), &vol) >= 0.8);
+        assert!(isotropy(&k, out[c] / STEP, sh[c], &all, (&sh, None), &vol) < 0.8);
     }
 
     #[test]

@@ -92,7 +92,7 @@ pub fn update_h<V: Vector>(
         vol[row] = m.0 / rho.0;
     }
     if let Some(iso) = set.isotropy {
-        h_new = iso.enlarge(&kernel.0, &h_new, &pos, &vol);
+        h_new = iso.enlarge(&kernel.0, &h_new, (&pos, nb.period.as_ref()), &vol);
     }
     let limited = match set.max_ratio {
         Some(ratio) => limit_ratio(&h_new, &pos, &nb, ratio),
@@ -117,7 +117,7 @@ pub fn limit_ratio<V: Vector>(h: &[Real], pos: &[V], nb: &Neighbours<V>, ratio: 
         .map(|i| {
             nb.dual.row(i).iter().fold(h[i], |hi, &j| {
                 let j = j as usize;
-                if (pos[i] - pos[j]).length_squared() < h[j] * h[j] {
+                if nb.separation(pos[i], pos[j]).length_squared() < h[j] * h[j] {
                     hi.max(h[j] / ratio)
                 } else {
                     hi

@@ -1,4 +1,5 @@
-//! `SpecularWalls(clearance: κ)`: the faces of the domain box reflect particles specularly
+//! `SpecularWalls(clearance: κ)`: the faces of the domain box (on its axes that are not
+//! periodic) reflect particles specularly
 //! (Eq. 7.7): `v' = v − 2 (v·n) n` if `v·n < 0`, with n the inward normal, for a particle
 //! closer to a face than `κ h_i` (its own support radius; κ = 0, the default, means on or
 //! beyond the face). Reflection leaves |v| unchanged, so the kinetic energy — and the total
@@ -40,16 +41,18 @@ pub fn reflect<V: Vector>(
 ) {
     let (lo, hi) = (domain.min, domain.max);
     let kappa = clearance.0;
+    let walled = domain.periodic.map(|p| !p);
     for (mut r, mut v, h) in q.contiguous_iter_mut().expect(DENSE) {
         let rows = (&mut *r, &mut *v, h).into_par_iter().with_min_len(MIN_LEN);
-        rows.for_each(|(r, v, h)| reflect_one(&mut r.0, &mut v.0, kappa * h.0, lo, hi));
+        rows.for_each(|(r, v, h)| reflect_one(&mut r.0, &mut v.0, kappa * h.0, (lo, hi), walled));
     }
 }
 
-/// One particle of [`reflect`], at distance `gap` from the faces `lo`, `hi`.
+/// One particle of [`reflect`], at distance `gap` from the faces `lo`, `hi` of the axes
+/// marked in `walled`.
 #[inline(always)]
-fn reflect_one<V: Vector>(r: &mut V, v: &mut V, gap: Real, lo: V, hi: V) {
-    for k in 0..V::DIM {
+fn reflect_one<V: Vector>(r: &mut V, v: &mut V, gap: Real, (lo, hi): (V, V), walled: [bool; 3]) {
+    for k in (0..V::DIM).filter(|&k| walled[k]) {
         let (x, u) = (r.get(k), v.get(k));
         if x <= lo.get(k) + gap {
             if x < lo.get(k) {

@@ -30,12 +30,14 @@ use rayon::prelude::*;
 
 mod cells;
 mod kd;
+mod periodic;
 mod skin;
 #[cfg(test)]
 mod tests;
 
 pub use cells::GridPlan;
 pub use kd::KdSearch;
+pub use periodic::{Period, periodic_radius_csr, separation};
 pub use skin::{SkinRule, optimal_skin};
 
 /// A compressed-sparse-row adjacency: row i is `indices[offsets[i]..offsets[i+1]]`.
@@ -258,6 +260,8 @@ pub struct Neighbours<V: Vector> {
     pub index: NeighbourIndex,
     /// The index the last build used (`CellGrid` or `KdTree`; `None` before the first).
     pub used_index: Option<NeighbourIndex>,
+    /// The periodic axes of the domain: pairs are found, and separated, across them.
+    pub period: Option<Period<V>>,
 }
 
 impl<V: Vector> Neighbours<V> {
@@ -276,7 +280,19 @@ impl<V: Vector> Neighbours<V> {
             builds: 0,
             index: NeighbourIndex::Auto,
             used_index: None,
+            period: None,
         }
+    }
+
+    /// The lists searched, and pairs separated, across the periodic axes of `period`.
+    pub fn with_period(self, period: Option<Period<V>>) -> Self {
+        Neighbours { period, ..self }
+    }
+
+    /// The separation `x_i − x_j` (its minimum image on periodic axes).
+    #[inline(always)]
+    pub fn separation(&self, xi: V, xj: V) -> V {
+        separation(self.period.as_ref(), xi, xj)
     }
 
     /// Empty lists whose first build uses `skin` and later builds follow `rule`.
@@ -297,7 +313,7 @@ impl<V: Vector> Neighbours<V> {
             .build_positions
             .iter()
             .enumerate()
-            .map(|(i, b)| (at(i) - *b).length_squared())
+            .map(|(i, b)| self.separation(at(i), *b).length_squared())
             .fold(0.0, Real::max);
         Some(max_d2.sqrt())
     }
@@ -330,7 +346,10 @@ impl<V: Vector> Neighbours<V> {
         self.support = Csr::default();
         self.dual = Csr::default();
         self.dual_slot = Vec::new();
-        let (support, used) = radius_csr(positions, &radii, self.index);
+        let (support, used) = match &self.period {
+            Some(p) => periodic_radius_csr(positions, &radii, self.index, p),
+            None => radius_csr(positions, &radii, self.index),
+        };
         self.support = support;
         self.used_index = Some(used);
         let (dual, slots) = self.support.transpose_with_slots();

@@ -433,3 +433,77 @@ fn parallel_transpose_equals_serial() {
         }
     }
 }
+
+/// Across a period: the lists of both indexes equal brute force over the nearest images
+/// (points given outside the box too, as after a step), on every mix of periodic axes, in
+/// 1-, 2- and 3-D; the minimum image is odd, `image(−d) = −image(d)`, bit for bit.
+fn check_periodic<V: Vector>(axes: [bool; 3]) {
+    let (mut pos, h) = cloud::<V>(600, 40 + V::DIM as u64);
+    let side = (600.0 as Real).powf(1.0 / V::DIM as Real);
+    let mut max = V::zero();
+    (0..V::DIM).for_each(|k| max.set(k, side));
+    let period = Period::new(V::zero(), max, axes).unwrap();
+    // a few points a little outside the box on a periodic axis, as the predictor leaves them
+    for (i, p) in pos.iter_mut().enumerate().step_by(37) {
+        for k in (0..V::DIM).filter(|&k| axes[k]) {
+            p.set(k, p.get(k) + if i % 2 == 0 { side } else { -side } * 1e-3);
+        }
+    }
+    let exact: Vec<Vec<u32>> = (0..pos.len())
+        .map(|i| {
+            (0..pos.len())
+                .filter(|&j| {
+                    j != i && period.image(pos[i] - pos[j]).length_squared() <= h[i] * h[i]
+                })
+                .map(|j| j as u32)
+                .collect()
+        })
+        .collect();
+    let exact = Csr::from_rows(exact);
+    let crossing = (0..pos.len())
+        .flat_map(|i| exact.row(i).iter().map(move |&j| (i, j as usize)))
+        .filter(|&(i, j)| period.image(pos[i] - pos[j]) != pos[i] - pos[j])
+        .count();
+    assert!(crossing >= 5, "{crossing} pairs across the period");
+    for index in [NeighbourIndex::CellGrid, NeighbourIndex::KdTree] {
+        let (c, used) = periodic_radius_csr(&pos, &h, index, &period);
+        assert_eq!(used, index);
+        assert_eq!(c, exact, "{}-D {axes:?} {index:?}", V::DIM);
+    }
+    for (i, &j) in exact.indices.iter().enumerate().take(500) {
+        let d = pos[i % pos.len()] - pos[j as usize];
+        assert_eq!(period.image(-d), -period.image(d));
+    }
+}
+
+#[test]
+fn periodic_lists_are_brute_force_over_the_nearest_images() {
+    check_periodic::<Vec1>([true, false, false]);
+    check_periodic::<DVec2>([true, false, false]);
+    check_periodic::<DVec2>([false, true, false]);
+    check_periodic::<DVec2>([true, true, false]);
+    check_periodic::<DVec3>([true, true, true]);
+    check_periodic::<DVec3>([false, true, true]);
+}
+
+/// A wrapped point lies in `[lo, lo + L)`, a whole number of periods from where it was.
+#[test]
+fn wrapping_lands_in_the_box_by_whole_periods() {
+    let p = Period::new(
+        DVec2::new(-1.0, 0.0),
+        DVec2::new(2.0, 1.0),
+        [true, false, false],
+    )
+    .unwrap();
+    for x in [-1.0, 2.0, 2.0 + 1e-17, -1.0 - 1e-17, 7.3, -9.9, 0.5] {
+        let w = p.wrap(DVec2::new(x, 5.0));
+        assert!((-1.0..2.0).contains(&w.x), "{x} -> {}", w.x);
+        assert_eq!(w.y, 5.0);
+        let periods = (x - w.x) / 3.0;
+        assert!((periods - periods.round()).abs() < 1e-12, "{x} -> {}", w.x);
+    }
+    assert_eq!(
+        Period::<DVec2>::new(DVec2::ZERO, DVec2::ONE, [false; 3]),
+        None
+    );
+}

@@ -33,6 +33,25 @@ pub struct Domain<V: Vector> {
     pub min: V,
     /// Upper corner.
     pub max: V,
+    /// The axes on which the box is periodic (see [`crate::neighbours::Period`]); the first
+    /// `V::DIM` are read.
+    pub periodic: [bool; 3],
+}
+
+impl<V: Vector> Domain<V> {
+    /// The box `[min, max]` with no periodic axis.
+    pub fn closed(min: V, max: V) -> Self {
+        Domain {
+            min,
+            max,
+            periodic: [false; 3],
+        }
+    }
+
+    /// The period of the box, when an axis is periodic.
+    pub fn period(&self) -> Option<crate::neighbours::Period<V>> {
+        crate::neighbours::Period::new(self.min, self.max, self.periodic)
+    }
 }
 
 /// How dt is chosen.

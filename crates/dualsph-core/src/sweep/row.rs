@@ -12,6 +12,7 @@ use crate::components::Position;
 use crate::kernels::KernelKind;
 use crate::lanes::{LaneVec, Lanes};
 use crate::math::{Matrix, Real, Vector};
+use crate::neighbours::Period;
 use crate::pair::{
     BoundTerm, EMPTY, Extra, Out, OwnerKernel, OwnerSums, PairLanes, ParticleData, RowTerm,
 };
@@ -166,12 +167,28 @@ pub(super) fn initialize<V: Vector>(
 /// Compacts the candidates with `|r_ij|² < h_i²` into the front of the scratch (`j`, slot,
 /// `r_ij`, `|r_ij|²`) and returns their number; with `w > 0`, zeroes each candidate's
 /// record of `w` reals in `records` on the way. Branch-free: every candidate is written at
-/// the next free place and the place is kept only if it is inside.
+/// the next free place and the place is kept only if it is inside. On a periodic domain
+/// `r_ij` is the minimum image ([`Period::image`]).
 #[inline(always)]
 fn compact_row<V: Vector>(
     cand: &[u32],
-    pos: &[Position<V>],
+    (pos, period): (&[Position<V>], Option<&Period<V>>),
     (xi, h2): (V, Real),
+    s: &mut RowScratch<V>,
+    (records, w): (&mut [Real], usize),
+) -> usize {
+    match period {
+        None => compact_with(cand, |j| xi - pos[j].0, h2, s, (records, w)),
+        Some(p) => compact_with(cand, |j| p.image(xi - pos[j].0), h2, s, (records, w)),
+    }
+}
+
+/// [`compact_row`] with the separation `rij(j)` of each candidate.
+#[inline(always)]
+fn compact_with<V: Vector>(
+    cand: &[u32],
+    rij: impl Fn(usize) -> V,
+    h2: Real,
     s: &mut RowScratch<V>,
     (records, w): (&mut [Real], usize),
 ) -> usize {
@@ -185,11 +202,11 @@ fn compact_row<V: Vector>(
     if w > 0 {
         for ((slot, &j), rec) in cand.iter().enumerate().zip(records.chunks_exact_mut(w)) {
             rec.fill(0.0);
-            at.put(slot, j, xi - pos[j as usize].0, h2);
+            at.put(slot, j, rij(j as usize), h2);
         }
     } else {
         for (slot, &j) in cand.iter().enumerate() {
-            at.put(slot, j, xi - pos[j as usize].0, h2);
+            at.put(slot, j, rij(j as usize), h2);
         }
     }
     at.n
@@ -510,15 +527,16 @@ fn row_of<V: Vector, E: GroupEval<V>, const STD: bool, const RATE_J: bool, const
     let data = &cut(&ctx.data);
     let kernel = OwnerKernel::new(ctx.kernel, data.h[i].0);
     let cand = ctx.neighbours.support.row(i);
+    let period = ctx.neighbours.period.as_ref();
     s.reserve(cand.len());
     let xi = (data.pos[i].0, kernel.h2);
     let n = if STD {
         // each candidate's record zeroed as it is compacted (those inside are then written)
         let w = V::DIM + 1 + RATE_J as usize;
-        compact_row(cand, data.pos, xi, s, (&mut *reactions, w))
+        compact_row(cand, (data.pos, period), xi, s, (&mut *reactions, w))
     } else {
         reactions.fill(0.0);
-        compact_row(cand, data.pos, xi, s, (&mut [], 0))
+        compact_row(cand, (data.pos, period), xi, s, (&mut [], 0))
     };
     let mut own = if plan.fresh {
         RowSums {

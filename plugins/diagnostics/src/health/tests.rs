@@ -10,10 +10,7 @@ fn sim() -> Sim<DVec2> {
     let mut sim = Sim::<DVec2>::new(SimConfig {
         kernel: KernelKind::CubicSpline,
         formulation: Formulation::DualSupport,
-        domain: Domain {
-            min: DVec2::ZERO,
-            max: DVec2::ONE,
-        },
+        domain: Domain::closed(DVec2::ZERO, DVec2::ONE),
         skin: 0.1,
         skin_rule: SkinRule::Fixed,
         time_stepping: TimeStepping::Fixed(1e-3),
