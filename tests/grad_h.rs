@@ -8,19 +8,8 @@ mod common;
 use common::*;
 use dualsph::plugins::*;
 use dualsph::prelude::*;
-use dualsph::report::{ReportOptions, sod};
+use dualsph::report::sod;
 use glam::{DVec2, DVec3};
-use std::path::PathBuf;
-
-fn options() -> ReportOptions {
-    ReportOptions {
-        scenes: PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes"),
-        out: std::env::temp_dir(),
-        coarsen: 1.0,
-        end_time: None,
-        log: false,
-    }
-}
 
 /// The rates' imbalances of a grad-h cloud with pressure and artificial viscosity.
 fn cloud_imbalances<V: Vector>(side: usize) -> (Real, Real, Real) {
@@ -64,7 +53,7 @@ fn grad_h_pair_sums_conserve_momentum_angular_momentum_and_energy_2d_3d() {
 
 #[test]
 fn grad_h_runs_the_sod_tube_with_h_tied_to_its_density_and_conserving() {
-    let opts = options();
+    let opts = report_options(1.0, None);
     let rec = dualsph::report::Recording {
         every: 10,
         ..Default::default()
@@ -128,7 +117,7 @@ fn grad_h_runs_the_sod_tube_with_h_tied_to_its_density_and_conserving() {
 
 #[test]
 fn grad_h_is_bitwise_the_same_on_one_and_two_threads() {
-    let opts = options();
+    let opts = report_options(1.0, None);
     let spec = &sod::cases(&opts).unwrap()[2];
     let rec = dualsph::report::Recording::default();
     let on = |threads: usize| {
