@@ -19,6 +19,7 @@ fn cloud_imbalances<V: Vector>(side: usize) -> (Real, Real, Real) {
         beta: 2.0,
         eta_factor: 0.1,
         materials: Vec::new(),
+        dissipation: true,
     };
     let h = SmoothingLengthUpdate {
         every: 1,

@@ -104,6 +104,7 @@ fn drop_sim(
             beta: 0.0,
             eta_factor: 0.1,
             materials: Vec::new(),
+            dissipation: false,
         },
         &SurfaceTension { sigma },
     ];
