@@ -27,7 +27,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 /// Extra diagnostics columns appended after the fixed ones.
-pub const EXTRA_COLUMNS: [&str; 3] = ["lx", "ly", "rho_var_max"];
+pub const EXTRA_COLUMNS: [&str; 4] = ["lx", "ly", "rho_var_max", "dissipated"];
 
 /// How to report progress.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -223,6 +223,7 @@ fn diag_row(d: &Diagnostics) -> DiagnosticsRow {
             d.angular_momentum[0],
             d.angular_momentum[1],
             d.max_density_variation,
+            d.dissipated,
         ]
         .into_iter()
         .chain(per_body(d).flat_map(BodyTotals::values))
@@ -238,7 +239,7 @@ fn per_body(d: &Diagnostics) -> impl Iterator<Item = &BodyTotals> {
 }
 
 /// The extra columns of `diagnostics.csv`: [`EXTRA_COLUMNS`], then for a scene of several
-/// bodies each body's totals, `mass[name]`, `px[name]`, …, `e_pot[name]`.
+/// bodies each body's totals, `mass[name]`, `px[name]`, …, `e_pot[name]`, `dissipated[name]`.
 fn diagnostics_columns(bodies: &Bodies) -> Vec<String> {
     let mut columns: Vec<String> = EXTRA_COLUMNS.iter().map(|s| s.to_string()).collect();
     if bodies.0.len() > 1 {

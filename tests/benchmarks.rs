@@ -6,22 +6,14 @@
 //! (`cargo test --release -- --ignored`). `dualsph report` runs the same cases at full
 //! resolution and writes the validation report.
 
-use dualsph::report::{ReportOptions, dam_break, drop, heat, sod};
-use std::path::PathBuf;
+mod common;
 
-fn options(coarsen: f64, end_time: Option<f64>) -> ReportOptions {
-    ReportOptions {
-        scenes: PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes"),
-        out: std::env::temp_dir(),
-        coarsen,
-        end_time,
-        log: false,
-    }
-}
+use common::report_options;
+use dualsph::report::{dam_break, drop, heat, sod};
 
 #[test]
 fn heat_conduction_matches_erf_and_conserves_energy_only_with_dual_support() {
-    let opts = options(1.0, None);
+    let opts = report_options(1.0, None);
     let rec = dualsph::report::Recording {
         every: 10,
         ..Default::default()
@@ -57,7 +49,7 @@ fn heat_conduction_matches_erf_and_conserves_energy_only_with_dual_support() {
 
 #[test]
 fn sod_tube_matches_the_exact_riemann_solution() {
-    let opts = options(1.0, None);
+    let opts = report_options(1.0, None);
     let rec = dualsph::report::Recording {
         every: 10,
         ..Default::default()
@@ -99,7 +91,7 @@ fn sod_tube_matches_the_exact_riemann_solution() {
 
 #[test]
 fn elliptical_drop_follows_the_ode_and_conserves_momentum_with_dual_support() {
-    let opts = options(1.0, None);
+    let opts = report_options(1.0, None);
     let rec = dualsph::report::Recording {
         every: 10,
         ..Default::default()
@@ -157,7 +149,7 @@ fn dam_break_two_level_dual_support_tracks_the_uniform_run_and_the_experiment() 
     // The paper's resolution (Case II 5,600 particles, Case III 12,800) up to t = 0.75 s, just
     // past the last experimental point: at half resolution the artificial viscosity (∝ h)
     // slows the front too much to meet the 0.30 m bound (measured: 0.347 m for Case II).
-    let opts = options(1.0, Some(0.75));
+    let opts = report_options(1.0, Some(0.75));
     let specs = dam_break::cases(&opts).unwrap();
     let rec = dualsph::report::Recording {
         every: 20,
@@ -196,7 +188,7 @@ fn dam_break_two_level_dual_support_tracks_the_uniform_run_and_the_experiment() 
 fn dam_break_total_energy_holds_to_two_and_a_half_seconds() {
     // Half the paper's resolution (1,400 and 3,200 particles) through the impact on the far
     // wall and the plunging wave, to t = 2.5 s.
-    let opts = options(2.0, None);
+    let opts = report_options(2.0, None);
     let specs = dam_break::cases(&opts).unwrap();
     let rec = dualsph::report::Recording {
         every: 20,

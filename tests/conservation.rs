@@ -24,6 +24,7 @@ fn pressure_av_heat_rates<V: Vector>(f: Formulation, side: usize) -> Vec<(Real, 
             beta: 2.0,
             eta_factor: 0.1,
             materials: Vec::new(),
+            dissipation: true,
         },
         HeatConduction {
             conductivity: 0.7,
@@ -178,6 +179,7 @@ fn equal_h_rates(f: Formulation) -> Vec<(Real, DVec2, DVec2, DVec2, Real)> {
             beta: 2.0,
             eta_factor: 0.1,
             materials: Vec::new(),
+            dissipation: true,
         },
         HeatConduction {
             conductivity: 0.7,

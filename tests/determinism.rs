@@ -38,6 +38,7 @@ fn run_steps_with(
                 beta: 2.0,
                 eta_factor: 0.1,
                 materials: Vec::new(),
+                dissipation: true,
             },
             HeatConduction {
                 conductivity: 0.7,

@@ -31,6 +31,7 @@ fn drift(eos: &dyn PluginConfig, scheme: &dyn PluginConfig, steps: usize) -> Rea
         beta: 2.0,
         eta_factor: 0.1,
         materials: Vec::new(),
+        dissipation: true,
     };
     let heat = HeatConduction {
         conductivity: 0.7,

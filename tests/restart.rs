@@ -116,6 +116,8 @@ fn resume_from_half_way_is_bitwise_identical_2d_dam_break() {
             "DensityRate",
             "Pressure",
             "SoundSpeed",
+            "Dissipated",
+            "DissipationRate",
         ],
         false,
     );
@@ -130,7 +132,7 @@ fn resume_from_half_way_is_bitwise_identical_with_the_position_verlet() {
     check_resume_text(
         "dam_coarse.ron + PositionVerlet",
         &text,
-        &["DensityRate"],
+        &["DensityRate", "Dissipated", "DissipationRate"],
         false,
     );
 }

@@ -2,18 +2,10 @@
 //! (`dualsph_reference::sedov`): DualSupport with h from Eq. 6.1, grad-h SPH and SingleSupport
 //! on the 2-D scene (2,500 particles) and the CI-sized 3-D scene (8,000).
 
-use dualsph::report::{ReportOptions, sedov};
-use std::path::PathBuf;
+mod common;
 
-fn options() -> ReportOptions {
-    ReportOptions {
-        scenes: PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes"),
-        out: std::env::temp_dir(),
-        coarsen: 1.0,
-        end_time: None,
-        log: false,
-    }
-}
+use common::report_options;
+use dualsph::report::sedov;
 
 fn show(c: &sedov::SedovCase) {
     println!(
@@ -56,7 +48,7 @@ fn check_energy(cases: &[sedov::SedovCase]) {
 
 #[test]
 fn sedov_2d_follows_the_self_similar_solution() {
-    let cases = sedov::run_cases(&options(), "sedov_2d.ron", 2).unwrap();
+    let cases = sedov::run_cases(&report_options(1.0, None), "sedov_2d.ron", 2).unwrap();
     cases.iter().for_each(show);
     let labels: Vec<&str> = cases.iter().map(|c| c.run.label.as_str()).collect();
     assert_eq!(labels, ["DualSupport", "grad-h", "SingleSupport"]);
@@ -85,7 +77,7 @@ fn sedov_2d_follows_the_self_similar_solution() {
 
 #[test]
 fn sedov_3d_follows_the_self_similar_solution() {
-    let cases = sedov::run_cases(&options(), "sedov_3d.ron", 3).unwrap();
+    let cases = sedov::run_cases(&report_options(1.0, None), "sedov_3d.ron", 3).unwrap();
     cases.iter().for_each(show);
     check_energy(&cases);
     // 8,000 particles: the shock only ~6 spacings out and the bins 0.18 R wide; measured

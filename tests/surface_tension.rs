@@ -102,6 +102,7 @@ fn drop_sim(
             beta: 0.0,
             eta_factor: 0.1,
             materials: Vec::new(),
+            dissipation: false,
         },
         &SurfaceTension { sigma },
     ];

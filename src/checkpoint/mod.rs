@@ -30,7 +30,7 @@ use std::path::{Path, PathBuf};
 pub const MAGIC: &[u8; 8] = b"DSPHCKPT";
 /// Version of the layout written by this build (of the file and of the columns it carries); a
 /// file of another version is refused.
-pub const FORMAT_VERSION: u32 = 4;
+pub const FORMAT_VERSION: u32 = 5;
 const HEADER_LEN: usize = 8 + 4 + 8 + 8;
 
 /// One particle component: `width` reals per particle, particles in row order.
@@ -104,7 +104,8 @@ pub struct Checkpoint {
     /// Step of the last row written to `diagnostics.csv`.
     pub last_diagnostics_step: u64,
     /// Diagnostics at t = 0 (see [`crate::runner::RunSummary::initial`]), as
-    /// `[t, dt, mass, p(3), L(3), e_kin, e_int, e_pot, e_tot, max_rho_var, p_scale]`.
+    /// `[t, dt, mass, p(3), L(3), e_kin, e_int, e_pot, e_tot, max_rho_var, p_scale, dissipated]`,
+    /// then each body's `BodyTotals::values`.
     pub initial_diagnostics: Vec<f64>,
 }
 

@@ -75,13 +75,14 @@ fn diagnostics_values(d: &Diagnostics) -> Vec<f64> {
         d.e_tot,
         d.max_density_variation,
         d.momentum_scale,
+        d.dissipated,
     ]);
     v.extend(d.per_body.iter().flat_map(BodyTotals::values));
     v
 }
 
 /// How many reals [`diagnostics_values`] stores before the per-body totals.
-const TOTALS: usize = 15;
+const TOTALS: usize = 16;
 
 /// The diagnostics at t = 0 stored in a checkpoint (zeros where missing).
 pub(crate) fn initial_diagnostics(c: &Checkpoint) -> Diagnostics {
@@ -100,12 +101,15 @@ pub(crate) fn initial_diagnostics(c: &Checkpoint) -> Diagnostics {
         e_tot: v(12),
         max_density_variation: v(13),
         momentum_scale: v(14),
+        dissipated: v(15),
         per_body: c
             .initial_diagnostics
             .get(TOTALS..)
             .unwrap_or_default()
             .chunks_exact(BodyTotals::NAMES.len())
-            .map(|b| BodyTotals::from_values(b.try_into().expect("chunks of 7")))
+            .map(|b| {
+                BodyTotals::from_values(b.try_into().expect("chunks of BodyTotals::NAMES.len()"))
+            })
             .collect(),
     }
 }

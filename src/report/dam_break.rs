@@ -4,11 +4,11 @@
 //! (uniform fine), total energy against time, and the particles coloured by four initial height
 //! bands.
 
-use super::failures;
 use super::{
     COST_HEADERS, CaseRun, CaseSpec, Recording, ReportError, ReportOptions, Section, Table,
     cost_cells, image, image_in,
 };
+use super::{budget, failures};
 use dualsph_plot::{LinePlot, ScatterPlot, Series, SeriesStyle};
 use dualsph_reference::dam_break::KOSHIZUKA_OKA_FRONT;
 use dualsph_reference::norms::{interpolate, rms_against};
@@ -230,6 +230,7 @@ pub fn run(opts: &ReportOptions) -> Result<(Section, Vec<DamBreakCase>), ReportE
     body += &verdict(&graded);
     body += &image("water front against the experiment", &front_png);
     body += &image("total energy against time", &energy_png);
+    body += &energy_budget(opts, &graded)?;
     body += "Particles coloured by their initial height band (0–0.5, 0.5–1, 1–1.5, 1.5–2 m):\n\n";
     body += &snaps.render();
     body += &measurements(opts, &graded, &case_dir)?;
@@ -240,6 +241,37 @@ pub fn run(opts: &ReportOptions) -> Result<(Section, Vec<DamBreakCase>), ReportE
         },
         graded,
     ))
+}
+
+/// The times of the energy-budget table (and its last row).
+pub const BUDGET_TIMES: [f64; 6] = [0.25, 0.5, 1.0, 1.5, 2.0, 2.5];
+
+/// The energy budget (`super::budget`): Case II's table and plot, and each case's shares.
+fn energy_budget(opts: &ReportOptions, graded: &[DamBreakCase]) -> Result<String, ReportError> {
+    let case2 = &graded[1].run;
+    let rows = budget::series(case2);
+    let png = opts.file("dam_break_budget.png");
+    budget::plot(
+        &rows,
+        &format!("Dam break energy budget: {}", case2.label),
+        &png,
+    )?;
+    let mut md = format!(
+        "### Energy budget
+
+The changes since t = 0 of the kinetic, potential and internal energy, the internal \
+         energy split into the heat of the artificial viscosity D (`dissipated` of `diagnostics.csv`: the time \
+         integral of each pair's heat `½ m_i m_j (Π_ij/2) v_ij·∇_iW_ij` to each of i and j, summed over the \
+         particles) and the rest, W_c = ΔE_int − D, the reversible compression work (J per metre of depth). {}:\n\n",
+        case2.label
+    );
+    md += &budget::table(&rows, &BUDGET_TIMES);
+    for c in graded {
+        md += &budget::finding(&c.run.label, &budget::series(&c.run));
+        md += "\n\n";
+    }
+    md += &image("energy budget against time", &png);
+    Ok(md)
 }
 
 /// The probes of each case (wall pressure sensor and water-height gauges, declared in the

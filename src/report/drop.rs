@@ -154,11 +154,8 @@ fn finding(ds: &DropCase, ss: &DropCase) -> String {
 /// Runs, grades, plots and writes the section.
 pub fn run(opts: &ReportOptions) -> Result<(Section, Vec<DropCase>), ReportError> {
     let specs = cases(opts)?;
-    let h_factor = match specs[0].scene.particles.first() {
-        Some(dualsph_scene::Generator::Block(b)) => b.h_factor,
-        Some(dualsph_scene::Generator::Disk(d)) => d.h_factor,
-        None => f64::NAN,
-    };
+    let first = specs[0].scene.particles.first();
+    let h_factor = first.map_or(f64::NAN, dualsph_scene::Generator::h_factor);
     let graded = opts.run_graded(&specs, &ReportOptions::every_ten_steps(), grade)?;
     let t = graded[0].run.final_diagnostics().t;
 

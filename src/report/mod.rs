@@ -7,6 +7,7 @@
 //! computes the error metrics, draws the plots and returns a markdown [`Section`] together
 //! with a typed result that the end-to-end tests assert on.
 
+pub mod budget;
 pub mod case;
 pub mod dam_break;
 pub mod drop;

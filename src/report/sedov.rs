@@ -117,11 +117,8 @@ pub fn grade(run: CaseRun, dimension: usize, dr: f64) -> SedovCase {
 
 /// The lattice spacing of a scene's first generator (the bin width of the grading).
 fn spacing(spec: &CaseSpec) -> f64 {
-    match spec.scene.particles.first() {
-        Some(dualsph_scene::Generator::Block(b)) => b.spacing,
-        Some(dualsph_scene::Generator::Disk(d)) => d.spacing,
-        None => f64::NAN,
-    }
+    let first = spec.scene.particles.first();
+    first.map_or(f64::NAN, dualsph_scene::Generator::spacing)
 }
 
 /// Runs and grades the cases of `file` (of `dimension`).

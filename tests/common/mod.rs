@@ -175,3 +175,15 @@ pub fn ron_files(dir: &str) -> Vec<std::path::PathBuf> {
     files.sort();
     files
 }
+
+/// The report's options for the repository's scenes folder, writing to the temporary
+/// directory without a log: spacing × `coarsen`, to `end_time` (the scene's when `None`).
+pub fn report_options(coarsen: Real, end_time: Option<Real>) -> dualsph::report::ReportOptions {
+    dualsph::report::ReportOptions {
+        scenes: std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes"),
+        out: std::env::temp_dir(),
+        coarsen,
+        end_time,
+        log: false,
+    }
+}

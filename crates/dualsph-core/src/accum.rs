@@ -9,7 +9,7 @@
 //! set to `finish(Σ)`: the sweep owns the column for the step.
 
 use crate::columns::{ColumnValue, Shape, take_vector};
-use crate::components::{Acceleration, DensityRate, EnergyRate, Mass};
+use crate::components::{Acceleration, DensityRate, DissipationRate, EnergyRate, Mass};
 use crate::kernels::Kernel;
 use crate::math::{Real, Vector};
 use crate::pair::{MAX_NEIGHBOUR_CHANNELS, MAX_OWNER_CHANNELS};
@@ -420,6 +420,16 @@ impl<'l, 'w, V: Vector> Binder<'l, 'w, V> {
             .declare((Reaction::Separate, 1, Some(Standard::Power)), finish, true)
             .map(drop)
             .map_err(|e| format!("{}: {e}", self.term))
+    }
+
+    /// Declares that the term adds to the dissipation rate of each particle (`m_i ḋ_i`,
+    /// [`Reaction::Separate`], with [`crate::pair::Out::add`] and [`crate::pair::Out::react`]
+    /// on the handle returned), which goes into its [`DissipationRate`] (divided by `m_i`):
+    /// the part of its power that is heat, for the energy budget
+    /// ([`crate::integrate::ensure_dissipation`]).
+    pub fn dissipation(&mut self) -> Result<Acc, String> {
+        let finish = |d: &mut DissipationRate, s: &[Real], m: Real| d.rate = s[0] / m;
+        self.accumulate::<DissipationRate>(Reaction::Separate, 1, finish)
     }
 
     /// Declares that the term adds to the density rate `dρ_i/dt` ([`DensityRate`], with

@@ -133,6 +133,7 @@ scalar_column!(
     Pressure,
     SoundSpeed,
     InternalEnergy,
+    Dissipated,
     Conductivity,
     GradHFactor
 );
@@ -152,7 +153,7 @@ macro_rules! rate_column {
         }
     )*};
 }
-rate_column!(EnergyRate, DensityRate);
+rate_column!(EnergyRate, DensityRate, DissipationRate);
 
 /// What a plugin declares about one of its columns.
 #[derive(Clone, Debug, PartialEq, Eq)]

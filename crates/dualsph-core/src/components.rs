@@ -52,6 +52,22 @@ pub struct EnergyRate {
     pub rate: Real,
 }
 
+/// Specific dissipated energy `d_i = ∫ ḋ_i dt`: the heat the dissipative pair terms (the
+/// artificial viscosity) have put into particle i's internal energy since the start, per unit
+/// mass (added with [`crate::integrate::ensure_dissipation`]). It is part of
+/// [`InternalEnergy`], not added to it: `Σ m_i d_i` is the dissipated energy of the run and
+/// `Σ m_i (ε_i − d_i)` the rest of the internal energy (the reversible compression work).
+#[derive(Component, Clone, Copy, Debug, Default, PartialEq)]
+pub struct Dissipated(pub Real);
+
+/// `ḋ_i`: the heating rate per unit mass of the dissipative pair terms, a part of
+/// [`EnergyRate`] (integrated into [`Dissipated`]).
+#[derive(Component, Clone, Copy, Debug, Default, PartialEq)]
+pub struct DissipationRate {
+    /// `dd/dt` from the last evaluation.
+    pub rate: Real,
+}
+
 /// `dρ_i/dt` (added by the continuity equation; integrated into [`Density`]).
 #[derive(Component, Clone, Copy, Debug, Default, PartialEq)]
 pub struct DensityRate {

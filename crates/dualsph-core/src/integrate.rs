@@ -67,7 +67,7 @@ macro_rules! scalar_state {
         }
     )*};
 }
-scalar_state!(Density, InternalEnergy);
+scalar_state!(Density, InternalEnergy, Dissipated);
 
 macro_rules! scalar_rate {
     ($($t:ty),*) => {$(
@@ -79,7 +79,7 @@ macro_rules! scalar_rate {
         }
     )*};
 }
-scalar_rate!(DensityRate, EnergyRate);
+scalar_rate!(DensityRate, EnergyRate, DissipationRate);
 
 /// Two reals per particle that a scheme keeps for the integrated scalar `S` (e.g. its value
 /// and rate at the start of the step). Added, as a column, by the scheme that uses them
@@ -365,6 +365,27 @@ pub fn ensure_energy_equation<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimErro
     let spec = ColumnSpec::restart_only("energy_rate");
     sim.add_column(spec, move |_| EnergyRate { rate: 0.0 })?;
     sim.integrate::<InternalEnergy, EnergyRate>(INTERNAL_ENERGY)?;
+    Ok(())
+}
+
+/// The name of the dissipated energy as an integrated scalar ([`ensure_dissipation`]).
+pub const DISSIPATED: &str = "dissipated";
+
+/// Adds the dissipated-energy channel once (with the energy equation): [`Dissipated`] (0 at
+/// the start; written to snapshots as `dissipated` and kept in checkpoints) and
+/// [`DissipationRate`] on every particle, and declares `dd/dt` integrated by the scene's
+/// scheme with the same rule as the internal energy's rates. A dissipative pair term sums its
+/// heat into `DissipationRate` as well as into the power ([`Binder::dissipation`](crate::accum::Binder::dissipation)).
+pub fn ensure_dissipation<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimError> {
+    ensure_energy_equation(sim)?;
+    if !sim.enable_feature("dissipation") {
+        return Ok(());
+    }
+    let spec = ColumnSpec::state(DISSIPATED, "e_diss");
+    sim.add_column(spec, |_| Dissipated(0.0))?;
+    let spec = ColumnSpec::restart_only("dissipation_rate");
+    sim.add_column(spec, move |_| DissipationRate { rate: 0.0 })?;
+    sim.integrate::<Dissipated, DissipationRate>(DISSIPATED)?;
     Ok(())
 }
 

@@ -263,6 +263,11 @@ impl Generator {
         self.common().spacing
     }
 
+    /// The ratio of the support radius to the spacing, `h = h_factor·Δx`.
+    pub fn h_factor(&self) -> f64 {
+        self.common().h_factor
+    }
+
     pub(crate) fn common(&self) -> Common<'_> {
         match self {
             Generator::Block(b) => Common {

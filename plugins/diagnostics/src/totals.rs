@@ -1,6 +1,13 @@
 //! The totals of the state: mass, linear and angular momentum, kinetic / internal /
-//! potential / total energy, per body and in all, and the largest density variation, summed
-//! in particle-id order (deterministic).
+//! potential / total energy, the dissipated part of the internal energy, per body and in all,
+//! and the largest density variation, summed in particle-id order (deterministic).
+//!
+//! The energy budget: `e_kin + e_int + e_pot` is conserved (to round-off with the integrators'
+//! work-consistent update), and the internal energy gained since the start splits into the
+//! heat of the dissipative terms and the rest, the reversible compression work:
+//! `e_int − e_int(0) = (e_int − dissipated − e_int(0)) + dissipated`, with
+//! `dissipated = Σ m_i d_i ≥ 0` never decreasing ([`Dissipated`]: the time integral of the
+//! artificial viscosity's heating, 0 in a scene without it).
 
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::bodies::{Bodies, BodyId};
@@ -35,6 +42,9 @@ pub struct Diagnostics {
     pub e_pot: Real,
     /// e_kin + e_int + e_pot.
     pub e_tot: Real,
+    /// Σ m d: the part of `e_int` that the dissipative terms put in ([`Dissipated`]; 0 when
+    /// the particles have no such column).
+    pub dissipated: Real,
     /// max |ρ_i/ρ_i(0) − 1| over the particles, with ρ_i(0) their [`InitialDensity`]
     /// (NaN when the particles have none: a simulation without the plugin).
     pub max_density_variation: Real,
@@ -57,26 +67,40 @@ pub struct BodyTotals {
     pub e_int: Real,
     /// Σ m φ(r).
     pub e_pot: Real,
+    /// Σ m d.
+    pub dissipated: Real,
 }
 
 impl BodyTotals {
     /// The names of [`BodyTotals::values`], in order.
-    pub const NAMES: [&'static str; 7] = ["mass", "px", "py", "pz", "e_kin", "e_int", "e_pot"];
+    pub const NAMES: [&'static str; 8] = [
+        "mass",
+        "px",
+        "py",
+        "pz",
+        "e_kin",
+        "e_int",
+        "e_pot",
+        "dissipated",
+    ];
 
     /// The totals as a list, in the order of [`BodyTotals::NAMES`].
-    pub fn values(&self) -> [Real; 7] {
+    pub fn values(&self) -> [Real; 8] {
         let [px, py, pz] = self.momentum;
-        [self.mass, px, py, pz, self.e_kin, self.e_int, self.e_pot]
+        let energies = [self.e_kin, self.e_int, self.e_pot, self.dissipated];
+        let [e_kin, e_int, e_pot, dissipated] = energies;
+        [self.mass, px, py, pz, e_kin, e_int, e_pot, dissipated]
     }
 
     /// The totals from a list in the order of [`BodyTotals::NAMES`].
-    pub fn from_values(v: &[Real; 7]) -> Self {
+    pub fn from_values(v: &[Real; 8]) -> Self {
         BodyTotals {
             mass: v[0],
             momentum: [v[1], v[2], v[3]],
             e_kin: v[4],
             e_int: v[5],
             e_pot: v[6],
+            dissipated: v[7],
         }
     }
 }
@@ -123,6 +147,7 @@ type DiagQuery<'w, 's, V> = Query<
         &'static Mass,
         &'static Density,
         Option<&'static InternalEnergy>,
+        Option<&'static Dissipated>,
         &'static BodyId,
         Option<&'static InitialDensity>,
     ),
@@ -163,11 +188,12 @@ pub fn compute_diagnostics_now<V: Vector>(
     };
     let mut p = DVec3::ZERO;
     let mut l = DVec3::ZERO;
-    for (_, r, v, m, rho, e, body, r0) in rows {
+    for (_, r, v, m, rho, e, diss, body, r0) in rows {
         let (x, u) = (r.0.to_xyz(), v.0.to_xyz());
         let mv = DVec3::from_array(u) * m.0;
         let e_kin = 0.5 * m.0 * v.0.length_squared();
         let e_int = e.map_or(0.0, |e| m.0 * e.0);
+        let dissipated = diss.map_or(0.0, |x| m.0 * x.0);
         let mut e_pot = 0.0;
         for (phi, par) in potentials.terms.iter().zip(&potentials.params) {
             e_pot += m.0 * phi(&x, par);
@@ -179,6 +205,7 @@ pub fn compute_diagnostics_now<V: Vector>(
         d.e_kin += e_kin;
         d.e_int += e_int;
         d.e_pot += e_pot;
+        d.dissipated += dissipated;
         if let Some(b) = d.per_body.get_mut(body.0 as usize) {
             b.mass += m.0;
             for (k, x) in b.momentum.iter_mut().enumerate() {
@@ -187,6 +214,7 @@ pub fn compute_diagnostics_now<V: Vector>(
             b.e_kin += e_kin;
             b.e_int += e_int;
             b.e_pot += e_pot;
+            b.dissipated += dissipated;
         }
         d.max_density_variation = match r0 {
             Some(r0) => d.max_density_variation.max((rho.0 / r0.0 - 1.0).abs()),

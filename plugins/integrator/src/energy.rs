@@ -36,6 +36,7 @@
 //! leaves, before them.
 
 use dualsph_core::bevy_ecs::prelude::*;
+use dualsph_core::bevy_ecs::system::ScheduleSystem;
 use dualsph_core::chunks::{DENSE, MIN_LEN};
 use dualsph_core::columns::{ColumnValue, Shape, put_vector, take_vector};
 use dualsph_core::prelude::*;
@@ -117,8 +118,15 @@ pub fn correction<V: Vector, const K: usize>(terms: [(Real, V, Real); K], vbar: 
 }
 
 /// Adds the record of the evaluations and the system that keeps it (right after the force
-/// sweep); the scheme adds its correction in `Correct`.
-pub(crate) fn install<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimError> {
+/// sweep), and the scheme's correction `system` in `Correct`: after the scheme's velocity
+/// update `kinematics` and its update of ε `scalar` (system names), before the bodies are
+/// driven.
+pub(crate) fn install<V: Vector, M: 'static>(
+    sim: &mut Sim<V>,
+    system: impl IntoScheduleConfigs<ScheduleSystem, M> + Send + Sync + 'static,
+    kinematics: &str,
+    scalar: &str,
+) -> Result<(), SimError> {
     sim.add_column(ColumnSpec::restart_only("pair_work_evaluations"), |_| {
         Evaluations::<V>::default()
     })?;
@@ -128,11 +136,15 @@ pub(crate) fn install<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimError> {
         record_evaluation::<V>,
     )
     .after(dualsph_core::sweep::FORCES);
+    sim.add_system(StepSet::Correct, CORRECT_LABEL, system)
+        .after(kinematics)
+        .after(scalar)
+        .before("drive_bodies");
     Ok(())
 }
 
 /// The label of a scheme's correction system.
-pub(crate) const CORRECT_LABEL: &str = "correct_energy_work (work-consistent energy)";
+const CORRECT_LABEL: &str = "correct_energy_work (work-consistent energy)";
 
 #[cfg(test)]
 mod tests {

@@ -158,12 +158,9 @@ impl<V: Vector> Scheme<V> for Leapfrog {
             ("correct", Arc::new(correct_scalar)),
         )?;
         if equation.name() == INTERNAL_ENERGY && self.0 == EnergyUpdate::Consistent {
-            crate::energy::install(sim)?;
+            let scalar = format!("correct_{INTERNAL_ENERGY}");
             let system = correct_energy_work::<V>;
-            sim.add_system(StepSet::Correct, crate::energy::CORRECT_LABEL, system)
-                .after("correct_kinematics")
-                .after(&format!("correct_{INTERNAL_ENERGY}"))
-                .before("drive_bodies");
+            crate::energy::install(sim, system, "correct_kinematics", &scalar)?;
         }
         Ok(())
     }

@@ -160,12 +160,9 @@ impl<V: Vector> Scheme<V> for Verlet {
             ("kick", Arc::new(kick_scalar)),
         )?;
         if equation.name() == INTERNAL_ENERGY && self.0 == EnergyUpdate::Consistent {
-            crate::energy::install(sim)?;
+            let scalar = format!("kick_{INTERNAL_ENERGY}");
             let system = correct_energy_work::<V>;
-            sim.add_system(StepSet::Correct, crate::energy::CORRECT_LABEL, system)
-                .after("kick_and_drift")
-                .after(&format!("kick_{INTERNAL_ENERGY}"))
-                .before("drive_bodies");
+            crate::energy::install(sim, system, "kick_and_drift", &scalar)?;
         }
         Ok(())
     }

@@ -2,7 +2,9 @@
 //!
 //! * `ArtificialViscosity(alpha, beta, eta_factor)` — Eq. 4.17 in the dual form of Eq. 4.19:
 //!   `f_ij = −m_i m_j (Π_ij/2) ∇_iW_ij` on i, `−f_ij` on j; the dissipated work `−f_ij·v_ij ≥ 0`
-//!   is shared ½/½ as internal energy (Eq. 4.20).
+//!   is shared ½/½ as internal energy (Eq. 4.20). The same heat is summed into the particles'
+//!   `DissipationRate`, integrated into their `Dissipated` energy (the energy budget's
+//!   dissipated part, `dualsph_core::integrate::ensure_dissipation`) with `dissipation: true`.
 //! * `PhysicalViscosity(mu)` — Eq. 4.23: `f_ij = m_i m_j (μ/ρ_i²) (r_ij·∇_iW_ij)/(r_ij²+η²) v_ij`,
 //!   `η = 0.1 h_i`, work shared ½/½ (Eq. 4.24).
 //!
@@ -17,7 +19,7 @@
 //!   being symmetric, angular momentum is conserved exactly.
 #![warn(missing_docs)]
 
-use dualsph_core::integrate::ensure_energy_equation;
+use dualsph_core::integrate::{ensure_dissipation, ensure_energy_equation};
 use dualsph_core::prelude::*;
 use dualsph_core::sim::MaxViscosity;
 use dualsph_kernel_correction::ensure_velocity_gradient;
@@ -37,6 +39,12 @@ pub struct ArtificialViscosity {
     /// Other coefficients by body: `materials: [(body: "oil", alpha: 0.1, beta: 0.0)]`.
     #[serde(default)]
     pub materials: Vec<AvMaterial>,
+    /// Whether the heat is also integrated apart, as each particle's `Dissipated` energy
+    /// (the energy budget's dissipated part; default false). The extra sum takes the force
+    /// sweep off its fixed record layout: about half as many instructions again per step on
+    /// the dam break (`examples/perf`, callgrind), so it is on only in the scenes that ask.
+    #[serde(default)]
+    pub dissipation: bool,
 }
 
 /// A body's own artificial-viscosity coefficients (see [`ArtificialViscosity::materials`]).
@@ -67,6 +75,8 @@ pub struct ArtificialViscosityTerm {
     /// `(α, β)` of every body by [`BodyId`] when the bodies differ; empty when every particle
     /// has the plugin's `(alpha, beta)`.
     pub by_body: Vec<(Real, Real)>,
+    /// Whether the heat is summed into [`DissipationRate`] too.
+    pub dissipation: bool,
 }
 
 /// One particle's values in the artificial viscosity: `(h, c, ρ)`.
@@ -106,6 +116,8 @@ pub struct BoundAv<'w, V: Vector> {
     body: Option<&'w [BodyId]>,
     /// Ω of the grad-h formulation, which divides the owner's mass.
     omega: Option<&'w [GradHFactor]>,
+    /// The dissipation-rate sum, when the heat is tracked apart.
+    dissipation: Option<Acc>,
 }
 
 impl<V: Vector> PairTerm<V> for ArtificialViscosityTerm {
@@ -123,12 +135,17 @@ impl<V: Vector> PairTerm<V> for ArtificialViscosityTerm {
         } else {
             Some(b.require::<BodyId>()?)
         };
+        let dissipation = match self.dissipation {
+            true => Some(b.dissipation()?),
+            false => None,
+        };
         Ok(BoundAv {
             term: self,
             data: b.data(),
             sound: b.require()?,
             body,
             omega: b.column(),
+            dissipation,
         })
     }
 }
@@ -157,7 +174,10 @@ impl<V: Vector> BoundTerm<V> for BoundAv<'_, V> {
     }
 
     /// The pair's force `−m_i m_j (Π_ij/2) ∇_iW_ij` and its heat, half to each (Eqs. 4.17,
-    /// 4.20); a receding pair adds zeros.
+    /// 4.20), into the power and, tracked apart, the dissipation rate; a receding pair adds
+    /// zeros. The heat `½ m_i m_j (Π_ij/2) v_ij·∇_iW_ij` is never negative: `Π_ij ≥ 0`
+    /// (`num ≥ 0` with `x ≤ 0`), and `v_ij·∇_iW_ij = W'(r) v_ij·r_ij/r ≥ 0` when the pair
+    /// approaches (`W' ≤ 0`), `Π_ij = 0` otherwise.
     #[inline(always)]
     fn interact<T: Lanes>(&self, o: &Self::Owner, p: &PairLanes<'_, T, V>, out: &mut Out<'_, T>) {
         let d = p.data();
@@ -177,6 +197,10 @@ impl<V: Vector> BoundTerm<V> for BoundAv<'_, V> {
         let heat = c(0.5) * coef * vij.dot::<V>(g);
         out.add_power(heat);
         out.react_power(heat);
+        if let Some(acc) = self.dissipation {
+            out.add(acc, heat);
+            out.react(acc, heat);
+        }
     }
 }
 
@@ -207,6 +231,9 @@ impl SimPlugin for ArtificialViscosity {
             "ArtificialViscosity needs an equation of state for the sound speed",
         );
         ensure_energy_equation(sim)?;
+        if self.dissipation {
+            ensure_dissipation(sim)?;
+        }
         let own = self
             .materials
             .iter()
@@ -217,6 +244,7 @@ impl SimPlugin for ArtificialViscosity {
             beta: self.beta,
             eta_factor: self.eta_factor,
             by_body,
+            dissipation: self.dissipation,
         });
         Ok(())
     }
@@ -493,6 +521,7 @@ mod tests {
             beta: 2.0,
             eta_factor: 0.1,
             by_body: Vec::new(),
+            dissipation: true,
         };
         check_lanes_2d(&av).unwrap();
         let physical = PhysicalViscosityTerm {

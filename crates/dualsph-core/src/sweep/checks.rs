@@ -3,8 +3,8 @@
 
 use super::*;
 use crate::components::{
-    Acceleration, Conductivity, DensityRate, EnergyRate, GradientCorrection, InternalEnergy,
-    Pressure, SoundSpeed, VelocityGradient,
+    Acceleration, Conductivity, DensityRate, DissipationRate, EnergyRate, GradientCorrection,
+    InternalEnergy, Pressure, SoundSpeed, VelocityGradient,
 };
 use crate::lanes::{LaneVec, Lanes};
 use crate::pair::{Extra, Out, OwnerKernel};
@@ -45,6 +45,7 @@ pub fn lattice_2d() -> World {
     insert_column(&mut world, |_| Acceleration(DVec2::ZERO));
     insert_column(&mut world, |_| EnergyRate::default());
     insert_column(&mut world, |_| DensityRate::default());
+    insert_column(&mut world, |_| DissipationRate::default());
     insert_column(&mut world, |_| VelocityGradient::<DVec2>(glam::DMat2::ZERO));
     insert_column(&mut world, |i| {
         let a = 1.0 + 0.01 * (i % 7) as Real;
