@@ -9,20 +9,18 @@
 mod common;
 
 use common::report_options;
-use dualsph::report::{dam_break, drop, heat, sod};
+use dualsph::report::{ReportOptions, dam_break, drop, heat, sod};
 
 #[test]
 fn heat_conduction_matches_erf_and_conserves_energy_only_with_dual_support() {
     let opts = report_options(1.0, None);
-    let rec = dualsph::report::Recording {
-        every: 10,
-        ..Default::default()
-    };
-    let cases: Vec<_> = heat::cases(&opts)
-        .unwrap()
-        .iter()
-        .map(|c| heat::grade(opts.run(c, &rec).unwrap()))
-        .collect();
+    let cases = opts
+        .run_graded(
+            &heat::cases(&opts).unwrap(),
+            &ReportOptions::every_ten_steps(),
+            heat::grade,
+        )
+        .unwrap();
     let (uniform, single, dual) = (&cases[0], &cases[1], &cases[2]);
     println!(
         "heat: {:?}",
@@ -50,15 +48,13 @@ fn heat_conduction_matches_erf_and_conserves_energy_only_with_dual_support() {
 #[test]
 fn sod_tube_matches_the_exact_riemann_solution() {
     let opts = report_options(1.0, None);
-    let rec = dualsph::report::Recording {
-        every: 10,
-        ..Default::default()
-    };
-    let cases: Vec<_> = sod::cases(&opts)
-        .unwrap()
-        .iter()
-        .map(|c| sod::grade(opts.run(c, &rec).unwrap()))
-        .collect();
+    let cases = opts
+        .run_graded(
+            &sod::cases(&opts).unwrap(),
+            &ReportOptions::every_ten_steps(),
+            sod::grade,
+        )
+        .unwrap();
     let dual = &cases[0];
     println!(
         "sod L1 (ρ, u, p, e): dual {:?}, single {:?}",
@@ -92,15 +88,13 @@ fn sod_tube_matches_the_exact_riemann_solution() {
 #[test]
 fn elliptical_drop_follows_the_ode_and_conserves_momentum_with_dual_support() {
     let opts = report_options(1.0, None);
-    let rec = dualsph::report::Recording {
-        every: 10,
-        ..Default::default()
-    };
-    let cases: Vec<_> = drop::cases(&opts)
-        .unwrap()
-        .iter()
-        .map(|c| drop::grade(opts.run(c, &rec).unwrap()))
-        .collect();
+    let cases = opts
+        .run_graded(
+            &drop::cases(&opts).unwrap(),
+            &ReportOptions::every_ten_steps(),
+            drop::grade,
+        )
+        .unwrap();
     let (dual, single) = (&cases[0], &cases[1]);
     println!(
         "drop: b = {} (ODE {}), drifts P {:e} L {:e} E {:e}; single P {:e} L {:e}",

@@ -8,7 +8,7 @@ mod common;
 use common::*;
 use dualsph::plugins::*;
 use dualsph::prelude::*;
-use dualsph::report::sod;
+use dualsph::report::{ReportOptions, sod};
 use glam::{DVec2, DVec3};
 
 /// The rates' imbalances of a grad-h cloud with pressure and artificial viscosity.
@@ -55,15 +55,13 @@ fn grad_h_pair_sums_conserve_momentum_angular_momentum_and_energy_2d_3d() {
 #[test]
 fn grad_h_runs_the_sod_tube_with_h_tied_to_its_density_and_conserving() {
     let opts = report_options(1.0, None);
-    let rec = dualsph::report::Recording {
-        every: 10,
-        ..Default::default()
-    };
-    let cases: Vec<_> = sod::cases(&opts)
-        .unwrap()
-        .iter()
-        .map(|c| sod::grade(opts.run(c, &rec).unwrap()))
-        .collect();
+    let cases = opts
+        .run_graded(
+            &sod::cases(&opts).unwrap(),
+            &ReportOptions::every_ten_steps(),
+            sod::grade,
+        )
+        .unwrap();
     for c in &cases {
         let d = &c.run.diagnostics;
         println!(
