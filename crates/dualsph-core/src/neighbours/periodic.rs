@@ -54,18 +54,6 @@ impl<V: Vector> Period<V> {
         })
     }
 
-    /// Whether axis `k` is periodic.
-    #[inline]
-    pub fn is_periodic(&self, k: usize) -> bool {
-        self.axes[k]
-    }
-
-    /// The period `L_k` of axis `k` (0 on an axis that is not periodic).
-    #[inline]
-    pub fn length(&self, k: usize) -> Real {
-        self.len.get(k)
-    }
-
     /// The shortest period.
     pub fn shortest(&self) -> Real {
         (0..V::DIM)
@@ -130,6 +118,10 @@ pub fn periodic_radius_csr<V: Vector>(
 ) -> (Csr, NeighbourIndex) {
     let n = points.len();
     let reach = radii.iter().copied().fold(0.0, Real::max);
+    debug_assert!(
+        period.fits(reach),
+        "a search radius {reach} reaches half a period"
+    );
     let mut pts: Vec<V> = points.par_iter().map(|&x| period.wrap(x)).collect();
     let mut rad = radii.to_vec();
     let mut image_of: Vec<u32> = Vec::new();
