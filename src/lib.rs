@@ -43,7 +43,7 @@ pub mod plugins {
         ContinuityDensity, ContinuityForm, DensityDiffusion, SummationDensity,
     };
     pub use dualsph_diagnostics::DiagnosticsPlugin;
-    pub use dualsph_eos::{IdealGas, TaitEos};
+    pub use dualsph_eos::{HydrostaticStart, IdealGas, TaitEos};
     pub use dualsph_gravity::Gravity;
     pub use dualsph_heat::HeatConduction;
     pub use dualsph_inout::{Inlet, Outlet};
@@ -54,7 +54,7 @@ pub mod plugins {
     pub use dualsph_smoothing_length::SmoothingLengthUpdate;
     pub use dualsph_surface_tension::SurfaceTension;
     pub use dualsph_viscosity::{ArtificialViscosity, NewtonianViscosity, PhysicalViscosity};
-    pub use dualsph_walls::SpecularWalls;
+    pub use dualsph_walls::{SpecularWalls, WallPressure};
 }
 
 /// A registry with every built-in plugin; add your own with `register::<YourPlugin>()`.
@@ -68,6 +68,7 @@ pub fn default_registry() -> Registry {
         .register::<ContinuityDensity>()
         .register::<DensityDiffusion>()
         .register::<TaitEos>()
+        .register::<HydrostaticStart>()
         .register::<IdealGas>()
         .register::<PressureForce>()
         .register::<ArtificialStress>()
@@ -79,6 +80,7 @@ pub fn default_registry() -> Registry {
         .register::<SmoothingLengthUpdate>()
         .register::<Gravity>()
         .register::<SpecularWalls>()
+        .register::<WallPressure>()
         .register::<Inlet>()
         .register::<Outlet>()
         .register::<Probes>()

@@ -3,6 +3,9 @@
 //! arrays used by the pair sweep.
 #![warn(missing_docs)]
 
+pub mod hydrostatic;
+pub use hydrostatic::HydrostaticStart;
+
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::bodies::Bodies;
 use dualsph_core::chunks::DENSE;
@@ -129,6 +132,28 @@ impl Eos {
                 let p = (gamma - 1.0) * rho * eps;
                 (p, (gamma * p.max(0.0) / rho).sqrt())
             }
+        }
+    }
+}
+
+impl Eos {
+    /// The density at which the equation gives pressure `p` (the inverse of Eq. 7.5 with the
+    /// background pressure, `ρ = ρ0 ((p − p_b)/p0 + 1)^{1/γ}`), for a liquid; `None` for a
+    /// gas, whose pressure depends on its internal energy too, or for a tension beyond
+    /// `−p0` that no density gives.
+    pub fn density_at(&self, p: Real) -> Option<Real> {
+        match *self {
+            Eos::Tait {
+                rho0,
+                gamma,
+                p0,
+                p_b,
+                ..
+            } => {
+                let x = (p - p_b) / p0 + 1.0;
+                (x > 0.0).then(|| rho0 * x.powf(1.0 / gamma))
+            }
+            Eos::Ideal { .. } => None,
         }
     }
 }
@@ -307,6 +332,7 @@ impl SimPlugin for TaitEos {
                 },
             )
             .collect::<Result<Vec<Eos>, SimError>>()?;
+        sim.enable_feature("tait");
         install(sim, eos, materials, "tait_eos (Eq. 7.5)")
     }
 }

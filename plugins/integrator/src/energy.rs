@@ -139,7 +139,7 @@ pub(crate) fn install<V: Vector, M: 'static>(
     sim.add_system(StepSet::Correct, CORRECT_LABEL, system)
         .after(kinematics)
         .after(scalar)
-        .before("drive_bodies");
+        .after("drive_bodies");
     Ok(())
 }
 

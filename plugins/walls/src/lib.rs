@@ -13,6 +13,9 @@
 //! puts the first layer.
 #![warn(missing_docs)]
 
+pub mod pressure;
+pub use pressure::WallPressure;
+
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::chunks::{DENSE, MIN_LEN};
 use dualsph_core::prelude::*;

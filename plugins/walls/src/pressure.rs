@@ -1,0 +1,225 @@
+//! `WallPressure(bodies: [..])`: the particles of fixed and prescribed bodies (walls,
+//! obstacles, pistons) take the pressure of the fluid next to them, extrapolated as in the
+//! generalised wall boundary condition of Adami, Hu & Adams (2012), *A generalized wall
+//! boundary condition for smoothed particle hydrodynamics*, J. Comput. Phys. 231, 7057,
+//! Eq. 27:
+//!
+//! `p_w = [Σ_f p_f W_wf + (g − a_w)·Σ_f ρ_f r_wf W_wf] / Σ_f W_wf`, `r_wf = x_w − x_f`,
+//!
+//! over the fluid particles f in the wall particle's support (W with the wall particle's own
+//! h), where `a_w` is the wall's acceleration (its law's, zero for a fixed body) and `g` the
+//! scene's gravity. The wall particle's density is then the equation of state's at `p_w`
+//! (Eq. 28), so the pressure term reads a consistent `p/ρ²` on both sides of every
+//! fluid–wall pair. A wall particle with no fluid in its support takes `ρ0` (and the
+//! pressure the equation gives there).
+//!
+//! The fluid–wall pair forces are the ordinary pair terms of the sweep: each pair's reaction
+//! lands on the wall particle through its dual-support, so the load on a body is the exact sum
+//! of the reactions (conservation of fluid + walls to round-off), and the walls may have their
+//! own h. Without this plugin, wall particles evolve their density by the continuity equation
+//! like the fluid (the dynamic boundary of Crespo, Gómez-Gesteira & Dalrymple 2007); with it,
+//! their density and pressure are set from the fluid every step, after the equation of state.
+
+use dualsph_core::bevy_ecs::prelude::*;
+use dualsph_core::bodies::Anchor;
+use dualsph_core::bodies::{Bodies, BodyKind, DrivenBodies};
+use dualsph_core::chunks::DENSE;
+use dualsph_core::neighbours::Neighbours;
+use dualsph_core::prelude::*;
+use dualsph_core::sweep::Support;
+use dualsph_eos::{Eos, Materials};
+use dualsph_gravity::GravityAccel;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+/// Wall particles take the pressure extrapolated from the fluid (module docs).
+#[derive(Debug, Clone, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct WallPressure {
+    /// The bodies treated so, by name; empty (the default) means every fixed or prescribed
+    /// body.
+    #[serde(default)]
+    pub bodies: Vec<String>,
+}
+
+/// The density each wall particle was given this step, by row: put back after the
+/// integrator's corrector ([`keep_wall_density`]), which would otherwise have advanced it by
+/// the continuity equation, so that the state (and what snapshots show) is the wall's
+/// extrapolated density.
+#[derive(Resource, Clone, Debug, Default)]
+pub struct WallDensity(pub Vec<(usize, Real)>);
+
+/// Which bodies are walls, by [`BodyId`].
+#[derive(Resource, Clone, Debug)]
+pub struct WallBodies(pub Vec<bool>);
+
+/// What a wall particle's extrapolation reads of the others, by row.
+struct Fluid<'a> {
+    rho: &'a [Density],
+    p: &'a [Pressure],
+    body: &'a [BodyId],
+    walls: &'a [bool],
+}
+
+/// `(Σ_f p_f W, Σ_f ρ_f r_wf W, Σ_f W)` over the fluid in wall particle i's support.
+fn sums<V: Vector>(support: &Support<'_, V>, f: &Fluid<'_>, i: usize) -> (Real, V, Real) {
+    let (mut pw, mut rw, mut w_sum) = (0.0, V::zero(), 0.0);
+    support.for_each_neighbour(i, |j, rij, _r, w, _g| {
+        if !f.walls[f.body[j].0 as usize] {
+            pw += f.p[j].0 * w;
+            rw += rij * (f.rho[j].0 * w);
+            w_sum += w;
+        }
+    });
+    (pw, rw, w_sum)
+}
+
+/// Sets every wall particle's pressure, density and sound speed (module docs), in `Eos`
+/// after the equation of state.
+#[allow(clippy::too_many_arguments)] // one system, its resources
+#[inline(never)] // a frame of its own in profiles
+pub fn wall_pressure<V: Vector>(
+    walls: Res<WallBodies>,
+    materials: Res<Materials>,
+    gravity: Option<Res<GravityAccel<V>>>,
+    driven: Res<DrivenBodies>,
+    clock: Res<SimClock>,
+    kernel: Res<KernelRes>,
+    nb: Res<Neighbours<V>>,
+    formulation: Res<Formulation>,
+    mut kept: ResMut<WallDensity>,
+    mut q: Query<(
+        &Position<V>,
+        &SmoothingLength,
+        &BodyId,
+        &Anchor<V>,
+        &mut Density,
+        &mut Pressure,
+        &mut SoundSpeed,
+    )>,
+) {
+    let Some((pos, h, body, anchor, mut rho, mut p, mut c)) =
+        dualsph_core::store::single_table(q.contiguous_iter_mut().expect(DENSE))
+    else {
+        return;
+    };
+    let g = gravity.map_or(V::zero(), |g| g.0);
+    let t = clock.t + clock.dt;
+    let support = Support {
+        pos,
+        h,
+        neighbours: &nb,
+        kernel: &kernel.0,
+        formulation: *formulation,
+    };
+    let fluid = Fluid {
+        rho: &rho,
+        p: &p,
+        body,
+        walls: &walls.0,
+    };
+    let set: Vec<(usize, Real, Real, Real)> = (0..pos.len())
+        .into_par_iter()
+        .with_min_len(256)
+        .filter(|&i| walls.0[body[i].0 as usize])
+        .map(|i| {
+            let b = body[i].0 as usize;
+            let eos = materials.0[b];
+            let a_w = driven.0[b].map_or(V::zero(), |m| m.acceleration(anchor[i].0, t));
+            let (pw, rw, w_sum) = sums(&support, &fluid, i);
+            let rho_w = if w_sum > 0.0 {
+                let p_w = (pw + (g - a_w).dot(rw)) / w_sum;
+                eos.density_at(p_w).unwrap_or(rho[i].0)
+            } else {
+                reference_density(&eos).unwrap_or(rho[i].0)
+            };
+            let (p_w, c_w) = eos.eval(rho_w, 0.0);
+            (i, rho_w, p_w, c_w)
+        })
+        .collect();
+    kept.0.clear();
+    for (i, rho_w, p_w, c_w) in set {
+        (rho[i].0, p[i].0, c[i].0) = (rho_w, p_w, c_w);
+        kept.0.push((i, rho_w));
+    }
+}
+
+/// Puts back the wall particles' densities of this step (see [`WallDensity`]), after the
+/// integrator's corrector and the bodies' drive.
+pub fn keep_wall_density(kept: Res<WallDensity>, mut q: Query<&mut Density>) {
+    let Some(mut rho) = dualsph_core::store::single_table(q.contiguous_iter_mut().expect(DENSE))
+    else {
+        return;
+    };
+    for &(i, rho_w) in &kept.0 {
+        rho[i].0 = rho_w;
+    }
+}
+
+/// ρ0 of a liquid's equation of state.
+fn reference_density(eos: &Eos) -> Option<Real> {
+    match *eos {
+        Eos::Tait { rho0, .. } => Some(rho0),
+        Eos::Ideal { .. } => None,
+    }
+}
+
+impl SimPlugin for WallPressure {
+    const NAME: &'static str = "WallPressure";
+    const SUMMARY: &'static str =
+        "wall particles take the pressure extrapolated from the fluid (Adami, Hu & Adams 2012)";
+
+    fn validate(&self, info: &SceneInfo) -> Result<(), String> {
+        for (k, b) in self.bodies.iter().enumerate() {
+            if !info.bodies.contains(b) {
+                return Err(format!(
+                    "bodies[{k}]: no body named `{b}`; the scene's bodies are {}",
+                    info.bodies.join(", ")
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
+        sim.require_feature("eos", "WallPressure needs an equation of state (TaitEos)");
+        let bodies = sim.world.resource::<Bodies>();
+        let mut walls = Vec::with_capacity(bodies.0.len());
+        for b in &bodies.0 {
+            let driven = b.kind != BodyKind::Fluid;
+            let named = if self.bodies.is_empty() {
+                driven
+            } else {
+                self.bodies.contains(&b.name)
+            };
+            if named && !driven {
+                return Err(SimError::Build(format!(
+                    "WallPressure: body `{}` is a fluid; name fixed or prescribed bodies",
+                    b.name
+                )));
+            }
+            walls.push(named && driven);
+        }
+        if !walls.iter().any(|&w| w) {
+            return Err(SimError::Build(
+                "WallPressure: the scene has no fixed or prescribed body".into(),
+            ));
+        }
+        sim.world.insert_resource(WallBodies(walls));
+        sim.world.init_resource::<WallDensity>();
+        sim.add_system(
+            StepSet::Correct,
+            "keep_wall_density (the extrapolated density, not the integrated one)",
+            keep_wall_density,
+        )
+        .after("drive_bodies");
+        sim.add_system(
+            StepSet::Eos,
+            "wall_pressure (Adami et al. 2012, Eq. 27)",
+            wall_pressure::<V>,
+        )
+        .after("TaitEos")
+        .after("IdealGas");
+        Ok(())
+    }
+}
