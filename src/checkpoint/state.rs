@@ -84,7 +84,7 @@ fn diagnostics_values(d: &Diagnostics) -> Vec<f64> {
 /// How many reals [`diagnostics_values`] stores before the per-body totals.
 const TOTALS: usize = 16;
 
-/// The diagnostics at t = 0 stored in a checkpoint (zeros where missing).
+/// The diagnostics at t = 0 stored in a checkpoint (zeros where missing, no loads).
 pub(crate) fn initial_diagnostics(c: &Checkpoint) -> Diagnostics {
     let v = |k: usize| c.initial_diagnostics.get(k).copied().unwrap_or(0.0);
     Diagnostics {
@@ -111,6 +111,9 @@ pub(crate) fn initial_diagnostics(c: &Checkpoint) -> Diagnostics {
                 BodyTotals::from_values(b.try_into().expect("chunks of BodyTotals::NAMES.len()"))
             })
             .collect(),
+        // not kept: the loads at t = 0 are in `bodies.csv` and the load columns of
+        // `diagnostics.csv`, and nothing of a resumed run reads them
+        loads: Vec::new(),
     }
 }
 

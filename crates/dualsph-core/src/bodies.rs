@@ -179,6 +179,26 @@ pub struct Body {
     pub name: String,
     /// What moves it.
     pub kind: BodyKind,
+    /// The point `c` the moment of the load on a fixed or prescribed body is taken about,
+    /// `M = Σ_i (x_i − c) × f_i` (3-D embedding; the origin by default).
+    pub moment_about: [Real; 3],
+}
+
+impl Body {
+    /// A body named `name` of kind `kind`, its moment taken about the origin.
+    pub fn new(name: impl Into<String>, kind: BodyKind) -> Self {
+        Body {
+            name: name.into(),
+            kind,
+            moment_about: [0.0; 3],
+        }
+    }
+
+    /// True for a body whose particles are integrated (a fluid), false for one whose motion
+    /// is given (fixed or prescribed): a body with a load.
+    pub fn is_fluid(&self) -> bool {
+        self.kind == BodyKind::Fluid
+    }
 }
 
 /// The bodies of a simulation, indexed by [`BodyId`].
@@ -187,10 +207,7 @@ pub struct Bodies(pub Vec<Body>);
 
 impl Default for Bodies {
     fn default() -> Self {
-        Bodies(vec![Body {
-            name: DEFAULT_BODY.into(),
-            kind: BodyKind::Fluid,
-        }])
+        Bodies(vec![Body::new(DEFAULT_BODY, BodyKind::Fluid)])
     }
 }
 
