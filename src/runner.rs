@@ -316,7 +316,7 @@ pub fn run_dim_with<V: Vector>(
             rows.open(&mut out)?;
             (
                 out,
-                checkpoint::initial_diagnostics(&ck),
+                checkpoint::initial_diagnostics(&ck, sim.world.resource::<Bodies>().0.len()),
                 ck.last_diagnostics_step,
             )
         }

@@ -322,3 +322,95 @@ impl<V: Vector> Loads<V> {
         self.0.into_iter().flatten().map(|(_, l)| l).collect()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use dualsph_core::bevy_ecs::system::RunSystemOnce;
+    use dualsph_core::bodies::{BodyKind, install_bodies};
+    use dualsph_core::prelude::*;
+    use dualsph_core::sim::{Domain, ParticleInit, SimConfig};
+    use glam::DVec2;
+
+    #[test]
+    fn load_columns_follow_the_dimension() {
+        let l = BodyLoad {
+            body: 1,
+            force: [1.0, 2.0, 3.0],
+            moment: [4.0, 5.0, 6.0],
+        };
+        assert_eq!(BodyLoad::names(1), ["fx"]);
+        assert_eq!(BodyLoad::names(2), ["fx", "fy", "mz"]);
+        assert_eq!(BodyLoad::names(3), ["fx", "fy", "fz", "mx", "my", "mz"]);
+        assert_eq!(l.values(1), [1.0]);
+        assert_eq!(l.values(2), [1.0, 2.0, 6.0]);
+        assert_eq!(l.values(3), [1.0, 2.0, 3.0, 4.0, 5.0, 6.0]);
+    }
+
+    /// A fluid particle and two particles of a fixed body with given accelerations: the load
+    /// is `Σ m a` over the fixed ones and its moment `Σ (x − c) × m a` about the body's point;
+    /// the fluid has none, and its potential energy alone is counted.
+    #[test]
+    fn the_load_on_a_fixed_body_sums_its_particles_forces_and_moments() {
+        let mut sim = Sim::<DVec2>::new(SimConfig {
+            kernel: KernelKind::CubicSpline,
+            formulation: Formulation::DualSupport,
+            domain: Domain::closed(DVec2::splat(-10.0), DVec2::splat(10.0)),
+            skin: 0.1,
+            skin_rule: SkinRule::Fixed,
+            time_stepping: TimeStepping::Fixed(1e-3),
+        });
+        let p = |x: f64, y: f64, mass: f64, body: u16| ParticleInit {
+            pos: DVec2::new(x, y),
+            vel: DVec2::ZERO,
+            mass,
+            density: 1000.0,
+            h: 0.1,
+            internal_energy: 0.0,
+            body,
+        };
+        let particles = [
+            p(0.0, 5.0, 1.0, 0),
+            p(1.0, 0.0, 2.0, 1),
+            p(3.0, 1.0, 1.0, 1),
+        ];
+        sim.spawn_particles(&particles).unwrap();
+        let wall = Body {
+            moment_about: [1.0, -1.0, 0.0],
+            ..Body::new("wall", BodyKind::Fixed)
+        };
+        let bodies = Bodies(vec![Body::new("water", BodyKind::Fluid), wall]);
+        install_bodies(&mut sim, bodies).unwrap();
+        sim.world
+            .resource_mut::<ExternalPotentials>()
+            .terms
+            .push(|x, _| x[1]);
+        sim.world
+            .resource_mut::<ExternalPotentials>()
+            .params
+            .push([0.0; 3]);
+        sim.world.insert_resource(Diagnostics::default());
+        let accelerations = [
+            DVec2::new(7.0, 7.0),
+            DVec2::new(1.0, -2.0),
+            DVec2::new(0.0, 3.0),
+        ];
+        let mut q = sim.world.query::<(&ParticleId, &mut Acceleration<DVec2>)>();
+        for (id, mut a) in q.iter_mut(&mut sim.world) {
+            a.0 = accelerations[id.0 as usize];
+        }
+        sim.world
+            .run_system_once(compute_diagnostics_now::<DVec2>)
+            .unwrap();
+        let d = sim.world.resource::<Diagnostics>();
+        // f = (2, −4) at (1, 0) and (0, 3) at (3, 1); about (1, −1): r = (0, 1) and (2, 2)
+        let moment = (0.0 * -4.0 - 1.0 * 2.0) + (2.0 * 3.0 - 2.0 * 0.0);
+        let want = BodyLoad {
+            body: 1,
+            force: [2.0, -1.0, 0.0],
+            moment: [0.0, 0.0, moment],
+        };
+        assert_eq!(d.loads, [want]);
+        assert_eq!(d.e_pot, 5.0);
+    }
+}

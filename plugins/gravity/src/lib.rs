@@ -88,3 +88,57 @@ impl SimPlugin for Gravity {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use dualsph_core::bodies::{Body, BodyKind, Motion, install_bodies};
+    use dualsph_core::sim::{Domain, ParticleInit, SimConfig};
+    use glam::DVec2;
+
+    /// After the initial evaluation (no pair force), the particle of the fluid body has
+    /// acceleration g and those of a fixed and a prescribed body none.
+    #[test]
+    fn gravity_acts_on_fluid_bodies_only() {
+        let mut sim = Sim::<DVec2>::new(SimConfig {
+            kernel: KernelKind::CubicSpline,
+            formulation: Formulation::DualSupport,
+            domain: Domain::closed(DVec2::splat(-10.0), DVec2::splat(10.0)),
+            skin: 0.1,
+            skin_rule: SkinRule::Fixed,
+            time_stepping: TimeStepping::Fixed(1e-3),
+        });
+        let p = |x: f64, body: u16| ParticleInit {
+            pos: DVec2::new(x, 0.0),
+            vel: DVec2::ZERO,
+            mass: 1.0,
+            density: 1000.0,
+            h: 0.1,
+            internal_energy: 0.0,
+            body,
+        };
+        sim.spawn_particles(&[p(-3.0, 0), p(0.0, 1), p(3.0, 2)])
+            .unwrap();
+        let lid = BodyKind::Prescribed(Motion::Translate {
+            velocity: [1.0, 0.0, 0.0],
+        });
+        let bodies = vec![
+            Body::new("water", BodyKind::Fluid),
+            Body::new("floor", BodyKind::Fixed),
+            Body::new("lid", lid),
+        ];
+        install_bodies(&mut sim, Bodies(bodies)).unwrap();
+        let integrator: &dyn PluginConfig = &dualsph_integrator::LeapfrogPC::default();
+        sim.build_plugin(integrator).unwrap();
+        let gravity = Gravity {
+            g: vec![0.0, -9.81],
+        };
+        sim.build_plugin(&gravity).unwrap();
+        sim.initialize().unwrap();
+        let mut q = sim.world.query::<(&ParticleId, &Acceleration<DVec2>)>();
+        let mut a: Vec<_> = q.iter(&sim.world).map(|(id, a)| (id.0, a.0)).collect();
+        a.sort_by_key(|r| r.0);
+        let want = [DVec2::new(0.0, -9.81), DVec2::ZERO, DVec2::ZERO];
+        assert_eq!(a.iter().map(|r| r.1).collect::<Vec<_>>(), want);
+    }
+}
