@@ -8,8 +8,10 @@
 //! a particle takes part in every pair sum (its density and pressure evolve like a fluid
 //! particle's, and its velocity enters the pair terms, so a moving wall drags and pushes the
 //! fluid), and the force the sweep computes on it is the fluid's load on the body (its
-//! `Acceleration` times its mass), but the integrator's update of its position and velocity is
-//! replaced by the body's law right after the predictor and the corrector ([`drive_bodies`]).
+//! `Acceleration` times its mass: body forces act on fluid bodies only, and the diagnostics
+//! sum the loads per body about [`Body::moment_about`]), but the integrator's update of its
+//! position and velocity is replaced by the body's law right after the predictor and the
+//! corrector ([`drive_bodies`]).
 
 use crate::chunks::{DENSE, MIN_LEN};
 use crate::columns::{ColumnSpec, ColumnValue, Shape};
