@@ -41,7 +41,7 @@ pub struct Diagnostics {
     pub e_kin: Real,
     /// Σ m ε.
     pub e_int: Real,
-    /// Σ m φ(r).
+    /// Σ m φ(r) over the particles of fluid bodies (body forces act on them only).
     pub e_pot: Real,
     /// e_kin + e_int + e_pot.
     pub e_tot: Real,
@@ -71,8 +71,10 @@ pub struct Diagnostics {
 /// (it replaces the motion of such a particle by the body's law). The pair forces between two
 /// particles of B are exact opposites in the dual-support sweep, so they cancel in the sum
 /// (to round-off): `F_B` is the force of the fluid and of the other bodies on B, equal and
-/// opposite to B's force on them. The sign convention: the force *on* the body. In 2-D the
-/// moment is about the z axis (`moment[2]`), in 1-D there is none.
+/// opposite to B's force on them (with a non-conservative formulation, `SingleSupport` or
+/// `AveragedKernel`, the pair forces are not opposite and that balance holds only to the
+/// formulation's error). The sign convention: the force *on* the body. In 2-D the moment is
+/// about the z axis (`moment[2]`), in 1-D there is none.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct BodyLoad {
     /// The body (its [`BodyId`]).
@@ -119,7 +121,7 @@ pub struct BodyTotals {
     pub e_kin: Real,
     /// Σ m ε.
     pub e_int: Real,
-    /// Σ m φ(r).
+    /// Σ m φ(r) over the particles of fluid bodies (body forces act on them only).
     pub e_pot: Real,
     /// Σ m d.
     pub dissipated: Real,
