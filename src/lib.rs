@@ -133,11 +133,16 @@ fn vector<V: Vector>(x: &[Real], what: &str) -> Result<V, SimError> {
     })
 }
 
+/// A vector of the scene padded with zeros to 3 components.
+fn padded3(v: &[f64]) -> [f64; 3] {
+    std::array::from_fn(|k| v.get(k).copied().unwrap_or(0.0))
+}
+
 /// A scene's law of motion as the engine's (vectors padded to 3 components).
 fn motion_of(m: &dualsph_scene::MotionSettings) -> dualsph_core::bodies::Motion {
     use dualsph_core::bodies::Motion;
     use dualsph_scene::MotionSettings as M;
-    let v3 = |v: &[f64]| std::array::from_fn(|k| v.get(k).copied().unwrap_or(0.0));
+    let v3 = padded3;
     match m {
         M::Translate { velocity } => Motion::Translate {
             velocity: v3(velocity),
@@ -235,6 +240,7 @@ pub fn build_sim<V: Vector>(scene: &Scene) -> Result<Sim<V>, SimError> {
             dualsph_scene::BodyKind::Fixed => BodyKind::Fixed,
             dualsph_scene::BodyKind::Prescribed(m) => BodyKind::Prescribed(motion_of(&m)),
         },
+        moment_about: b.moment_about.as_deref().map_or([0.0; 3], padded3),
     });
     install_bodies(&mut sim, Bodies(bodies.collect()))?;
     sim.world

@@ -3,6 +3,7 @@
 mod dt_floor;
 mod keeper;
 pub mod memory;
+mod rows;
 pub mod snapshots;
 
 pub use dt_floor::{DT_FLOOR_KEY, DtFloor, MAX_PROJECTED_STEPS};
@@ -17,11 +18,12 @@ use dualsph_core::columns::Column;
 use dualsph_core::neighbours::Neighbours;
 use dualsph_core::population::Population;
 use dualsph_core::prelude::*;
-use dualsph_diagnostics::{BodyTotals, Diagnostics, Health, HealthBounds, SimDiagnostics};
+use dualsph_diagnostics::{Diagnostics, Health, HealthBounds, SimDiagnostics};
 use dualsph_integrator::time_step::{CFL_LIMIT, TimeStepCheck};
-use dualsph_io::{DiagnosticsRow, OutputDir, ParticleRecord, ParticleTable, TableColumn};
+use dualsph_io::{OutputDir, ParticleRecord, ParticleTable, TableColumn};
 use dualsph_scene::Scene;
 use keeper::Keeper;
+use rows::DiagnosticsOutput;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
@@ -206,50 +208,6 @@ pub fn particle_records<V: Vector>(sim: &mut Sim<V>) -> Vec<ParticleRecord> {
     out
 }
 
-fn diag_row(d: &Diagnostics) -> DiagnosticsRow {
-    DiagnosticsRow {
-        t: d.t,
-        step: d.step,
-        dt: d.dt,
-        n: d.n,
-        mass: d.mass,
-        p: d.momentum,
-        lz: d.angular_momentum[2],
-        e_kin: d.e_kin,
-        e_int: d.e_int,
-        e_pot: d.e_pot,
-        e_tot: d.e_tot,
-        extra: [
-            d.angular_momentum[0],
-            d.angular_momentum[1],
-            d.max_density_variation,
-            d.dissipated,
-        ]
-        .into_iter()
-        .chain(per_body(d).flat_map(BodyTotals::values))
-        .collect(),
-    }
-}
-
-/// The per-body totals written to `diagnostics.csv`: none for a scene of one body (they are
-/// the totals).
-fn per_body(d: &Diagnostics) -> impl Iterator<Item = &BodyTotals> {
-    let several = d.per_body.len() > 1;
-    d.per_body.iter().filter(move |_| several)
-}
-
-/// The extra columns of `diagnostics.csv`: [`EXTRA_COLUMNS`], then for a scene of several
-/// bodies each body's totals, `mass[name]`, `px[name]`, …, `e_pot[name]`, `dissipated[name]`.
-fn diagnostics_columns(bodies: &Bodies) -> Vec<String> {
-    let mut columns: Vec<String> = EXTRA_COLUMNS.iter().map(|s| s.to_string()).collect();
-    if bodies.0.len() > 1 {
-        for b in &bodies.0 {
-            columns.extend(BodyTotals::NAMES.iter().map(|q| format!("{q}[{}]", b.name)));
-        }
-    }
-    columns
-}
-
 /// The usual cause of an unphysical `quantity` (as named by [`Health`]).
 pub fn likely_cause(quantity: &str) -> &'static str {
     use dualsph_diagnostics as d;
@@ -329,7 +287,8 @@ pub fn run_dim_with<V: Vector>(
     if let Some(limit) = scene.max_steps {
         sim.world.insert_resource(StepLimit(limit));
     }
-    let extra = diagnostics_columns(sim.world.resource::<Bodies>());
+    let rows = DiagnosticsOutput::new(sim.world.resource::<Bodies>(), V::DIM);
+    let extra = rows.columns(sim.world.resource::<Bodies>());
     snapshots::select_columns(&mut sim, &scene.output).map_err(RunError::InvalidOutput)?;
     let formats = snapshots::output_options(&scene.output);
     let mut snapshots = SnapshotSchedule::new(&scene.output);
@@ -338,8 +297,9 @@ pub fn run_dim_with<V: Vector>(
             sim.initialize()?;
             check(&sim)?;
             let mut out = OutputDir::create(&opts.out, extra, formats)?;
+            rows.open(&mut out)?;
             let initial = sim.diagnostics();
-            out.push_diagnostics(diag_row(&initial))?;
+            rows.push(&mut out, &initial)?;
             if snapshots.initial() {
                 out.write_snapshot(0, 0.0, &particle_table(&mut sim))?;
             }
@@ -352,10 +312,11 @@ pub fn run_dim_with<V: Vector>(
                 path: path.clone(),
                 why,
             })?;
-            let out = OutputDir::reopen(&opts.out, extra, ck.step, formats)?;
+            let mut out = OutputDir::reopen(&opts.out, extra, ck.step, formats)?;
+            rows.open(&mut out)?;
             (
                 out,
-                checkpoint::initial_diagnostics(&ck),
+                checkpoint::initial_diagnostics(&ck, sim.world.resource::<Bodies>().0.len()),
                 ck.last_diagnostics_step,
             )
         }
@@ -394,7 +355,7 @@ pub fn run_dim_with<V: Vector>(
         }
         let c = sim.clock();
         if c.step % diag_every == 0 {
-            out.push_diagnostics(diag_row(&sim.diagnostics()))?;
+            rows.push(&mut out, &sim.diagnostics())?;
             last_written = c.step;
         }
         if snapshots.after_step(c.step, c.t) {
@@ -443,7 +404,7 @@ pub fn run_dim_with<V: Vector>(
     let cpu = crate::perf::cpu_seconds() - cpu_started;
     let last = sim.diagnostics();
     if last.step != last_written {
-        out.push_diagnostics(diag_row(&last))?;
+        rows.push(&mut out, &last)?;
     }
     let records = particle_table(&mut sim);
     if snapshots.at_end(last.step) {

@@ -105,7 +105,8 @@ pub struct Checkpoint {
     pub last_diagnostics_step: u64,
     /// Diagnostics at t = 0 (see [`crate::runner::RunSummary::initial`]), as
     /// `[t, dt, mass, p(3), L(3), e_kin, e_int, e_pot, e_tot, max_rho_var, p_scale, dissipated]`,
-    /// then each body's `BodyTotals::values`.
+    /// then each body's `BodyTotals::values`, then each load's body, force (3) and moment (3)
+    /// (`BodyLoad`).
     pub initial_diagnostics: Vec<f64>,
 }
 

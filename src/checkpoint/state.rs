@@ -7,7 +7,7 @@ use dualsph_core::neighbours::{Csr, Neighbours};
 use dualsph_core::population::{NextId, Seed, replace_particles};
 use dualsph_core::prelude::*;
 use dualsph_core::restart::KeptResources;
-use dualsph_diagnostics::{BodyTotals, Diagnostics};
+use dualsph_diagnostics::{BodyLoad, BodyTotals, Diagnostics};
 use dualsph_probes::ProbeState;
 
 /// The registered columns kept in checkpoints, in registration order.
@@ -78,15 +78,25 @@ fn diagnostics_values(d: &Diagnostics) -> Vec<f64> {
         d.dissipated,
     ]);
     v.extend(d.per_body.iter().flat_map(BodyTotals::values));
+    for l in &d.loads {
+        v.push(l.body as f64);
+        v.extend(l.force.iter().chain(&l.moment));
+    }
     v
 }
+
+/// How many reals [`diagnostics_values`] stores per load: the body, the force, the moment.
+const LOAD: usize = 7;
 
 /// How many reals [`diagnostics_values`] stores before the per-body totals.
 const TOTALS: usize = 16;
 
-/// The diagnostics at t = 0 stored in a checkpoint (zeros where missing).
-pub(crate) fn initial_diagnostics(c: &Checkpoint) -> Diagnostics {
+/// The diagnostics at t = 0 stored in a checkpoint of a simulation of `bodies` bodies (zeros
+/// where missing).
+pub(crate) fn initial_diagnostics(c: &Checkpoint, bodies: usize) -> Diagnostics {
     let v = |k: usize| c.initial_diagnostics.get(k).copied().unwrap_or(0.0);
+    let rest = c.initial_diagnostics.get(TOTALS..).unwrap_or_default();
+    let (per_body, loads) = rest.split_at((bodies * BodyTotals::NAMES.len()).min(rest.len()));
     Diagnostics {
         t: v(0),
         step: 0,
@@ -102,13 +112,18 @@ pub(crate) fn initial_diagnostics(c: &Checkpoint) -> Diagnostics {
         max_density_variation: v(13),
         momentum_scale: v(14),
         dissipated: v(15),
-        per_body: c
-            .initial_diagnostics
-            .get(TOTALS..)
-            .unwrap_or_default()
+        per_body: per_body
             .chunks_exact(BodyTotals::NAMES.len())
             .map(|b| {
                 BodyTotals::from_values(b.try_into().expect("chunks of BodyTotals::NAMES.len()"))
+            })
+            .collect(),
+        loads: loads
+            .chunks_exact(LOAD)
+            .map(|l| BodyLoad {
+                body: l[0] as usize,
+                force: [l[1], l[2], l[3]],
+                moment: [l[4], l[5], l[6]],
             })
             .collect(),
     }

@@ -15,10 +15,11 @@ pub const RUN_FILE: &str = "run.json";
 pub fn written_by_a_run(name: &str) -> bool {
     use crate::checkpoint::LAST_GOOD_STEM;
     use crate::probes::{PROBE_POINTS_FILE, PROBES_FILE};
-    use dualsph_io::{DIAGNOSTICS_FILE, FINAL_FILE, PVD_FILE, SNAPSHOT_INDEX_FILE};
+    use dualsph_io::{BODIES_FILE, DIAGNOSTICS_FILE, FINAL_FILE, PVD_FILE, SNAPSHOT_INDEX_FILE};
     let files = [
         RUN_FILE,
         DIAGNOSTICS_FILE,
+        BODIES_FILE,
         SNAPSHOT_INDEX_FILE,
         PVD_FILE,
         FINAL_FILE,

@@ -8,8 +8,10 @@
 //! a particle takes part in every pair sum (its density and pressure evolve like a fluid
 //! particle's, and its velocity enters the pair terms, so a moving wall drags and pushes the
 //! fluid), and the force the sweep computes on it is the fluid's load on the body (its
-//! `Acceleration` times its mass), but the integrator's update of its position and velocity is
-//! replaced by the body's law right after the predictor and the corrector ([`drive_bodies`]).
+//! `Acceleration` times its mass: body forces act on fluid bodies only, and the diagnostics
+//! sum the loads per body about [`Body::moment_about`]), but the integrator's update of its
+//! position and velocity is replaced by the body's law right after the predictor and the
+//! corrector ([`drive_bodies`]).
 
 use crate::chunks::{DENSE, MIN_LEN};
 use crate::columns::{ColumnSpec, ColumnValue, Shape};
@@ -179,6 +181,26 @@ pub struct Body {
     pub name: String,
     /// What moves it.
     pub kind: BodyKind,
+    /// The point `c` the moment of the load on a fixed or prescribed body is taken about,
+    /// `M = Σ_i (x_i − c) × f_i` (3-D embedding; the origin by default).
+    pub moment_about: [Real; 3],
+}
+
+impl Body {
+    /// A body named `name` of kind `kind`, its moment taken about the origin.
+    pub fn new(name: impl Into<String>, kind: BodyKind) -> Self {
+        Body {
+            name: name.into(),
+            kind,
+            moment_about: [0.0; 3],
+        }
+    }
+
+    /// True for a body whose particles are integrated (a fluid), false for one whose motion
+    /// is given (fixed or prescribed): a body with a load.
+    pub fn is_fluid(&self) -> bool {
+        self.kind == BodyKind::Fluid
+    }
 }
 
 /// The bodies of a simulation, indexed by [`BodyId`].
@@ -187,10 +209,7 @@ pub struct Bodies(pub Vec<Body>);
 
 impl Default for Bodies {
     fn default() -> Self {
-        Bodies(vec![Body {
-            name: DEFAULT_BODY.into(),
-            kind: BodyKind::Fluid,
-        }])
+        Bodies(vec![Body::new(DEFAULT_BODY, BodyKind::Fluid)])
     }
 }
 

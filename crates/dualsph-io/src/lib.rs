@@ -22,6 +22,7 @@
 //! | `snapshots.csv` | snapshot index `step,t,file` (file: the CSV, or the `.vtp` without CSV snapshots) |
 //! | `particles.pvd` | ParaView collection of all `.vtp` files with their times (only with VTK snapshots) |
 //! | `final.csv` | particle table at the end of the run |
+//! | `bodies.csv` | the load on each fixed or prescribed body: `t,step,body,fx,fy,fz,mx,my,mz`, one row per diagnostics step and body (only when [`OutputDir::enable_body_loads`] is called) |
 //!
 //! Which snapshot files are written is set by [`OutputOptions`]; `diagnostics.csv`,
 //! `snapshots.csv` and `final.csv` are always written. The VTK writer ([`write_vti`] for
@@ -34,6 +35,7 @@
 
 mod atomic;
 mod csv_out;
+mod loads;
 mod output_dir;
 mod table;
 mod vtk;
@@ -51,6 +53,7 @@ pub use csv_out::{
     DIAGNOSTICS_FIXED_COLUMNS, PARTICLE_COLUMNS, SNAPSHOT_INDEX_COLUMNS, SnapshotEntry,
     read_diagnostics_csv, read_particles_csv,
 };
+pub use loads::{BODIES_COLUMNS, BODIES_FILE, BodyLoadRow};
 pub use output_dir::{
     DIAGNOSTICS_FILE, FINAL_FILE, OutputDir, OutputOptions, PVD_FILE, SNAPSHOT_INDEX_FILE,
     snapshot_stem,

@@ -8,6 +8,7 @@ use crate::csv_out::{
     header_mismatch, parse_field, read_snapshot_index, read_table, write_particles,
     write_snapshot_index,
 };
+use crate::loads::{BODIES_FILE, BodyLoadRow, LoadsTable};
 use crate::vtk::{self, VtkEncoding};
 use crate::{DiagnosticsRow, OutputError, ParticleTable, Real, write_atomic_with};
 
@@ -70,6 +71,10 @@ pub struct OutputDir {
     diag: Vec<(u64, String)>,
     /// Snapshot index, sorted by step.
     snapshots: Vec<SnapshotEntry>,
+    /// The rows of `bodies.csv`, once [`OutputDir::enable_body_loads`] is called.
+    loads: Option<LoadsTable>,
+    /// The step a resumed run continues from ([`OutputDir::reopen`]).
+    resumed_at: Option<u64>,
 }
 
 impl OutputDir {
@@ -77,8 +82,9 @@ impl OutputDir {
     ///
     /// `diagnostics.csv` (header only), `snapshots.csv` (header only) and, when
     /// `options.vtk`, an empty `particles.pvd` are written immediately, replacing
-    /// those of any earlier run in the same directory; this also checks that the
-    /// directory is writable. Old snapshot files are left alone. Extra column
+    /// those of any earlier run in the same directory, and the `bodies.csv` of an
+    /// earlier run is removed (see [`OutputDir::enable_body_loads`]); this also checks
+    /// that the directory is writable. Old snapshot files are left alone. Extra column
     /// names must be non-empty, unique, and free of `,` `"` and line breaks.
     pub fn create(
         dir: &Path,
@@ -87,7 +93,15 @@ impl OutputDir {
     ) -> Result<Self, OutputError> {
         let out = Self::empty(dir, extra_diag_columns, options)?;
         out.rewrite_indexes()?;
-        Ok(out)
+        let stale = out.path(BODIES_FILE);
+        match std::fs::remove_file(&stale) {
+            Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(OutputError::Io {
+                path: stale,
+                op: "remove",
+                source: e,
+            }),
+            _ => Ok(out),
+        }
     }
 
     /// Resume a run in `dir`: re-read its `diagnostics.csv` and
@@ -131,7 +145,45 @@ impl OutputDir {
         }
 
         out.rewrite_indexes()?;
+        out.resumed_at = Some(up_to_step);
         Ok(out)
+    }
+
+    /// Keep `DIR/bodies.csv`, the loads on the fixed and prescribed bodies
+    /// (`t,step,body,fx,fy,fz,mx,my,mz`, one row per diagnostics step and body, see
+    /// [`OutputDir::push_body_loads`]): written now with its header only, or, in a
+    /// resumed run ([`OutputDir::reopen`]), re-read and rewritten with the rows up to
+    /// the step resumed from (a missing file counts as empty).
+    pub fn enable_body_loads(&mut self) -> Result<(), OutputError> {
+        let path = self.path(BODIES_FILE);
+        let table = match self.resumed_at {
+            Some(step) => LoadsTable::read(&path, step)?,
+            None => LoadsTable::default(),
+        };
+        table.write(&path)?;
+        self.loads = Some(table);
+        Ok(())
+    }
+
+    /// Number of rows currently in `bodies.csv` (0 without it).
+    pub fn body_loads_len(&self) -> usize {
+        self.loads.as_ref().map_or(0, LoadsTable::len)
+    }
+
+    /// Put the rows of `step` (one per body, each of that step) in `DIR/bodies.csv` and
+    /// rewrite it atomically. Like diagnostics rows, they supersede the rows of `step`
+    /// and later. An error when [`OutputDir::enable_body_loads`] was not called, or a
+    /// row is of another step or names its body with `,` `"`, a line break or
+    /// surrounding blanks (nothing is changed then).
+    pub fn push_body_loads(&mut self, step: u64, rows: &[BodyLoadRow]) -> Result<(), OutputError> {
+        let path = self.dir.join(BODIES_FILE);
+        match &mut self.loads {
+            Some(table) => table.push(&path, step, rows),
+            None => Err(OutputError::Invalid {
+                path,
+                msg: "body loads were not enabled for this output directory".into(),
+            }),
+        }
     }
 
     /// Validate the column names and create the directory; no file is written.
@@ -161,6 +213,8 @@ impl OutputDir {
             options,
             diag: Vec::new(),
             snapshots: Vec::new(),
+            loads: None,
+            resumed_at: None,
         })
     }
 

@@ -196,6 +196,7 @@ impl Scene {
             vec![BodySettings {
                 name: dualsph_core::bodies::DEFAULT_BODY.into(),
                 kind: BodyKind::Fluid,
+                moment_about: None,
             }]
         } else {
             self.bodies.clone()

@@ -224,6 +224,10 @@ pub struct BodySettings {
     /// What moves it (default `Fluid`).
     #[serde(default)]
     pub kind: BodyKind,
+    /// The point the moment of the load on a fixed or prescribed body is taken about, one
+    /// component per dimension (default: the origin). Not for a fluid body, which has no load.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub moment_about: Option<Vec<f64>>,
 }
 
 /// One entry of the scene's `particles` list.

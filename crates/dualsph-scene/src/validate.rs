@@ -336,6 +336,17 @@ fn bodies(s: &Scene) -> Check {
         if let BodyKind::Prescribed(m) = &b.kind {
             motion(&format!("bodies[{i}].kind"), m, s.dimension)?;
         }
+        if let Some(c) = &b.moment_about {
+            let at = format!("bodies[{i}].moment_about");
+            if b.kind == BodyKind::Fluid {
+                return Err(Problem::new(
+                    at,
+                    "a fluid body has no load to take a moment of: give it to a fixed or \
+                     prescribed body",
+                ));
+            }
+            vector(&at, c, s.dimension)?;
+        }
     }
     Ok(())
 }

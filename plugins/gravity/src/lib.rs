@@ -1,8 +1,17 @@
 //! `Gravity(g: [gx, gy])`: a uniform body force `b = g` (Eq. 4.2) and its potential energy
 //! `φ(x) = −g·x`, so that the diagnostics' total energy includes `Σ m φ`.
+//!
+//! Gravity acts on the particles of fluid bodies only. A fixed or prescribed body's motion is
+//! given (the integrator's update of its particles is replaced by the body's law), so g on
+//! them would move nothing; leaving it out keeps their `Acceleration` the pair force on them
+//! over their mass, `a_i = f_i/m_i`, which is what the load on the body sums
+//! (`dualsph_diagnostics::totals::BodyLoad`), with no body force to take off again. Likewise
+//! the potential energy counts the fluid bodies only (the diagnostics sum the potentials over
+//! them). A scene of fluid bodies only is unchanged by this, bitwise.
 #![warn(missing_docs)]
 
 use dualsph_core::bevy_ecs::prelude::*;
+use dualsph_core::bodies::{Bodies, BodyId};
 use dualsph_core::chunks::{DENSE, MIN_LEN};
 use dualsph_core::potentials::ExternalPotentials;
 use dualsph_core::prelude::*;
@@ -25,13 +34,28 @@ fn potential(x: &[Real; 3], g: &[Real; 3]) -> Real {
     -(x[0] * g[0] + x[1] * g[1] + x[2] * g[2])
 }
 
-/// Adds `g` to every particle's acceleration (after the pair sweep).
+/// Adds `g` to the acceleration of every particle of a fluid body (after the pair sweep).
 #[inline(never)] // a frame of its own in profiles
-pub fn apply_gravity<V: Vector>(g: Res<GravityAccel<V>>, mut q: Query<&mut Acceleration<V>>) {
+pub fn apply_gravity<V: Vector>(
+    g: Res<GravityAccel<V>>,
+    bodies: Res<Bodies>,
+    mut q: Query<(&BodyId, &mut Acceleration<V>)>,
+) {
     let g = g.0;
-    for mut a in q.contiguous_iter_mut().expect(DENSE) {
-        let rows = a.par_iter_mut().with_min_len(MIN_LEN);
-        rows.for_each(|a| a.0 += g);
+    let fluid: Vec<bool> = bodies.0.iter().map(|b| b.is_fluid()).collect();
+    let all_fluid = fluid.iter().all(|&f| f);
+    for (body, mut a) in q.contiguous_iter_mut().expect(DENSE) {
+        if all_fluid {
+            let rows = a.par_iter_mut().with_min_len(MIN_LEN);
+            rows.for_each(|a| a.0 += g);
+        } else {
+            let rows = (body, &mut *a).into_par_iter().with_min_len(MIN_LEN);
+            rows.for_each(|(b, a)| {
+                if fluid.get(b.0 as usize).copied().unwrap_or(true) {
+                    a.0 += g;
+                }
+            });
+        }
     }
 }
 
@@ -63,5 +87,59 @@ impl SimPlugin for Gravity {
         pots.params.push(g.to_xyz());
         sim.add_system(StepSet::BodyForces, "gravity", apply_gravity::<V>);
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use dualsph_core::bodies::{Body, BodyKind, Motion, install_bodies};
+    use dualsph_core::sim::{Domain, ParticleInit, SimConfig};
+    use glam::DVec2;
+
+    /// After the initial evaluation (no pair force), the particle of the fluid body has
+    /// acceleration g and those of a fixed and a prescribed body none.
+    #[test]
+    fn gravity_acts_on_fluid_bodies_only() {
+        let mut sim = Sim::<DVec2>::new(SimConfig {
+            kernel: KernelKind::CubicSpline,
+            formulation: Formulation::DualSupport,
+            domain: Domain::closed(DVec2::splat(-10.0), DVec2::splat(10.0)),
+            skin: 0.1,
+            skin_rule: SkinRule::Fixed,
+            time_stepping: TimeStepping::Fixed(1e-3),
+        });
+        let p = |x: f64, body: u16| ParticleInit {
+            pos: DVec2::new(x, 0.0),
+            vel: DVec2::ZERO,
+            mass: 1.0,
+            density: 1000.0,
+            h: 0.1,
+            internal_energy: 0.0,
+            body,
+        };
+        sim.spawn_particles(&[p(-3.0, 0), p(0.0, 1), p(3.0, 2)])
+            .unwrap();
+        let lid = BodyKind::Prescribed(Motion::Translate {
+            velocity: [1.0, 0.0, 0.0],
+        });
+        let bodies = vec![
+            Body::new("water", BodyKind::Fluid),
+            Body::new("floor", BodyKind::Fixed),
+            Body::new("lid", lid),
+        ];
+        install_bodies(&mut sim, Bodies(bodies)).unwrap();
+        let integrator: &dyn PluginConfig = &dualsph_integrator::LeapfrogPC::default();
+        sim.build_plugin(integrator).unwrap();
+        let gravity = Gravity {
+            g: vec![0.0, -9.81],
+        };
+        sim.build_plugin(&gravity).unwrap();
+        sim.initialize().unwrap();
+        let mut q = sim.world.query::<(&ParticleId, &Acceleration<DVec2>)>();
+        let mut a: Vec<_> = q.iter(&sim.world).map(|(id, a)| (id.0, a.0)).collect();
+        a.sort_by_key(|r| r.0);
+        let want = [DVec2::new(0.0, -9.81), DVec2::ZERO, DVec2::ZERO];
+        assert_eq!(a.iter().map(|r| r.1).collect::<Vec<_>>(), want);
     }
 }

@@ -1,0 +1,195 @@
+//! `bodies.csv`: the load on every fixed or prescribed body, one row per (diagnostics step,
+//! body), kept in memory and rewritten atomically like `diagnostics.csv`.
+
+use std::io::Write;
+use std::path::Path;
+
+use crate::csv_out::{header_mismatch, parse_field, push_real, read_table};
+use crate::{OutputError, Real, write_atomic_with};
+
+/// File name of the table of body loads.
+pub const BODIES_FILE: &str = "bodies.csv";
+
+/// Column names of `bodies.csv`: time, step, the body's name, the force on it and its moment
+/// (3-D components whatever the dimension: `fz, mx, my` are 0 in 2-D).
+pub const BODIES_COLUMNS: [&str; 9] = ["t", "step", "body", "fx", "fy", "fz", "mx", "my", "mz"];
+
+/// One row of `bodies.csv`: the load on one body at one diagnostics step.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct BodyLoadRow {
+    /// Simulation time.
+    pub t: Real,
+    /// Step number.
+    pub step: u64,
+    /// The body's name (no `,`, `"`, line breaks or surrounding blanks).
+    pub body: String,
+    /// The force on the body (`fx,fy,fz`).
+    pub force: [Real; 3],
+    /// Its moment about the body's reference point (`mx,my,mz`).
+    pub moment: [Real; 3],
+}
+
+/// The rows of `bodies.csv` in file order, as `(step, formatted line)`.
+#[derive(Debug, Default)]
+pub(crate) struct LoadsTable {
+    rows: Vec<(u64, String)>,
+}
+
+impl LoadsTable {
+    /// The rows of the file at `path` with `step <= up_to_step` (none when it is missing);
+    /// its header must be [`BODIES_COLUMNS`].
+    pub(crate) fn read(path: &Path, up_to_step: u64) -> Result<Self, OutputError> {
+        let mut table = LoadsTable::default();
+        if !path.exists() {
+            return Ok(table);
+        }
+        let (header, rows) = read_table(path)?;
+        let expected: Vec<String> = BODIES_COLUMNS.iter().map(|s| s.to_string()).collect();
+        if header != expected {
+            return Err(header_mismatch(path, &header, &expected));
+        }
+        for (line, rec) in rows {
+            let step: u64 = parse_field(path, line, &rec, 1, "step")?;
+            if step <= up_to_step {
+                table
+                    .rows
+                    .push((step, rec.iter().collect::<Vec<_>>().join(",")));
+            }
+        }
+        Ok(table)
+    }
+
+    /// The number of rows.
+    pub(crate) fn len(&self) -> usize {
+        self.rows.len()
+    }
+
+    /// Replaces the rows of `step` and later by `rows` (all of step `step`) and rewrites the
+    /// file at `path` atomically; on an error the table and the file are unchanged.
+    pub(crate) fn push(
+        &mut self,
+        path: &Path,
+        step: u64,
+        rows: &[BodyLoadRow],
+    ) -> Result<(), OutputError> {
+        let invalid = |msg: String| OutputError::Invalid {
+            path: path.to_path_buf(),
+            msg,
+        };
+        let mut lines = Vec::with_capacity(rows.len());
+        for r in rows {
+            if r.step != step {
+                return Err(invalid(format!(
+                    "a row of step {} among step {step}",
+                    r.step
+                )));
+            }
+            let b = &r.body;
+            if b.is_empty() || b.contains([',', '"', '\n', '\r']) || b.trim() != b {
+                return Err(invalid(format!("invalid body name {b:?}")));
+            }
+            lines.push((step, format_row(r)));
+        }
+        let keep = self.rows.partition_point(|(s, _)| *s < step);
+        let dropped = self.rows.split_off(keep);
+        let added = lines.len();
+        self.rows.extend(lines);
+        let res = self.write(path);
+        if res.is_err() {
+            // keep memory in sync with the (unchanged) file
+            self.rows.truncate(self.rows.len() - added);
+            self.rows.extend(dropped);
+        }
+        res
+    }
+
+    /// Writes the header and every row to `path`, atomically.
+    pub(crate) fn write(&self, path: &Path) -> Result<(), OutputError> {
+        write_atomic_with(path, |w: &mut dyn Write| {
+            writeln!(w, "{}", BODIES_COLUMNS.join(","))?;
+            for (_, line) in &self.rows {
+                writeln!(w, "{line}")?;
+            }
+            Ok(())
+        })
+    }
+}
+
+/// One row as a CSV line (without line break), reals round-tripping.
+fn format_row(r: &BodyLoadRow) -> String {
+    let mut s = String::with_capacity(160);
+    push_real(&mut s, r.t);
+    s.push_str(&format!(",{},{}", r.step, r.body));
+    for x in r.force.iter().chain(&r.moment) {
+        s.push(',');
+        push_real(&mut s, *x);
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn row(step: u64, body: &str, fx: Real) -> BodyLoadRow {
+        BodyLoadRow {
+            t: 0.5 * step as Real,
+            step,
+            body: body.into(),
+            force: [fx, -1.0 / 3.0, 0.0],
+            moment: [0.0, 0.0, 2.5e-17],
+        }
+    }
+
+    /// Rows round-trip bit for bit, a repeated step supersedes the rows from it on, and a
+    /// re-read keeps the rows up to the given step.
+    #[test]
+    fn rows_round_trip_supersede_and_truncate() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join(BODIES_FILE);
+        let mut t = LoadsTable::default();
+        t.push(&path, 0, &[row(0, "tank", 1.0), row(0, "flap", 2.0)])
+            .unwrap();
+        t.push(&path, 1, &[row(1, "tank", 0.1), row(1, "flap", 0.2)])
+            .unwrap();
+        t.push(&path, 1, &[row(1, "tank", 0.3), row(1, "flap", 0.4)])
+            .unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines.len(), 5, "{text}");
+        assert_eq!(lines[0], "t,step,body,fx,fy,fz,mx,my,mz");
+        assert_eq!(lines[3], "0.5,1,tank,0.3,-0.3333333333333333,0,0,0,2.5e-17");
+        let again = LoadsTable::read(&path, 0).unwrap();
+        assert_eq!(again.len(), 2);
+        assert_eq!(again.rows[..], t.rows[..2]);
+        assert_eq!(
+            LoadsTable::read(&dir.path().join("none.csv"), 9)
+                .unwrap()
+                .len(),
+            0
+        );
+    }
+
+    #[test]
+    fn a_bad_body_name_or_step_is_refused_and_changes_nothing() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join(BODIES_FILE);
+        let mut t = LoadsTable::default();
+        t.push(&path, 0, &[row(0, "tank", 1.0)]).unwrap();
+        let before = std::fs::read(&path).unwrap();
+        for bad in [vec![row(1, "a,b", 1.0)], vec![row(2, "tank", 1.0)]] {
+            assert!(t.push(&path, 1, &bad).is_err());
+        }
+        assert_eq!(std::fs::read(&path).unwrap(), before);
+        assert_eq!(t.len(), 1);
+    }
+
+    #[test]
+    fn a_file_of_other_columns_is_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join(BODIES_FILE);
+        std::fs::write(&path, "t,step,body,fx\n0,0,tank,1\n").unwrap();
+        let e = LoadsTable::read(&path, 5).unwrap_err().to_string();
+        assert!(e.contains("unexpected header"), "{e}");
+    }
+}
