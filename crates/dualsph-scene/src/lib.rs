@@ -52,6 +52,7 @@ mod generate;
 mod output;
 mod plugins_list;
 mod schema;
+mod shapes;
 mod validate;
 
 pub use dualsph_core::kernels::KernelKind;
@@ -63,6 +64,7 @@ pub use schema::{
     Block, BodyKind, BodySettings, BoxRegion, Disk, Domain, Formulation, Generator, HealthSettings,
     IntegratorSettings, Lattice, MotionSettings, NeighbourSettings, TimeStep, Velocity,
 };
+pub use shapes::{Fill, Geometry, Region, Shape, ShapeGenerator, Side};
 
 use ron::extensions::Extensions;
 use serde::Deserialize;
