@@ -172,6 +172,18 @@ fn unknown_shapes_and_fills_are_parse_errors_at_their_position() {
     );
     let (line, col, m) = parse_error(&text);
     assert_eq!((line, col), line_col(&text, "Outwards"), "{m}");
+    // a cut entry that is neither a plain box nor a shape
+    let text = scene(
+        2,
+        DOM2,
+        "",
+        &[&format!(
+            "Shape(shape: Box(min: [0.0, 0.0], max: [1.0, 0.5]),\n cut: [Circle(centre: [0.5, 0.2], radius: 0.1)], {TAIL})"
+        )],
+    );
+    let (line, _, m) = parse_error(&text);
+    assert_eq!(line, line_col(&text, "Circle(centre").0, "{m}");
+    assert!(m.contains("a cut region: a box `(min: [..], max: [..])` or a shape"), "{m}");
     let text = one(
         "Box(min: [0.0, 0.0], max: [1.0, 0.5])",
         "Layers(n: 2.5, side: Inside)",
