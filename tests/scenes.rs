@@ -128,12 +128,12 @@ fn tank_of_particle_walls_with_obstacles_from_shapes() {
     let mut scene = load("tank_obstacle_2d.ron");
     let first = scene.generate();
     let count = |b: u16| first.iter().filter(|p| p.body == b).count();
-    // water: 20 × 30 − the 24 lattice points within the post's radius 0.06 (3Δx)
+    // water: 20 × 30 − the 32 lattice points within the post's radius 0.06 (3Δx)
     // tank: (80 + 6)(50 + 6) − 80·50; cylinder: rings of round(2π r/Δx) = 28, 22, 16;
     // post: 16 + 9
     assert_eq!(
         [count(0), count(1), count(2), count(3)],
-        [600 - 24, 86 * 56 - 4000, 28 + 22 + 16, 16 + 9]
+        [600 - 32, 86 * 56 - 4000, 28 + 22 + 16, 16 + 9]
     );
     scene.max_steps = Some(100);
     scene.output.snapshot_every = 0;

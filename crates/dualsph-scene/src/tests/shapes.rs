@@ -165,6 +165,10 @@ fn circle_solid_count_against_area() {
     let ps = of(&text, 0);
     let expected = PI / (0.02 * 0.02);
     let rel = (ps.len() as f64 - expected).abs() / expected;
+    println!(
+        "circle R = 50Δx: {} points, πR²/Δx² = {expected:.1} ({rel:.2e})",
+        ps.len()
+    );
     assert!(rel < 0.01, "{} vs {expected}", ps.len());
     assert!(
         ps.iter()
@@ -266,7 +270,11 @@ fn ball_and_cylinder_counts_against_volume() {
         )
         .len() as f64
     };
-    let rel = |n: f64, v: f64| (n - v).abs() / v;
+    let rel = |n: f64, v: f64| {
+        let r = (n - v).abs() / v;
+        println!("{n} points against {v:.1}: {r:.2e}");
+        r
+    };
     // ball R = 0.5: 4/3 π R³ / Δx³ = 4189, within 1 %
     let n = count("Ball(center: [0.5, 0.5, 0.5], radius: 0.5)", "Solid");
     assert!(rel(n, 4.0 / 3.0 * PI * 0.125 / dx.powi(3)) < 0.01, "{n}");

@@ -183,7 +183,10 @@ fn unknown_shapes_and_fills_are_parse_errors_at_their_position() {
     );
     let (line, _, m) = parse_error(&text);
     assert_eq!(line, line_col(&text, "Circle(centre").0, "{m}");
-    assert!(m.contains("a cut region: a box `(min: [..], max: [..])` or a shape"), "{m}");
+    assert!(
+        m.contains("a cut region: a box `(min: [..], max: [..])` or a shape"),
+        "{m}"
+    );
     let text = one(
         "Box(min: [0.0, 0.0], max: [1.0, 0.5])",
         "Layers(n: 2.5, side: Inside)",

@@ -105,8 +105,8 @@ impl CellGrid {
     }
 }
 
-/// A generator's kind, and its body when the scene declares bodies: `Shape(Circle), body
-/// \`post\``.
+/// A generator's kind, and its body when the scene declares bodies (e.g. ``Shape(Circle),
+/// body `post` ``).
 fn describe(s: &Scene, i: usize) -> String {
     let g = &s.particles[i];
     match g.common().body {
