@@ -20,16 +20,16 @@ fn needs(s: &Shape) -> Option<(usize, &'static str)> {
 /// A shape at `field` (e.g. `particles[2].shape`) in a `d`-dimensional scene.
 pub(crate) fn shape(field: &str, s: &Shape, d: usize) -> Check {
     let f = |name: &str| format!("{field}.{name}");
-    if let Some((want, hint)) = needs(s) {
-        if d != want {
-            return Err(Problem::new(
-                field,
-                format!(
-                    "a {} is {want}-D and the scene has dimension {d}: {hint}",
-                    s.name()
-                ),
-            ));
-        }
+    if let Some((want, hint)) = needs(s)
+        && d != want
+    {
+        return Err(Problem::new(
+            field,
+            format!(
+                "a {} is {want}-D and the scene has dimension {d}: {hint}",
+                s.name()
+            ),
+        ));
     }
     match s {
         Shape::Box { min, max } => {

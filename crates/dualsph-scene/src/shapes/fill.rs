@@ -244,7 +244,7 @@ fn rings(g: &ShapeGenerator, f: &mut impl FnMut([f64; 3])) {
             Side::Outside => radius + step,
         };
         let count = (2.0 * PI * r / dx).round();
-        if !(count >= 3.0) {
+        if count.is_nan() || count < 3.0 {
             if r > -0.5 * dx {
                 f([c[0], c[1], 0.0]);
             }
