@@ -120,3 +120,31 @@ fn heat_conduction_conserves_energy_with_a_refined_band() {
         s.initial.e_int
     );
 }
+
+/// `scenes/tank_obstacle_2d.ron`, built from shapes: the particle count of each body, the walls
+/// held in place and every particle still in the domain after 100 steps of the collapse.
+#[test]
+fn tank_of_particle_walls_with_obstacles_from_shapes() {
+    let mut scene = load("tank_obstacle_2d.ron");
+    let first = scene.generate();
+    let count = |b: u16| first.iter().filter(|p| p.body == b).count();
+    // water: 20 × 30 − the 32 lattice points within the post's radius 0.06 (3Δx)
+    // tank: (80 + 6)(50 + 6) − 80·50; cylinder: rings of round(2π r/Δx) = 28, 22, 16;
+    // post: 16 + 9
+    assert_eq!(
+        [count(0), count(1), count(2), count(3)],
+        [600 - 32, 86 * 56 - 4000, 28 + 22 + 16, 16 + 9]
+    );
+    scene.max_steps = Some(100);
+    scene.output.snapshot_every = 0;
+    let (dir, s) = run_in_tempdir(&scene);
+    assert_eq!(s.steps, 100);
+    let last = read_particles_csv(&dir.path().join("final.csv")).unwrap();
+    assert_eq!(last.len(), first.len());
+    for (p0, p) in first.iter().zip(&last) {
+        if p0.body > 0 {
+            assert_eq!(p.pos.map(f64::to_bits), p0.pos.map(f64::to_bits));
+        }
+        assert!(p.pos[0] > -0.06 && p.pos[0] < 1.66 && p.pos[1] > -0.06 && p.pos[1] < 1.06);
+    }
+}

@@ -115,6 +115,7 @@ pub fn coarsen(scene: &mut Scene, factor: Real) {
         match g {
             Generator::Block(b) => b.spacing *= factor,
             Generator::Disk(d) => d.spacing *= factor,
+            Generator::Shape(s) => s.spacing *= factor,
         }
     }
 }

@@ -1,6 +1,7 @@
 //! Particle generation: lattice points of each generator, in a deterministic order.
 
 use crate::schema::{BodySettings, Generator, Lattice, Velocity};
+use crate::shapes;
 
 /// The most particles a scene may generate (checked from an estimate before generating).
 pub const MAX_PARTICLES: usize = 50_000_000;
@@ -45,6 +46,7 @@ pub(crate) fn lattice_box(g: &Generator, d: usize) -> ([f64; 3], [f64; 3]) {
                 lo[k] = comp(&c.center, k) - c.radius;
                 hi[k] = comp(&c.center, k) + c.radius;
             }
+            Generator::Shape(s) => return s.shape.geometry(d).bounds(),
         }
     }
     (lo, hi)
@@ -77,12 +79,15 @@ pub(crate) fn estimate_count(g: &Generator, d: usize) -> f64 {
     if !(dx > 0.0 && dx.is_finite() && (1..=3).contains(&d)) {
         return f64::INFINITY;
     }
+    if let Generator::Shape(s) = g {
+        return shapes::estimate_count(s, d);
+    }
     let n: f64 = index_ranges(g, d).iter().map(|(a, b)| b - a).product();
     if n.is_nan() {
         return f64::INFINITY;
     }
     match g {
-        Generator::Block(_) => n,
+        Generator::Block(_) | Generator::Shape(_) => n,
         // The lattice of the bounding box, times the ball's share of it (plus a margin of a
         // surface layer), but never more than the box itself.
         Generator::Disk(_) => {
@@ -122,17 +127,19 @@ pub(crate) fn for_each_position(g: &Generator, d: usize, mut f: impl FnMut([f64;
     if est.is_nan() || est > MAX_PARTICLES as f64 {
         return;
     }
-    let c = g.common();
-    let dx = c.spacing;
-    let (lo, _) = lattice_box(g, d);
-    let ranges = index_ranges(g, d).map(|(a, b)| (a as usize, b as usize));
     let disk = match g {
+        Generator::Shape(s) => return shapes::for_each_position(s, d, f),
         Generator::Disk(disk) => {
             let centre: Vec<f64> = (0..d).map(|k| comp(&disk.center, k)).collect();
             Some((centre, disk.radius * disk.radius * (1.0 + 1e-12)))
         }
         Generator::Block(_) => None,
     };
+    let c = g.common();
+    let cuts: Vec<_> = c.cut.iter().map(|r| r.geometry(d)).collect();
+    let dx = c.spacing;
+    let (lo, _) = lattice_box(g, d);
+    let ranges = index_ranges(g, d).map(|(a, b)| (a as usize, b as usize));
     for i0 in ranges[0].0..ranges[0].1 {
         for i1 in ranges[1].0..ranges[1].1 {
             for i2 in ranges[2].0..ranges[2].1 {
@@ -150,7 +157,7 @@ pub(crate) fn for_each_position(g: &Generator, d: usize, mut f: impl FnMut([f64;
                 if c.clip.is_some_and(|b| !b.contains(&p, d)) {
                     continue;
                 }
-                if c.cut.iter().any(|b| b.contains(&p, d)) {
+                if cuts.iter().any(|b| b.contains(&p)) {
                     continue;
                 }
                 f(p);

@@ -18,13 +18,19 @@
 //! )
 //! ```
 //!
+//! Generators: `Block` (a box of lattice points), `Disk` (a disk, ball or segment) and
+//! `Shape` (a [`Shape`] — box, polygon, circle, ball, cylinder — filled `Solid` or with
+//! `Layers(n: 3, side: Inside | Outside)` of wall particles along its surface; see
+//! [`ShapeGenerator`]).
+//!
 //! Optional: `neighbours` (`skin: 0.15, tune_skin: true`: the first build's skin, then one chosen
 //! from the measured motion), `plugins` (none), `max_steps` (None), `output`
 //! (`diagnostics_every: 10, snapshot_every: 200, snapshot_dt: None, formats: [Csv, Vtk],
 //! vtk_encoding: Binary, columns: None`; see [`OutputSettings`]), `health` (`density_below: 300,
 //! density_above: 10, h_below: 10, h_above: 300`: the run stops when a density or h leaves its
 //! initial range widened by those factors; each must be > 1, refused at its position), `integrator.max_dt` (None), and
-//! on every generator `clip`, `cut`, `velocity` (`Uniform([..])` or `Linear(G)`, `v = G·x`;
+//! on every generator `clip`, `cut` (plain boxes `(min: .., max: ..)` or [`Shape`]s),
+//! `velocity` (`Uniform([..])` or `Linear(G)`, `v = G·x`;
 //! zero when absent), `internal_energy` (0) and `body` (the generator's body).
 //!
 //! Plugins are `Name(field: value, ...)` or `Name()` and are looked up in a [`Registry`] while
@@ -35,10 +41,14 @@
 //! # Validation
 //!
 //! [`Scene::validate`] reports the first of: dimension not 1–3; a vector (domain corners,
-//! block corners, disk centre, clip/cut corners, uniform velocity, rows of a linear velocity
+//! block corners, disk centre, clip/cut corners, shape centres, corners, axes and polygon
+//! vertices, uniform velocity, rows of a linear velocity
 //! matrix) without exactly `dimension` finite components; domain or block `max <= min` on an
-//! axis; non-positive or non-finite spacing, density, h_factor, radius, end_time or fixed dt;
-//! adaptive coefficients outside (0, 1]; negative skin; `diagnostics_every == 0`; both
+//! axis; non-positive or non-finite spacing, density, h_factor, radius, length, end_time or
+//! fixed dt; a shape of the wrong dimension (a polygon or circle outside 2-D, a ball or
+//! cylinder outside 3-D); a polygon with fewer than 3 vertices, crossing edges or zero area; a
+//! zero cylinder axis; `Layers` with `n: 0`; a shape whose extent (with its outside layers,
+//! narrowed to its clip box) leaves the domain; adaptive coefficients outside (0, 1]; negative skin; `diagnostics_every == 0`; both
 //! `snapshot_dt` and a `snapshot_every` other than its default or 0; a plugin's
 //! own `validate`; two integrators (or two diagnostics plugins), naming both; more than [`MAX_PARTICLES`] particles (estimated before generating); a
 //! generator that yields no particles; a particle outside the domain; two generators whose
@@ -52,6 +62,7 @@ mod generate;
 mod output;
 mod plugins_list;
 mod schema;
+mod shapes;
 mod validate;
 
 pub use dualsph_core::kernels::KernelKind;
@@ -63,6 +74,7 @@ pub use schema::{
     Block, BodyKind, BodySettings, BoxRegion, Disk, Domain, Formulation, Generator, HealthSettings,
     IntegratorSettings, Lattice, MotionSettings, NeighbourSettings, TimeStep, Velocity,
 };
+pub use shapes::{Fill, Geometry, Region, Shape, ShapeGenerator, Side};
 
 use ron::extensions::Extensions;
 use serde::Deserialize;

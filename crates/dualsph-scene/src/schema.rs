@@ -1,6 +1,7 @@
 //! The parts of a scene file. Every struct rejects unknown fields; vectors are RON lists whose
 //! length must equal the scene dimension (checked by validation, not by the parser).
 
+use crate::shapes::{Region, ShapeGenerator};
 use serde::de::{self, DeserializeSeed, Deserializer, MapAccess, Visitor};
 use serde::{Deserialize, Serialize};
 use std::fmt;
@@ -119,9 +120,9 @@ pub struct Block {
     /// Keep only the points inside this box.
     #[serde(default, deserialize_with = "deserialize_clip")]
     pub clip: Option<BoxRegion>,
-    /// Drop the points inside any of these boxes.
+    /// Drop the points inside any of these regions (boxes `(min: .., max: ..)` or shapes).
     #[serde(default)]
-    pub cut: Vec<BoxRegion>,
+    pub cut: Vec<Region>,
     /// Initial velocity (zero when absent).
     #[serde(default)]
     pub velocity: Option<Velocity>,
@@ -154,9 +155,9 @@ pub struct Disk {
     /// Keep only the points inside this box.
     #[serde(default, deserialize_with = "deserialize_clip")]
     pub clip: Option<BoxRegion>,
-    /// Drop the points inside any of these boxes.
+    /// Drop the points inside any of these regions (boxes `(min: .., max: ..)` or shapes).
     #[serde(default)]
-    pub cut: Vec<BoxRegion>,
+    pub cut: Vec<Region>,
     /// Initial velocity (zero when absent).
     #[serde(default)]
     pub velocity: Option<Velocity>,
@@ -237,6 +238,8 @@ pub enum Generator {
     Block(Block),
     /// `Disk(center: [..], radius: .., spacing: .., ...)`.
     Disk(Disk),
+    /// `Shape(shape: Circle(..), fill: Layers(n: 3, side: Inside), spacing: .., ...)`.
+    Shape(ShapeGenerator),
 }
 
 /// The settings both generator kinds share, borrowed.
@@ -247,18 +250,26 @@ pub(crate) struct Common<'a> {
     pub density: f64,
     pub h_factor: f64,
     pub clip: Option<&'a BoxRegion>,
-    pub cut: &'a [BoxRegion],
+    pub cut: &'a [Region],
     pub velocity: Option<&'a Velocity>,
     pub internal_energy: f64,
     pub body: Option<&'a str>,
 }
 
 impl Generator {
-    /// `"Block"` or `"Disk"`.
+    /// `"Block"`, `"Disk"` or `"Shape(Box)"`, `"Shape(Circle)"`, ... (the shape's name).
     pub fn kind(&self) -> &'static str {
+        use crate::shapes::Shape as S;
         match self {
             Generator::Block(_) => "Block",
             Generator::Disk(_) => "Disk",
+            Generator::Shape(g) => match g.shape {
+                S::Box { .. } => "Shape(Box)",
+                S::Polygon { .. } => "Shape(Polygon)",
+                S::Circle { .. } => "Shape(Circle)",
+                S::Ball { .. } => "Shape(Ball)",
+                S::Cylinder { .. } => "Shape(Cylinder)",
+            },
         }
     }
 
@@ -295,6 +306,17 @@ impl Generator {
                 velocity: c.velocity.as_ref(),
                 internal_energy: c.internal_energy,
                 body: c.body.as_deref(),
+            },
+            Generator::Shape(g) => Common {
+                spacing: g.spacing,
+                lattice: g.lattice,
+                density: g.density,
+                h_factor: g.h_factor,
+                clip: g.clip.as_ref(),
+                cut: &g.cut,
+                velocity: g.velocity.as_ref(),
+                internal_energy: g.internal_energy,
+                body: g.body.as_deref(),
             },
         }
     }
@@ -444,7 +466,9 @@ impl Visitor<'_> for IdentVisitor {
 /// and `None`. (With ron's `UNWRAP_VARIANT_NEWTYPES` a derived struct inside `Some(..)`
 /// would reject the double parentheses, hence this hand-written visitor that takes the box
 /// from whatever map ron offers.)
-fn deserialize_clip<'de, D: Deserializer<'de>>(d: D) -> Result<Option<BoxRegion>, D::Error> {
+pub(crate) fn deserialize_clip<'de, D: Deserializer<'de>>(
+    d: D,
+) -> Result<Option<BoxRegion>, D::Error> {
     Ok(Option::<AnyBox>::deserialize(d)?.map(|b| b.0))
 }
 

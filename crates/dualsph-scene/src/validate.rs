@@ -4,6 +4,7 @@ use crate::Scene;
 use crate::error::Problem;
 use crate::generate::{self, MAX_PARTICLES};
 use crate::schema::{BodyKind, BoxRegion, Generator, MotionSettings, TimeStep, Velocity};
+use crate::shapes;
 use dualsph_core::plugin::{Role, SceneInfo};
 use std::cmp::Ordering;
 
@@ -12,10 +13,10 @@ mod support;
 
 use overlap::{fmt_point, overlaps};
 
-type Check = Result<(), Problem>;
+pub(crate) type Check = Result<(), Problem>;
 
 /// A vector with exactly `d` finite components.
-fn vector(field: &str, v: &[f64], d: usize) -> Check {
+pub(crate) fn vector(field: &str, v: &[f64], d: usize) -> Check {
     if v.len() != d {
         return Err(Problem::new(
             field,
@@ -32,7 +33,7 @@ fn vector(field: &str, v: &[f64], d: usize) -> Check {
 }
 
 /// A finite number `> 0`.
-fn positive(field: &str, x: f64) -> Check {
+pub(crate) fn positive(field: &str, x: f64) -> Check {
     if x.is_finite() && x > 0.0 {
         Ok(())
     } else {
@@ -44,7 +45,7 @@ fn positive(field: &str, x: f64) -> Check {
 }
 
 /// `max > min` on every axis (both already checked to have `d` components).
-fn ordered(field: &str, min: &[f64], max: &[f64]) -> Check {
+pub(crate) fn ordered(field: &str, min: &[f64], max: &[f64]) -> Check {
     match (0..min.len()).find(|&k| max[k].partial_cmp(&min[k]) != Some(Ordering::Greater)) {
         Some(k) => Err(Problem::new(
             field,
@@ -74,6 +75,7 @@ fn generator(i: usize, g: &Generator, d: usize) -> Check {
             vector(&f("center"), &c.center, d)?;
             positive(&f("radius"), c.radius)?;
         }
+        Generator::Shape(s) => shapes::check_shape(&f("shape"), &s.shape, d)?,
     }
     let c = g.common();
     positive(&f("spacing"), c.spacing)?;
@@ -84,7 +86,7 @@ fn generator(i: usize, g: &Generator, d: usize) -> Check {
         ordered(&f("clip.max"), &clip.min, &clip.max)?;
     }
     for (j, cut) in c.cut.iter().enumerate() {
-        boxes(&f(&format!("cut[{j}]")), cut, d)?;
+        shapes::check_region(&f(&format!("cut[{j}]")), cut, d)?;
     }
     match c.velocity {
         None => {}
@@ -207,6 +209,9 @@ fn settings(s: &Scene) -> Check {
     }
     for (i, g) in s.particles.iter().enumerate() {
         generator(i, g, d)?;
+        if let Generator::Shape(shape) = g {
+            shapes::check_generator(i, shape, d, &s.domain)?;
+        }
     }
     match s.integrator.dt {
         TimeStep::Fixed(dt) => positive("integrator.dt", dt)?,

@@ -3,6 +3,8 @@
 mod generate;
 mod output;
 mod parse;
+mod shapes;
+mod shapes_validate;
 mod validate;
 
 use crate::{Registry, Scene, SceneError};

@@ -1,5 +1,14 @@
 //! Generators that overlap: two particles of different generators closer than half the
 //! smaller spacing.
+//!
+//! Every pair of generators is checked whatever their bodies (a wall or obstacle overlapping
+//! fluid, two fluids, two walls), and the first pair found is refused, naming both generators
+//! (and their bodies when the scene declares bodies). Generators that only meet at a surface
+//! pass: a fluid block whose square lattice sits `Δx/2` inside a box face and that box's
+//! outside wall layers at `Δx/2, 3Δx/2, …` beyond it are `Δx` apart (`0.75Δx` for a staggered
+//! fluid); a fluid with an obstacle's shape in its `cut` and the obstacle's inside layers (a
+//! circle's first ring at `R − Δx/2`) are more than `Δx/2` apart. A solid obstacle on another
+//! lattice than the fluid's can come closer across the surface: cut it `Δx/2` larger.
 
 use super::Check;
 use crate::Scene;
@@ -96,6 +105,28 @@ impl CellGrid {
     }
 }
 
+/// A generator's kind, and its body when the scene declares bodies (e.g. ``Shape(Circle),
+/// body `post` ``).
+fn describe(s: &Scene, i: usize) -> String {
+    let g = &s.particles[i];
+    match g.common().body {
+        Some(b) if !s.bodies.is_empty() => format!("{}, body `{b}`", g.kind()),
+        _ => g.kind().to_owned(),
+    }
+}
+
+/// For generators of two different bodies (a wall or obstacle in a fluid), how to separate
+/// them.
+fn hint(s: &Scene, a: usize, b: usize) -> &'static str {
+    let body = |i: usize| s.particles[i].common().body;
+    if body(a) == body(b) {
+        return "";
+    }
+    "; cut the obstacle's shape from the other generator (`cut: [Circle(..)]`), Δx/2 larger \
+     when their lattices do not line up, or put wall layers outside the fluid \
+     (`fill: Layers(n: 3, side: Outside)`)"
+}
+
 pub(super) fn fmt_point(p: &[f64; 3], d: usize) -> String {
     let parts: Vec<String> = p[..d].iter().map(|x| format!("{x}")).collect();
     format!("({})", parts.join(", "))
@@ -158,11 +189,12 @@ pub(super) fn overlaps(s: &Scene, bounds: &[Bounds]) -> Check {
                         format!(
                             "particles[{hi}] ({}) overlaps particles[{lo}] ({}): its particle at {} is \
                              {dist:.6} from the particle at {} of particles[{lo}], closer than half the \
-                             smaller spacing ({r})",
-                            s.particles[hi].kind(),
-                            s.particles[lo].kind(),
+                             smaller spacing ({r}){}",
+                            describe(s, hi),
+                            describe(s, lo),
                             fmt_point(phi, d),
-                            fmt_point(plo, d)
+                            fmt_point(plo, d),
+                            hint(s, lo, hi)
                         ),
                     ));
                 }
