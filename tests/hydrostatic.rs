@@ -96,7 +96,7 @@ fn floor_pressure(water: &[[f64; 4]]) -> f64 {
 /// pressure is within 2 % of ρ0 g H of `p(H − y)`; no particle moves faster than 3 mm/s
 /// (0.14 % of `sqrt(g H)`); the total energy of water and walls changes by less than 1e-7 of
 /// itself. Measured: 4928.2 Pa, +0.47 % from ρ0 g H and +0.09 % from `p(H)`; 1.6 %;
-/// 2.2 mm/s; −1.6e-8.
+/// 2.2 mm/s; −1.9e-8.
 #[test]
 fn the_tank_stays_hydrostatic_for_two_seconds() {
     let (water, energy_change) = water_at_end(&tank(|t| t.to_string()));
