@@ -30,7 +30,13 @@
 //! two, exactly, whatever the h field. It moves no momentum (no force). It is a term of the
 //! force sweep ([`DiffusionTerm`]): `D_ij` is evaluated once per pair, and the reaction reaches
 //! j through its dual-support like every other sum of the sweep, in a fixed order.
+//!
+//! Only pairs of two fluid particles diffuse: a particle of a fixed or prescribed body (a wall
+//! of particles) neither gives nor takes density, since its density is the wall model's (set
+//! from the fluid by `WallPressure`, or its own continuity equation), and mass diffused into a
+//! wall would leave the fluid.
 
+use dualsph_core::bodies::{Bodies, BodyKind};
 use dualsph_core::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -49,10 +55,12 @@ fn default_delta() -> Real {
 
 /// The diffusion as a pair term of the force sweep: `D_ij V_j` to `dρ_i/dt`, `−D_ij V_i` to
 /// `dρ_j/dt` ([`Reaction::Separate`]).
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct DiffusionTerm {
     /// δ.
     pub delta: Real,
+    /// Whether each body, by [`BodyId`], is a fluid (diffuses); `None` when every body is.
+    pub fluid: Option<Vec<bool>>,
 }
 
 /// [`DiffusionTerm`] bound for a sweep.
@@ -60,6 +68,8 @@ pub struct DiffusionTerm {
 pub struct BoundDiffusion<'w> {
     delta: Real,
     sound: &'w [SoundSpeed],
+    /// The particles' bodies and which bodies diffuse, when some do not.
+    fluid: Option<(&'w [BodyId], &'w [bool])>,
 }
 
 impl<V: Vector> PairTerm<V> for DiffusionTerm {
@@ -71,9 +81,14 @@ impl<V: Vector> PairTerm<V> for DiffusionTerm {
 
     fn bind<'w>(&'w self, b: &mut Binder<'_, 'w, V>) -> Result<BoundDiffusion<'w>, String> {
         b.density_rate(Reaction::Separate)?;
+        let fluid = match &self.fluid {
+            Some(f) => Some((b.require::<BodyId>()?, f.as_slice())),
+            None => None,
+        };
         Ok(BoundDiffusion {
             delta: self.delta,
             sound: b.require()?,
+            fluid,
         })
     }
 }
@@ -91,7 +106,11 @@ impl<V: Vector> BoundTerm<V> for BoundDiffusion<'_> {
         let c = T::splat(0.5) * (T::splat(self.sound[i].0) + p.gather(self.sound, |c| c.0));
         // the owner's half of ψ_ij = 2(ρ_j − ρ_i)
         let half_psi = p.rho_j() - T::splat(d.rho[i].0);
-        let coef = T::splat(self.delta * 0.5 * d.h[i].0) * c * half_psi * (-p.grad_factor());
+        let mut coef = T::splat(self.delta * 0.5 * d.h[i].0) * c * half_psi * (-p.grad_factor());
+        if let Some((body, fluid)) = self.fluid {
+            let both = |b: &BodyId| if fluid[b.0 as usize] { 1.0 } else { 0.0 };
+            coef = coef * T::splat(both(&body[i])) * p.gather(body, both);
+        }
         let v_j = p.m_j() / p.rho_j();
         out.add_density_rate(coef * v_j);
         out.react_density_rate(-(coef * T::splat(d.volume(i))));
@@ -124,7 +143,13 @@ impl SimPlugin for DensityDiffusion {
         if !sim.enable_feature("density_diffusion") {
             return Err(SimError::Build("DensityDiffusion is listed twice".into()));
         }
-        sim.add_pair_term(DiffusionTerm { delta: self.delta });
+        let kinds = &sim.world.resource::<Bodies>().0;
+        let fluid: Vec<bool> = kinds.iter().map(|b| b.kind == BodyKind::Fluid).collect();
+        let fluid = (!fluid.iter().all(|&f| f)).then_some(fluid);
+        sim.add_pair_term(DiffusionTerm {
+            delta: self.delta,
+            fluid,
+        });
         Ok(())
     }
 }
@@ -175,7 +200,8 @@ mod tests {
         k: &Kernel,
         delta: Real,
     ) -> Vec<Real> {
-        let terms: Vec<Arc<dyn DynPairTerm<DVec2>>> = vec![Arc::new(DiffusionTerm { delta })];
+        let terms: Vec<Arc<dyn DynPairTerm<DVec2>>> =
+            vec![Arc::new(DiffusionTerm { delta, fluid: None })];
         let data = ParticleData::of(world).unwrap();
         let ctx = SweepCtx::new(data, nb, k, Formulation::DualSupport);
         let mut buf = SweepBuffers::default();
@@ -187,7 +213,11 @@ mod tests {
 
     #[test]
     fn two_lanes_equal_one_lane_bitwise() {
-        dualsph_core::sweep::check_lanes_2d(&DiffusionTerm { delta: 0.1 }).unwrap();
+        dualsph_core::sweep::check_lanes_2d(&DiffusionTerm {
+            delta: 0.1,
+            fluid: None,
+        })
+        .unwrap();
     }
 
     #[test]
