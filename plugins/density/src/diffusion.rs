@@ -31,13 +31,26 @@
 //! force sweep ([`DiffusionTerm`]): `D_ij` is evaluated once per pair, and the reaction reaches
 //! j through its dual-support like every other sum of the sweep, in a fixed order.
 //!
+//! **Under gravity** (`hydrostatic: true`) the term diffuses the density's departure from
+//! hydrostatics instead, `ψ_ij = 2[(ρ_j − ρ_i) − ρ^H_ji]` with the hydrostatic difference
+//! `ρ^H_ji = ρ0 [(1 + ρ0 |g| z_ij / p0)^{1/γ} − 1]`, `z_ij = (x_i − x_j)·(−ĝ)` the height of i
+//! above j, and ρ0, p0, γ the owner's Tait parameters (Fourtakas, Domínguez, Vacondio &
+//! Rogers (2019), Local uniform stencil (LUST) boundary condition for arbitrary 3-D
+//! boundaries in parallel smoothed particle hydrodynamics (SPH) models, Comput. Fluids 190,
+//! 346–361, the density diffusion of DualSPHysics). Molteni's term alone diffuses the
+//! hydrostatic density gradient wherever the support is truncated (the free surface, a wall)
+//! and a fluid at rest loses its hydrostatic pressure; the corrected term vanishes on it.
+//!
 //! Only pairs of two fluid particles diffuse: a particle of a fixed or prescribed body (a wall
 //! of particles) neither gives nor takes density, since its density is the wall model's (set
 //! from the fluid by `WallPressure`, or its own continuity equation), and mass diffused into a
 //! wall would leave the fluid.
 
 use dualsph_core::bodies::{Bodies, BodyKind};
+use dualsph_core::lanes::LaneVec;
 use dualsph_core::prelude::*;
+use dualsph_eos::{Eos, Materials};
+use dualsph_gravity::GravityAccel;
 use serde::{Deserialize, Serialize};
 
 /// δ-SPH density diffusion settings.
@@ -47,6 +60,10 @@ pub struct DensityDiffusion {
     /// δ, on the classical smoothing length h/2 (Molteni & Colagrossi, Antuono et al.: 0.1).
     #[serde(default = "default_delta")]
     pub delta: Real,
+    /// Diffuse the departure from hydrostatics (module docs); needs `Gravity` and `TaitEos`
+    /// listed before.
+    #[serde(default)]
+    pub hydrostatic: bool,
 }
 
 fn default_delta() -> Real {
@@ -61,6 +78,20 @@ pub struct DiffusionTerm {
     pub delta: Real,
     /// Whether each body, by [`BodyId`], is a fluid (diffuses); `None` when every body is.
     pub fluid: Option<Vec<bool>>,
+    /// The hydrostatic correction, when asked for.
+    pub hydrostatic: Option<Hydrostatic>,
+}
+
+/// What the hydrostatic correction needs: the unit vector up (`−ĝ`), `|g|`, and each body's
+/// Tait `(ρ0, p0, 1/γ)`.
+#[derive(Debug, Clone)]
+pub struct Hydrostatic {
+    /// `−g/|g|` (3-D embedding).
+    pub up: [Real; 3],
+    /// `|g|`.
+    pub g: Real,
+    /// `(ρ0, p0, 1/γ)` by [`BodyId`].
+    pub tait: Vec<(Real, Real, Real)>,
 }
 
 /// [`DiffusionTerm`] bound for a sweep.
@@ -70,6 +101,8 @@ pub struct BoundDiffusion<'w> {
     sound: &'w [SoundSpeed],
     /// The particles' bodies and which bodies diffuse, when some do not.
     fluid: Option<(&'w [BodyId], &'w [bool])>,
+    /// The hydrostatic correction and the particles' bodies.
+    hydrostatic: Option<(&'w [BodyId], &'w Hydrostatic)>,
 }
 
 impl<V: Vector> PairTerm<V> for DiffusionTerm {
@@ -85,10 +118,15 @@ impl<V: Vector> PairTerm<V> for DiffusionTerm {
             Some(f) => Some((b.require::<BodyId>()?, f.as_slice())),
             None => None,
         };
+        let hydrostatic = match &self.hydrostatic {
+            Some(h) => Some((b.require::<BodyId>()?, h)),
+            None => None,
+        };
         Ok(BoundDiffusion {
             delta: self.delta,
             sound: b.require()?,
             fluid,
+            hydrostatic,
         })
     }
 }
@@ -105,7 +143,15 @@ impl<V: Vector> BoundTerm<V> for BoundDiffusion<'_> {
         let (d, i) = (p.data(), p.i());
         let c = T::splat(0.5) * (T::splat(self.sound[i].0) + p.gather(self.sound, |c| c.0));
         // the owner's half of ψ_ij = 2(ρ_j − ρ_i)
-        let half_psi = p.rho_j() - T::splat(d.rho[i].0);
+        let mut half_psi = p.rho_j() - T::splat(d.rho[i].0);
+        if let Some((body, h)) = self.hydrostatic {
+            let (rho0, p0, inv_gamma) = h.tait[body[i].0 as usize];
+            let up = V::from_slice(&h.up[..V::DIM]).unwrap_or_else(V::zero);
+            let z = p.rij().dot::<V>(LaneVec::splat(up));
+            let k = rho0 * h.g / p0;
+            let rho_h = T::from_fn(|l| rho0 * ((1.0 + k * z.lane(l)).powf(inv_gamma) - 1.0));
+            half_psi = half_psi - rho_h;
+        }
         let mut coef = T::splat(self.delta * 0.5 * d.h[i].0) * c * half_psi * (-p.grad_factor());
         if let Some((body, fluid)) = self.fluid {
             let both = |b: &BodyId| if fluid[b.0 as usize] { 1.0 } else { 0.0 };
@@ -146,12 +192,54 @@ impl SimPlugin for DensityDiffusion {
         let kinds = &sim.world.resource::<Bodies>().0;
         let fluid: Vec<bool> = kinds.iter().map(|b| b.kind == BodyKind::Fluid).collect();
         let fluid = (!fluid.iter().all(|&f| f)).then_some(fluid);
+        let hydrostatic = if self.hydrostatic {
+            Some(hydrostatic_setup::<V>(sim)?)
+        } else {
+            None
+        };
         sim.add_pair_term(DiffusionTerm {
             delta: self.delta,
             fluid,
+            hydrostatic,
         });
         Ok(())
     }
+}
+
+/// The hydrostatic correction's parameters, from the gravity and the equation of state built
+/// before this plugin.
+fn hydrostatic_setup<V: Vector>(sim: &Sim<V>) -> Result<Hydrostatic, SimError> {
+    let need = "DensityDiffusion(hydrostatic: true) needs Gravity and TaitEos listed before it";
+    let g = sim
+        .world
+        .get_resource::<GravityAccel<V>>()
+        .ok_or_else(|| SimError::Build(need.into()))?
+        .0;
+    let materials = &sim
+        .world
+        .get_resource::<Materials>()
+        .ok_or_else(|| SimError::Build(need.into()))?
+        .0;
+    let tait = materials
+        .iter()
+        .map(|e| match *e {
+            Eos::Tait {
+                rho0, gamma, p0, ..
+            } => Ok((rho0, p0, 1.0 / gamma)),
+            Eos::Ideal { .. } => Err(SimError::Build(need.into())),
+        })
+        .collect::<Result<_, _>>()?;
+    let gn = g.length();
+    if gn <= 0.0 {
+        return Err(SimError::Build(
+            "DensityDiffusion(hydrostatic: true): gravity is zero".into(),
+        ));
+    }
+    Ok(Hydrostatic {
+        up: (g * (-1.0 / gn)).to_xyz(),
+        g: gn,
+        tait,
+    })
 }
 
 #[cfg(test)]
@@ -200,8 +288,11 @@ mod tests {
         k: &Kernel,
         delta: Real,
     ) -> Vec<Real> {
-        let terms: Vec<Arc<dyn DynPairTerm<DVec2>>> =
-            vec![Arc::new(DiffusionTerm { delta, fluid: None })];
+        let terms: Vec<Arc<dyn DynPairTerm<DVec2>>> = vec![Arc::new(DiffusionTerm {
+            delta,
+            fluid: None,
+            hydrostatic: None,
+        })];
         let data = ParticleData::of(world).unwrap();
         let ctx = SweepCtx::new(data, nb, k, Formulation::DualSupport);
         let mut buf = SweepBuffers::default();
@@ -216,6 +307,7 @@ mod tests {
         dualsph_core::sweep::check_lanes_2d(&DiffusionTerm {
             delta: 0.1,
             fluid: None,
+            hydrostatic: None,
         })
         .unwrap();
     }
@@ -276,9 +368,27 @@ mod tests {
     #[test]
     fn refuses_a_meaningless_delta() {
         let info = SceneInfo::of_dimension(2);
-        assert!(SimPlugin::validate(&DensityDiffusion { delta: 0.1 }, &info).is_ok());
+        assert!(
+            SimPlugin::validate(
+                &DensityDiffusion {
+                    delta: 0.1,
+                    hydrostatic: false
+                },
+                &info
+            )
+            .is_ok()
+        );
         for bad in [0.0, -0.1, 2.0, Real::NAN] {
-            assert!(SimPlugin::validate(&DensityDiffusion { delta: bad }, &info).is_err());
+            assert!(
+                SimPlugin::validate(
+                    &DensityDiffusion {
+                        delta: bad,
+                        hydrostatic: false
+                    },
+                    &info
+                )
+                .is_err()
+            );
         }
     }
 }
