@@ -7,7 +7,8 @@
 //! `p(s) = p0 [(1 + ((γ − 1)/γ) ρ0 g s / p0)^{γ/(γ−1)} − 1]`, which is `ρ0 g s` to within
 //! `g s / (2 c0²)` (0.39 % at the bottom here: c0 = 25 m/s, H = 0.5 m).
 
-use dualsph::runner::{self, Progress, RunOptions};
+mod common;
+
 use dualsph::scene::Scene;
 use std::collections::HashMap;
 use std::path::Path;
@@ -33,13 +34,7 @@ fn tank(plugins: impl Fn(&str) -> String) -> Scene {
 /// The water's particles at the end of a run of `scene`, (x, y, p, |v|), and the relative
 /// change of the total energy (fluid and walls) over the run.
 fn water_at_end(scene: &Scene) -> (Vec<[f64; 4]>, f64) {
-    let dir = tempfile::tempdir().unwrap();
-    let opts = RunOptions {
-        out: dir.path().to_path_buf(),
-        progress: Progress::Silent,
-        profile: false,
-    };
-    runner::run(scene, &opts).unwrap();
+    let (dir, _) = common::run_on_threads(scene, 2);
     let energy_change = total_energy_change(&dir.path().join("diagnostics.csv"));
     let text = std::fs::read_to_string(dir.path().join("final.csv")).unwrap();
     let mut lines = text.lines();
@@ -174,13 +169,7 @@ fn the_thrust_on_the_wall_is_the_hydrostatic_one() {
         .replace("end_time: 1.0", "end_time: 0.001")
         .replace("snapshot_every: 500", "snapshot_every: 0");
     let scene = Scene::from_str(&text, &path, &dualsph::default_registry()).unwrap();
-    let dir = tempfile::tempdir().unwrap();
-    let opts = RunOptions {
-        out: dir.path().to_path_buf(),
-        progress: Progress::Silent,
-        profile: false,
-    };
-    runner::run(&scene, &opts).unwrap();
+    let (dir, _) = common::run_on_threads(&scene, 2);
     let text = std::fs::read_to_string(dir.path().join("bodies.csv")).unwrap();
     let first_tank_row: Vec<f64> = text
         .lines()

@@ -7,7 +7,6 @@
 mod common;
 
 use dualsph::prelude::*;
-use dualsph::runner::{self, Progress, RunOptions};
 use dualsph::scene::Scene;
 use glam::DVec2;
 use std::collections::HashMap;
@@ -60,19 +59,8 @@ fn tank(about: &str, steps: u64) -> Scene {
     scene(&body, "tank", "tank", "", steps)
 }
 
-fn run(scene: &Scene, threads: usize) -> (tempfile::TempDir, runner::RunSummary) {
-    let dir = tempfile::tempdir().unwrap();
-    let opts = RunOptions {
-        out: dir.path().to_path_buf(),
-        progress: Progress::Silent,
-        profile: false,
-    };
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .unwrap();
-    let summary = pool.install(|| runner::run(scene, &opts).unwrap());
-    (dir, summary)
+fn run(scene: &Scene, threads: usize) -> (tempfile::TempDir, dualsph::runner::RunSummary) {
+    common::run_on_threads(scene, threads)
 }
 
 /// The columns of `diagnostics.csv` by name.

@@ -2,7 +2,8 @@
 //! vortex decays at its analytic rate while it stays ordered; pairs across the period conserve
 //! momentum to round-off, and the run is bitwise the same on 1 and 2 threads.
 
-use dualsph::runner::{self, Progress, RunOptions};
+mod common;
+
 use dualsph::scene::Scene;
 use std::f64::consts::PI;
 use std::path::Path;
@@ -31,19 +32,8 @@ fn taylor_green(plugins: &str, velocity: &str, end: f64, every: f64) -> Scene {
 const PHYSICS: &str = "ContinuityDensity(form: Pairwise), TaitEos(rho0: 1.0, gamma: 7.0, \
                        c0: 10.0), PressureForce(), PhysicalViscosity(mu: 0.01)";
 
-fn run(scene: &Scene, threads: usize) -> (tempfile::TempDir, runner::RunSummary) {
-    let dir = tempfile::tempdir().unwrap();
-    let opts = RunOptions {
-        out: dir.path().to_path_buf(),
-        progress: Progress::Silent,
-        profile: false,
-    };
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .unwrap();
-    let summary = pool.install(|| runner::run(scene, &opts).unwrap());
-    (dir, summary)
+fn run(scene: &Scene, threads: usize) -> (tempfile::TempDir, dualsph::runner::RunSummary) {
+    common::run_on_threads(scene, threads)
 }
 
 /// The rows of a particle CSV as maps from column name to value.

@@ -4,7 +4,8 @@
 //! round-off in every step — the tank's load (`fx[tank]`, `fy[tank]`) is exactly minus the
 //! force of the walls on the water.
 
-use dualsph::runner::{self, Progress, RunOptions};
+mod common;
+
 use dualsph::scene::Scene;
 use std::collections::HashMap;
 use std::path::Path;
@@ -38,13 +39,7 @@ fn coarse_dam_break(end: f64) -> Scene {
 #[test]
 fn the_walls_hold_the_surge_and_the_momentum_balances_every_step() {
     let scene = coarse_dam_break(1.0);
-    let dir = tempfile::tempdir().unwrap();
-    let opts = RunOptions {
-        out: dir.path().to_path_buf(),
-        progress: Progress::Silent,
-        profile: false,
-    };
-    let summary = runner::run(&scene, &opts).expect("the run stays stable");
+    let (dir, summary) = common::run_on_threads(&scene, 2);
     let (header, rows) =
         dualsph::io::read_diagnostics_csv(&dir.path().join("diagnostics.csv")).unwrap();
     let d: HashMap<&str, Vec<f64>> = header

@@ -159,6 +159,27 @@ pub fn run(
     runner::run_with(scene, &opts, &restart).unwrap()
 }
 
+/// Runs `scene` on a pool of `threads` threads into a new temporary directory, silently; a
+/// failed run fails the test.
+pub fn run_on_threads(
+    scene: &dualsph::scene::Scene,
+    threads: usize,
+) -> (tempfile::TempDir, dualsph::runner::RunSummary) {
+    use dualsph::runner::{self, Progress, RunOptions};
+    let dir = tempfile::tempdir().unwrap();
+    let opts = RunOptions {
+        out: dir.path().to_path_buf(),
+        progress: Progress::Silent,
+        profile: false,
+    };
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap();
+    let summary = pool.install(|| runner::run(scene, &opts).unwrap());
+    (dir, summary)
+}
+
 /// The bytes of `path`; a missing file fails the test with its path.
 pub fn read(path: &std::path::Path) -> Vec<u8> {
     std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
