@@ -147,6 +147,9 @@ fn motion_of(m: &dualsph_scene::MotionSettings) -> dualsph_core::bodies::Motion 
         M::Translate { velocity } => Motion::Translate {
             velocity: v3(velocity),
         },
+        M::Slide { velocity } => Motion::Slide {
+            velocity: v3(velocity),
+        },
         M::Oscillate {
             amplitude,
             frequency,

@@ -154,6 +154,7 @@ fn physical_viscosity_conserves_momentum_and_energy() {
         PressureForce {},
         PhysicalViscosity {
             mu: 0.3,
+            eta_factor: 0.1,
             materials: Vec::new(),
         },
         ContinuityDensity {

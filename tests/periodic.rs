@@ -36,17 +36,8 @@ fn run(scene: &Scene, threads: usize) -> (tempfile::TempDir, dualsph::runner::Ru
     common::run_on_threads(scene, threads)
 }
 
-/// The rows of a particle CSV as maps from column name to value.
 fn particles(path: &Path) -> Vec<std::collections::HashMap<String, f64>> {
-    let text = std::fs::read_to_string(path).unwrap();
-    let mut lines = text.lines();
-    let header: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();
-    lines
-        .map(|l| {
-            let values = l.split(',').map(|v| v.parse::<f64>().unwrap());
-            header.iter().cloned().zip(values).collect()
-        })
-        .collect()
+    common::particle_rows(path)
 }
 
 /// A uniform stream (0.7, 0.3) m/s through the periodic box for 2 s: every particle crosses

@@ -208,3 +208,33 @@ pub fn report_options(coarsen: Real, end_time: Option<Real>) -> dualsph::report:
         log: false,
     }
 }
+
+/// The rows of a particle CSV as maps from column name to value.
+pub fn particle_rows(path: &std::path::Path) -> Vec<std::collections::HashMap<String, f64>> {
+    let text = String::from_utf8(read(path)).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();
+    lines
+        .map(|l| {
+            let values = l.split(',').map(|v| v.parse::<f64>().unwrap());
+            header.iter().cloned().zip(values).collect()
+        })
+        .collect()
+}
+
+/// The snapshots of a run in `dir`, `(t, CSV path)` in time order, from its `particles.pvd`.
+pub fn snapshots(dir: &std::path::Path) -> Vec<(f64, std::path::PathBuf)> {
+    let pvd = String::from_utf8(read(&dir.join("particles.pvd"))).unwrap();
+    let attr = |line: &str, name: &str| -> Option<String> {
+        let start = line.find(&format!("{name}=\""))? + name.len() + 2;
+        let len = line[start..].find('"')?;
+        Some(line[start..start + len].to_string())
+    };
+    pvd.lines()
+        .filter_map(|l| {
+            let t: f64 = attr(l, "timestep")?.parse().ok()?;
+            let file = attr(l, "file")?.replace(".vtp", ".csv");
+            Some((t, dir.join(file)))
+        })
+        .collect()
+}

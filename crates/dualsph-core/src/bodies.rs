@@ -54,6 +54,14 @@ pub enum Motion {
         /// `φ` (rad).
         phase: Real,
     },
+    /// A surface that moves along itself at `u` (a belt, the lid of a cavity): `x(t) = x_0`,
+    /// `v = u`. The particles stay where they are and carry the velocity into the fluid's
+    /// equations; it stands for a wall that the motion maps onto itself (a plane wall moved
+    /// along its plane), longer than the run would carry it.
+    Slide {
+        /// `u`.
+        velocity: [Real; 3],
+    },
     /// A rotation at the constant rate `Ω` about the axis through `c` along the unit vector
     /// `n` (the z axis in 2-D): `x(t) = c + R(Ωt)(x_0 − c)` with Rodrigues' rotation
     /// `R(θ)y = y cos θ + (n × y) sin θ + n (n·y)(1 − cos θ)`, and `v = Ω n × (x − c)`.
@@ -76,6 +84,7 @@ impl Motion {
                 let u = vec(&velocity);
                 (x0 + u * t, u)
             }
+            Motion::Slide { velocity } => (x0, vec(&velocity)),
             Motion::Oscillate {
                 amplitude,
                 frequency,
@@ -117,7 +126,7 @@ impl Motion {
     /// rotation.
     pub fn acceleration<V: Vector>(&self, x0: V, t: Real) -> V {
         match *self {
-            Motion::Translate { .. } => V::zero(),
+            Motion::Translate { .. } | Motion::Slide { .. } => V::zero(),
             Motion::Oscillate {
                 amplitude,
                 frequency,
@@ -144,7 +153,9 @@ impl Motion {
     pub fn checked(self) -> Result<Self, String> {
         let finite = |xs: &[Real]| xs.iter().all(|x| x.is_finite());
         match self {
-            Motion::Translate { velocity } if finite(&velocity) => Ok(self),
+            Motion::Translate { velocity } | Motion::Slide { velocity } if finite(&velocity) => {
+                Ok(self)
+            }
             Motion::Oscillate {
                 amplitude,
                 frequency,
@@ -245,6 +256,16 @@ impl<V: Vector> ColumnValue<V> for BodyId {
 pub struct Anchor<V: Vector>(pub V);
 
 crate::vector_column!(Anchor);
+
+/// The velocity a wall particle shows the viscous terms, less its own velocity: `v̂_w − v_w`.
+/// A wall model that extrapolates the fluid's velocity to the wall (no-slip or free-slip, the
+/// walls plugin's `WallPressure(viscous: ..)`) adds this column and sets it every step before
+/// the forces; every other particle keeps zero. The viscous pair terms then take
+/// `v̂_ij = v_ij + δ_i − δ_j` (with `δ` this column) where they read the relative velocity.
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct WallVelocityOffset<V: Vector>(pub V);
+
+crate::vector_column!(WallVelocityOffset);
 
 /// The law of every body whose particles are moved by it rather than integrated, by
 /// [`BodyId`]: `None` for a fluid, the motion for a prescribed body, and a translation at zero

@@ -9,6 +9,8 @@
 //! * [`dam_break`]: the experimental water-front positions of Koshizuka & Oka (1996);
 //! * [`sedov`]: the self-similar Sedov–Taylor point explosion in planar, cylindrical and
 //!   spherical geometry (Sedov 1959; Kamm & Timmes 2007);
+//! * [`poiseuille`]: the series solution of plane Poiseuille flow started from rest (Morris,
+//!   Fox & Zhu 1997);
 //! * [`norms`]: the error norms and interpolation used by the reports.
 #![warn(missing_docs)]
 
@@ -16,5 +18,6 @@ pub mod dam_break;
 pub mod drop;
 pub mod heat;
 pub mod norms;
+pub mod poiseuille;
 pub mod riemann;
 pub mod sedov;

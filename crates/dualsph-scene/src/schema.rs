@@ -193,6 +193,12 @@ pub enum MotionSettings {
         /// Velocity (m/s).
         velocity: Vec<f64>,
     },
+    /// A surface moving along itself (a belt, a cavity's lid): the particles stay at `x_0`
+    /// and carry `velocity` (m/s) into the fluid's equations.
+    Slide {
+        /// Velocity (m/s).
+        velocity: Vec<f64>,
+    },
     /// `x = x_0 + amplitude (sin(2π frequency t + phase) − sin(phase))`.
     Oscillate {
         /// Amplitude vector (m).

@@ -370,7 +370,9 @@ fn motion(at: &str, m: &MotionSettings, d: usize) -> Check {
         }
     };
     match m {
-        MotionSettings::Translate { velocity } => vector(&format!("{at}.velocity"), velocity, d),
+        MotionSettings::Translate { velocity } | MotionSettings::Slide { velocity } => {
+            vector(&format!("{at}.velocity"), velocity, d)
+        }
         MotionSettings::Oscillate {
             amplitude,
             frequency,

@@ -14,7 +14,9 @@
 #![warn(missing_docs)]
 
 pub mod pressure;
+pub mod velocity;
 pub use pressure::WallPressure;
+pub use velocity::ViscousWall;
 
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::chunks::{DENSE, MIN_LEN};

@@ -20,10 +20,12 @@
 //! like the fluid (the dynamic boundary of Crespo, Gómez-Gesteira & Dalrymple 2007); with it,
 //! their density and pressure are set from the fluid every step, after the equation of state.
 
+use crate::velocity::{ViscousWall, ViscousWallMode, wall_velocity};
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::bodies::Anchor;
-use dualsph_core::bodies::{Bodies, BodyKind, DrivenBodies};
+use dualsph_core::bodies::{Bodies, BodyKind, DrivenBodies, WallVelocityOffset};
 use dualsph_core::chunks::DENSE;
+use dualsph_core::columns::ColumnSpec;
 use dualsph_core::neighbours::Neighbours;
 use dualsph_core::prelude::*;
 use dualsph_core::sweep::Support;
@@ -40,6 +42,10 @@ pub struct WallPressure {
     /// body.
     #[serde(default)]
     pub bodies: Vec<String>,
+    /// The velocity the wall particles show the viscous terms: `Own` (the default),
+    /// `NoSlip` or `FreeSlip` ([`crate::velocity`]).
+    #[serde(default)]
+    pub viscous: ViscousWall,
 }
 
 /// The density each wall particle was given this step, by row: put back after the
@@ -220,6 +226,16 @@ impl SimPlugin for WallPressure {
         )
         .after("TaitEos")
         .after("IdealGas");
+        if self.viscous != ViscousWall::Own {
+            let spec = ColumnSpec::scratch("wall_velocity_offset");
+            sim.add_column(spec, |_| WallVelocityOffset(V::zero()))?;
+            sim.world.insert_resource(ViscousWallMode(self.viscous));
+            sim.add_system(
+                StepSet::Eos,
+                "wall_velocity (Adami et al. 2012, Eq. 22-23)",
+                wall_velocity::<V>,
+            );
+        }
         Ok(())
     }
 }
