@@ -11,9 +11,12 @@
 //!   spherical geometry (Sedov 1959; Kamm & Timmes 2007);
 //! * [`poiseuille`]: the series solution of plane Poiseuille flow started from rest (Morris,
 //!   Fox & Zhu 1997);
+//! * [`cavity`]: the centreline velocities of the lid-driven cavity at Re = 100 (Ghia, Ghia &
+//!   Shin 1982);
 //! * [`norms`]: the error norms and interpolation used by the reports.
 #![warn(missing_docs)]
 
+pub mod cavity;
 pub mod dam_break;
 pub mod drop;
 pub mod heat;

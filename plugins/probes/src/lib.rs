@@ -12,6 +12,9 @@
 //! )
 //! ```
 //!
+//! The probes sample the particles of the fluid bodies (or of the bodies named in `bodies`),
+//! so that a sensor next to a wall of particles reads the fluid.
+//!
 //! Values are the **Shepard-normalised** SPH interpolant at the point,
 //! `A(x) = Σ_j A_j V_j W_j / Σ_j V_j W_j` with each particle's own kernel and support radius
 //! (FLUISIM Def. 3.1 normalised; see [`dualsph_core::sampling`]). The normalisation removes
@@ -124,6 +127,11 @@ pub struct Probes {
     /// Smallest Shepard sum for which a point value is reported (else NaN); default 0.
     #[serde(default)]
     pub min_shepard: Real,
+    /// The bodies whose particles the probes sample, by name; empty (the default) means
+    /// every fluid body, so that a probe next to a wall of particles reads the fluid, not
+    /// the wall.
+    #[serde(default)]
+    pub bodies: Vec<String>,
     /// The probes.
     pub probes: Vec<Probe>,
 }
@@ -168,6 +176,8 @@ pub struct ProbeState<V: Vector> {
     pub every: u64,
     /// Smallest Shepard sum for a reported value.
     pub min_shepard: Real,
+    /// Whether the particles of each body (by [`BodyId`]) are sampled.
+    pub sampled: Vec<bool>,
     /// Output columns in file order.
     pub columns: Vec<Column>,
     points: Vec<V>,
@@ -288,6 +298,14 @@ impl SimPlugin for Probes {
         if self.probes.is_empty() {
             return Err("probes: the list is empty".into());
         }
+        for (k, b) in self.bodies.iter().enumerate() {
+            if !info.bodies.contains(b) {
+                return Err(format!(
+                    "bodies[{k}]: no body named `{b}`; the scene's bodies are {}",
+                    info.bodies.join(", ")
+                ));
+            }
+        }
         let mut names: Vec<&str> = Vec::new();
         for (i, p) in self.probes.iter().enumerate() {
             let f = |s: &str| format!("probes[{i}].{s}");
@@ -375,9 +393,18 @@ impl SimPlugin for Probes {
                 "Probes: an InternalEnergy probe needs a plugin that solves the energy equation",
             );
         }
+        let bodies = &sim.world.resource::<dualsph_core::bodies::Bodies>().0;
+        let sampled = bodies
+            .iter()
+            .map(|b| match self.bodies.is_empty() {
+                true => b.is_fluid(),
+                false => self.bodies.contains(&b.name),
+            })
+            .collect();
         sim.world.insert_resource(ProbeState::<V> {
             every: self.every,
             min_shepard: self.min_shepard,
+            sampled,
             columns,
             points,
             rows: Vec::new(),
@@ -409,7 +436,7 @@ pub fn sample_probes<V: Vector>(
     limit: Option<Res<StepLimit>>,
     mut state: ResMut<ProbeState<V>>,
     q: Query<(
-        &ParticleId,
+        &BodyId,
         &Position<V>,
         &Velocity<V>,
         &Mass,
@@ -423,7 +450,8 @@ pub fn sample_probes<V: Vector>(
     if !(clock.step.is_multiple_of(state.every) || at_end) {
         return;
     }
-    let n = q.iter().len();
+    let sampled = |b: &BodyId| state.sampled[b.0 as usize];
+    let n = q.iter().filter(|row| sampled(row.0)).count();
     let mut s = Snapshot {
         pos: vec![V::zero(); n],
         vel: vec![V::zero(); n],
@@ -433,8 +461,9 @@ pub fn sample_probes<V: Vector>(
         p: vec![0.0; n],
         e: vec![0.0; n],
     };
-    // by row (the one table's order): every particle, whatever its id
-    for (i, (_, r, v, m, rho, h, p, e)) in q.iter().enumerate() {
+    // by row (the one table's order): every sampled particle, whatever its id
+    let rows = q.iter().filter(|row| sampled(row.0));
+    for (i, (_, r, v, m, rho, h, p, e)) in rows.enumerate() {
         s.pos[i] = r.0;
         s.vel[i] = v.0;
         s.mass[i] = m.0;

@@ -16,6 +16,12 @@ fn info(d: usize) -> SceneInfo {
 
 /// A resting 2-D water block [0, 1] × [0, depth] with spacing dx, h = 2 dx, velocity (0.3, −0.1).
 fn block_sim(depth: Real, dx: Real) -> Sim<DVec2> {
+    block_on_floor(depth, dx, 0.0)
+}
+
+/// [`block_sim`] whose particles below `floor` are a fixed body `floor` at rest (body 0), the
+/// others the body `water` (body 1), when `floor > 0`.
+fn block_on_floor(depth: Real, dx: Real, floor: Real) -> Sim<DVec2> {
     let mut sim = Sim::<DVec2>::new(SimConfig {
         kernel: KernelKind::CubicSpline,
         formulation: Formulation::DualSupport,
@@ -35,8 +41,23 @@ fn block_sim(depth: Real, dx: Real) -> Sim<DVec2> {
             internal_energy: 0.0,
             body: 0,
         })
+        .map(|mut p| {
+            if floor > 0.0 {
+                p.body = u16::from(p.pos.y > floor);
+                p.vel *= Real::from(p.body);
+            }
+            p
+        })
         .collect();
     sim.spawn_particles(&parts).expect("fresh particle ids");
+    if floor > 0.0 {
+        use dualsph_core::bodies::{Bodies, Body, BodyKind, install_bodies};
+        let bodies = Bodies(vec![
+            Body::new("floor", BodyKind::Fixed),
+            Body::new("water", BodyKind::Fluid),
+        ]);
+        install_bodies(&mut sim, bodies).unwrap();
+    }
     let integrator: &dyn PluginConfig = &dualsph_integrator::LeapfrogPC::default();
     sim.build_plugin(integrator).unwrap();
     sim
@@ -91,6 +112,36 @@ fn samples_a_resting_block_against_its_known_state() {
             p.display()
         );
     }
+}
+
+/// By default the probes sample the fluid only: next to a floor of particles at rest, a
+/// point in the water reads the water's velocity exactly, and the floor's particles are not
+/// taken for water by a gauge. Naming both bodies mixes the floor's zero velocity in.
+#[test]
+fn probes_read_the_fluid_not_the_walls() {
+    let sample = |bodies: &str| {
+        let mut sim = block_on_floor(0.4, 0.02, 0.1);
+        let text = format!(
+            r#"(every: 1, bodies: [{bodies}], probes: [
+                Point(name: "u", at: [0.5, 0.11], quantity: VelocityX),
+                WaterHeight(name: "H", at: [0.5], dy: 0.001),
+            ])"#
+        );
+        parse(&text).unwrap().build(&mut sim).unwrap();
+        sim.initialize().unwrap();
+        sim.world.resource::<ProbeState<DVec2>>().rows[0].2.clone()
+    };
+    let fluid = sample("");
+    assert!((fluid[0] - 0.3).abs() < 1e-12, "u = {}", fluid[0]);
+    assert!((fluid[1] - 0.4).abs() < 0.006, "H = {}", fluid[1]);
+    let both = sample(r#""floor", "water""#);
+    assert!(both[0] < 0.29, "u with the floor = {}", both[0]);
+    let floor_only = sample(r#""floor""#);
+    assert!(
+        (floor_only[1] - 0.1).abs() < 0.006,
+        "H of the floor = {}",
+        floor_only[1]
+    );
 }
 
 #[test]
