@@ -8,8 +8,8 @@ use dualsph::scene::Scene;
 use std::f64::consts::PI;
 use std::path::Path;
 
-/// `scenes/taylor_green_2d.ron` with its plugins replaced by `plugins`, run to `end` with a
-/// snapshot every `every` seconds.
+/// `scenes/taylor_green_2d.ron` at Δx = 0.02 (2,500 particles, a quarter of the scene's)
+/// with its plugins replaced by `plugins`, run to `end` with a snapshot every `every` seconds.
 fn taylor_green(plugins: &str, velocity: &str, end: f64, every: f64) -> Scene {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/taylor_green_2d.ron");
     let text = std::fs::read_to_string(&path).unwrap();
@@ -20,6 +20,7 @@ fn taylor_green(plugins: &str, velocity: &str, end: f64, every: f64) -> Scene {
         &text[..start],
         &text[stop..]
     )
+    .replace("spacing: 0.01", "spacing: 0.02")
     .replace("TaylorGreen(speed: 1.0, wavelength: 1.0)", velocity)
     .replace("end_time: 1.0", &format!("end_time: {end}"))
     .replace(
@@ -31,6 +32,67 @@ fn taylor_green(plugins: &str, velocity: &str, end: f64, every: f64) -> Scene {
 
 const PHYSICS: &str = "ContinuityDensity(form: Pairwise), TaitEos(rho0: 1.0, gamma: 7.0, \
                        c0: 10.0), PressureForce(), PhysicalViscosity(mu: 0.01)";
+
+/// The projection of the velocity on the vortex mode, `A = Σ m v·u_TG / Σ m |u_TG|²`, at
+/// every snapshot of a run in `dir`: `(t, A)`.
+fn mode_amplitudes(dir: &Path) -> Vec<(f64, f64)> {
+    let k = 2.0 * PI;
+    let index = std::fs::read_to_string(dir.join("snapshots.csv")).unwrap();
+    index
+        .lines()
+        .skip(1)
+        .map(|line| {
+            let f: Vec<&str> = line.split(',').collect();
+            let t: f64 = f[1].parse().unwrap();
+            let (mut num, mut den) = (0.0, 0.0);
+            for r in particles(&dir.join(f[2])) {
+                let ((sx, cx), (sy, cy)) = ((k * r["x"]).sin_cos(), (k * r["y"]).sin_cos());
+                let (u, v) = (sx * cy, -cx * sy);
+                num += r["m"] * (r["vx"] * u + r["vy"] * v);
+                den += r["m"] * (u * u + v * v);
+            }
+            (t, num / den)
+        })
+        .collect()
+}
+
+/// The least-squares slope of `−ln A(t)` over the amplitudes given.
+fn decay_rate(amplitudes: &[(f64, f64)]) -> f64 {
+    let n = amplitudes.len() as f64;
+    let (mt, ma) = amplitudes
+        .iter()
+        .fold((0.0, 0.0), |(x, y), (t, a)| (x + t / n, y + a.ln() / n));
+    let sxy: f64 = amplitudes
+        .iter()
+        .map(|(t, a)| (t - mt) * (a.ln() - ma))
+        .sum();
+    let sxx: f64 = amplitudes.iter().map(|(t, _)| (t - mt) * (t - mt)).sum();
+    -sxy / sxx
+}
+
+/// The scene as it is, to t = 1 s: over 0.1–1 s (the amplitude falls to 0.49 of itself) the
+/// vortex mode decays at `2νk²` to 2 % (measured: 1.6 % slow; with the paper's viscous
+/// regularisation `eta_factor: 0.1`, 6.4 % slow).
+#[test]
+#[ignore = "second tier (cargo test --release -- --ignored): a second of Taylor-Green flow"]
+fn the_taylor_green_vortex_keeps_its_decay_rate_to_one_second() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/taylor_green_2d.ron");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let text = text.replace("snapshot_dt: 0.1)", "snapshot_dt: 0.1, formats: [Csv])");
+    let scene = Scene::from_str(&text, &path, &dualsph::default_registry()).unwrap();
+    let (dir, _) = run(&scene, 2);
+    let amplitudes: Vec<(f64, f64)> = mode_amplitudes(dir.path())
+        .into_iter()
+        .filter(|&(t, _)| t >= 0.1 - 1e-9)
+        .collect();
+    assert_eq!(amplitudes.len(), 10, "{amplitudes:?}");
+    let (rate, exact) = (decay_rate(&amplitudes), 2.0 * 0.01 * (2.0 * PI).powi(2));
+    println!("decay rate over 0.1-1 s: {rate}, exact {exact}");
+    assert!(
+        (rate / exact - 1.0).abs() < 0.02,
+        "decay rate {rate}, exact {exact}"
+    );
+}
 
 fn run(scene: &Scene, threads: usize) -> (tempfile::TempDir, dualsph::runner::RunSummary) {
     common::run_on_threads(scene, threads)
@@ -85,34 +147,16 @@ fn the_taylor_green_vortex_decays_at_its_analytic_rate() {
     );
     let (dir, s) = run(&scene, 2);
     let (nu, k) = (0.01, 2.0 * PI);
-    let index = std::fs::read_to_string(dir.path().join("snapshots.csv")).unwrap();
-    let mut fit = Vec::new();
-    for line in index.lines().skip(1) {
-        let f: Vec<&str> = line.split(',').collect();
-        let t: f64 = f[1].parse().unwrap();
-        let (mut num, mut den) = (0.0, 0.0);
-        for r in particles(&dir.path().join(f[2])) {
-            let ((sx, cx), (sy, cy)) = ((k * r["x"]).sin_cos(), (k * r["y"]).sin_cos());
-            let (u, v) = (sx * cy, -cx * sy);
-            num += r["m"] * (r["vx"] * u + r["vy"] * v);
-            den += r["m"] * (u * u + v * v);
-        }
-        let a = num / den;
+    let amplitudes = mode_amplitudes(dir.path());
+    for &(t, a) in &amplitudes {
         let exact = (-2.0 * nu * k * k * t).exp();
         assert!(
             (a / exact - 1.0).abs() < 2.5e-3,
             "t = {t}: A = {a}, exact {exact}"
         );
-        fit.push((t, a.ln()));
     }
-    assert!(fit.len() >= 10, "{} snapshots", fit.len());
-    let n = fit.len() as f64;
-    let (mt, ma) = fit
-        .iter()
-        .fold((0.0, 0.0), |(x, y), (t, a)| (x + t / n, y + a / n));
-    let sxy: f64 = fit.iter().map(|(t, a)| (t - mt) * (a - ma)).sum();
-    let sxx: f64 = fit.iter().map(|(t, _)| (t - mt) * (t - mt)).sum();
-    let rate = -sxy / sxx;
+    assert!(amplitudes.len() >= 10, "{} snapshots", amplitudes.len());
+    let rate = decay_rate(&amplitudes);
     let exact = 2.0 * nu * k * k;
     assert!(
         (rate / exact - 1.0).abs() < 0.008,
