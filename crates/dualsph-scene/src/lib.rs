@@ -74,7 +74,7 @@ pub use schema::{
     Block, BodyKind, BodySettings, BoxRegion, Disk, Domain, Formulation, Generator, HealthSettings,
     IntegratorSettings, Lattice, MotionSettings, NeighbourSettings, TimeStep, Velocity,
 };
-pub use shapes::{Fill, Geometry, Region, Shape, ShapeGenerator, Side};
+pub use shapes::{Fill, Geometry, Outline, Region, Shape, ShapeGenerator, Side, StlMesh};
 
 use ron::extensions::Extensions;
 use serde::Deserialize;
@@ -159,13 +159,21 @@ impl Scene {
         Ok(named.next().map(|p| p.as_ref()))
     }
 
-    /// Parses `text` without validating it (syntax, field names and types only).
+    /// Parses `text` without validating it (syntax, field names and types only), and reads
+    /// the files its shapes name (`Stl`, `PolygonFile`), relative to the directory of
+    /// `path`: a file that cannot be read, or an STL mesh that is not closed, is
+    /// [`SceneError::Invalid`] naming the shape's `file`.
     pub fn parse_only(text: &str, path: &Path, registry: &Registry) -> Result<Scene, SceneError> {
         // a UTF-8 byte-order mark (as some editors save) is not part of the scene; editors
         // hide it, so positions on the first line are counted without it
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-        plugins_list::with_registry(registry, || ron_options().from_str::<Scene>(text))
-            .map_err(|e| SceneError::from_ron(path, text, e))
+        let mut scene =
+            plugins_list::with_registry(registry, || ron_options().from_str::<Scene>(text))
+                .map_err(|e| SceneError::from_ron(path, text, e))?;
+        let dir = path.parent().unwrap_or(Path::new(""));
+        shapes::load_files(&mut scene.particles, dir, scene.dimension)
+            .map_err(|p| p.into_error(path))?;
+        Ok(scene)
     }
 
     /// Checks every value (see the crate docs for the list) and returns the first problem as

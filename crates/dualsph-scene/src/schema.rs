@@ -269,7 +269,18 @@ impl Generator {
                 S::Circle { .. } => "Shape(Circle)",
                 S::Ball { .. } => "Shape(Ball)",
                 S::Cylinder { .. } => "Shape(Cylinder)",
+                S::PolygonFile { .. } => "Shape(PolygonFile)",
+                S::Stl { .. } => "Shape(Stl)",
             },
+        }
+    }
+
+    /// The generator's `cut` regions, to read the files of the shapes among them.
+    pub(crate) fn cut_mut(&mut self) -> &mut Vec<Region> {
+        match self {
+            Generator::Block(b) => &mut b.cut,
+            Generator::Disk(c) => &mut c.cut,
+            Generator::Shape(g) => &mut g.cut,
         }
     }
 
