@@ -19,7 +19,8 @@
 //! ```
 //!
 //! Generators: `Block` (a box of lattice points), `Disk` (a disk, ball or segment) and
-//! `Shape` (a [`Shape`] — box, polygon, circle, ball, cylinder — filled `Solid` or with
+//! `Shape` (a [`Shape`] — box, polygon, circle, ball, cylinder, a polygon from a file, a
+//! closed STL mesh, the files relative to the scene file's directory — filled `Solid` or with
 //! `Layers(n: 3, side: Inside | Outside)` of wall particles along its surface; see
 //! [`ShapeGenerator`]).
 //!
@@ -46,8 +47,8 @@
 //! matrix) without exactly `dimension` finite components; domain or block `max <= min` on an
 //! axis; non-positive or non-finite spacing, density, h_factor, radius, length, end_time or
 //! fixed dt; a shape of the wrong dimension (a polygon or circle outside 2-D, a ball or
-//! cylinder outside 3-D); a polygon with fewer than 3 vertices, crossing edges or zero area; a
-//! zero cylinder axis; `Layers` with `n: 0`; a shape whose extent (with its outside layers,
+//! cylinder or STL mesh outside 3-D); a polygon with fewer than 3 vertices, crossing edges or
+//! zero area; an STL `scale` not > 0; a zero cylinder axis; `Layers` with `n: 0`; a shape whose extent (with its outside layers,
 //! narrowed to its clip box) leaves the domain; adaptive coefficients outside (0, 1]; negative skin; `diagnostics_every == 0`; both
 //! `snapshot_dt` and a `snapshot_every` other than its default or 0; a plugin's
 //! own `validate`; two integrators (or two diagnostics plugins), naming both; more than [`MAX_PARTICLES`] particles (estimated before generating); a
