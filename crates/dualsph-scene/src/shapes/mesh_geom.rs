@@ -15,8 +15,9 @@
 //! shape).
 //!
 //! **Fast.** `w` is constant on every connected region the surface does not cross. A
-//! uniform grid over the bounding box lists each triangle in the cells its (slightly
-//! widened) bounding box overlaps; the empty cells are grouped into face-connected
+//! uniform grid over the bounding box lists each triangle in the cells (slightly widened)
+//! that its bounding box overlaps and its plane crosses; the empty cells are grouped into
+//! face-connected
 //! components and `w` is evaluated once per component, at the centre of its first cell. A
 //! point in an empty cell takes its component's `w`, a point outside the bounding box
 //! `w = 0`, and only a point in a cell the surface may cross sums over all triangles.
@@ -234,13 +235,15 @@ impl Grid {
     }
 
     /// A grid of about `3 T^{1/3}` cells along the longest axis over `[lo, hi]`, each
-    /// triangle listed in the cells its box widened by `pad` overlaps.
+    /// triangle listed in the cells, widened by `pad`, that its box overlaps and its plane
+    /// crosses.
     fn new(tris: &[[P; 3]], lo: P, hi: P, pad: f64) -> Self {
         let extent = (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f64::max);
         let m = (3.0 * (tris.len() as f64).cbrt()).ceil().clamp(4.0, 128.0);
         let cell = if extent > 0.0 { extent / m } else { 1.0 };
-        let n: [usize; 3] =
+        let n_cells: [usize; 3] =
             std::array::from_fn(|k| (((hi[k] - lo[k]) / cell).ceil() as usize).clamp(1, 128));
+        let n = n_cells;
         let mut grid = Grid {
             lo,
             cell,
@@ -259,12 +262,22 @@ impl Grid {
                 )
             })
             .collect();
+        let (lo_g, cell_g) = (grid.lo, grid.cell);
         let cells_of = |t: usize, f: &mut dyn FnMut(usize)| {
             let (a, b) = ranges[t];
+            let n = tri_n(&tris[t]);
+            // the plane test of a triangle against a box (Akenine-Möller 2001, "Fast 3D
+            // triangle-box overlap testing", J. Graphics Tools 6(1)): the cell of centre c and
+            // half-edge e misses the triangle's plane when |n·(c − t₀)| > e Σ_k |n_k|
+            let reach = (0.5 * cell_g + pad) * (n[0].abs() + n[1].abs() + n[2].abs());
             for i in a[0]..=b[0] {
                 for j in a[1]..=b[1] {
                     for k in a[2]..=b[2] {
-                        f((i * n[1] + j) * n[2] + k);
+                        let c = [i, j, k].map(|x| x as f64 + 0.5);
+                        let centre = std::array::from_fn(|q| lo_g[q] + c[q] * cell_g);
+                        if dot(n, sub(centre, tris[t][0])).abs() <= reach {
+                            f((i * n_cells[1] + j) * n_cells[2] + k);
+                        }
                     }
                 }
             }
@@ -427,5 +440,71 @@ impl MeshGeom {
         let t = self.tol;
         (0..3).all(|k| self.lo[k] - t <= p[k] && p[k] <= self.hi[k] + t)
             && self.grid.winding[self.grid.index(self.grid.cell_of(*p))].is_nan()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An octahedron's faces split in four three times and pushed onto the unit sphere
+    /// (512 triangles), counter-clockwise seen from outside.
+    fn sphere() -> Mesh {
+        let unit = |p: P| p.map(|x| x / dot(p, p).sqrt());
+        let mut tris: Vec<[P; 3]> = Vec::new();
+        for s in 0..8 {
+            let sg = |b: usize| if s & b == 0 { 1.0 } else { -1.0 };
+            let (a, b, c) = ([sg(1), 0.0, 0.0], [0.0, sg(2), 0.0], [0.0, 0.0, sg(4)]);
+            let t = [a, b, c];
+            let outward = dot(tri_n(&t), [sg(1), sg(2), sg(4)]) > 0.0;
+            tris.push(if outward { t } else { [a, c, b] });
+        }
+        for _ in 0..3 {
+            let mid = |a: P, b: P| unit(std::array::from_fn(|k| 0.5 * (a[k] + b[k])));
+            tris = tris
+                .iter()
+                .flat_map(|&[a, b, c]| {
+                    let (ab, bc, ca) = (mid(a, b), mid(b, c), mid(c, a));
+                    [[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]
+                })
+                .collect();
+        }
+        Mesh::from_corners(tris)
+    }
+
+    /// The winding number from the grid's components is the sum over all triangles (to
+    /// 1e-9, both integers off the surface), at points all over and around the mesh; and
+    /// the distance from the hierarchy is the least distance to any triangle, bitwise.
+    #[test]
+    fn the_grid_and_the_hierarchy_give_the_brute_force_answers() {
+        let mesh = sphere();
+        assert_eq!(mesh.triangles.len(), 512);
+        let g = MeshGeom::new(&mesh, 0.7, [0.1, -0.2, 0.3]).unwrap();
+        let empty = g.grid.winding.iter().filter(|w| !w.is_nan()).count();
+        assert!(empty > 0, "no empty cell");
+        let mut x = 0.377_f64;
+        let (mut inside, mut crossed) = (0, 0);
+        for _ in 0..4000 {
+            let p: P = std::array::from_fn(|k| {
+                x = (x * 7919.0 + 0.271).fract();
+                [0.1, -0.2, 0.3][k] + 1.8 * (x - 0.5)
+            });
+            let brute = winding(&g.tris, p);
+            assert!((g.winding(&p) - brute).abs() < 1e-9, "{p:?}");
+            inside += usize::from(brute.abs() >= 0.5);
+            crossed += usize::from(g.grid_crossed(&p));
+            let d2 = g
+                .tris
+                .iter()
+                .map(|t| {
+                    let q = sub(p, closest_on_triangle(p, t));
+                    dot(q, q)
+                })
+                .fold(f64::INFINITY, f64::min);
+            assert_eq!(g.distance(&p), d2.sqrt(), "{p:?}");
+        }
+        // the sample holds both sides and both kinds of cell
+        assert!(inside > 500 && inside < 3500, "{inside}");
+        assert!(crossed > 100 && crossed < 3900, "{crossed}");
     }
 }
