@@ -22,7 +22,9 @@
 //! `Shape` (a [`Shape`] — box, polygon, circle, ball, cylinder, a polygon from a file, a
 //! closed STL mesh, the files relative to the scene file's directory — filled `Solid` or with
 //! `Layers(n: 3, side: Inside | Outside)` of wall particles along its surface; see
-//! [`ShapeGenerator`]).
+//! [`ShapeGenerator`]), and `File(path: "final.csv", body: ..)`, the particles of a particle
+//! CSV the engine wrote, each with its own values (see [`FileParticles`]; it takes no
+//! `clip`, `cut`, `velocity` or `internal_energy`).
 //!
 //! Optional: `neighbours` (`skin: 0.15, tune_skin: true`: the first build's skin, then one chosen
 //! from the measured motion), `plugins` (none), `max_steps` (None), `output`
@@ -61,6 +63,7 @@
 mod error;
 mod generate;
 mod output;
+mod particles_file;
 mod plugins_list;
 mod schema;
 mod shapes;
@@ -71,6 +74,7 @@ pub use dualsph_core::plugin::{PluginConfig, Registry};
 pub use error::SceneError;
 pub use generate::{MAX_PARTICLES, ParticleSpec};
 pub use output::{DEFAULT_SNAPSHOT_EVERY, OutputFormat, OutputSettings, VtkEncoding};
+pub use particles_file::{FileParticles, ReadParticles};
 pub use schema::{
     Block, BodyKind, BodySettings, BoxRegion, Disk, Domain, Formulation, Generator, HealthSettings,
     IntegratorSettings, Lattice, MotionSettings, NeighbourSettings, TimeStep, Velocity,
@@ -161,9 +165,9 @@ impl Scene {
     }
 
     /// Parses `text` without validating it (syntax, field names and types only), and reads
-    /// the files its shapes name (`Stl`, `PolygonFile`), relative to the directory of
-    /// `path`: a file that cannot be read, or an STL mesh that is not closed, is
-    /// [`SceneError::Invalid`] naming the shape's `file`.
+    /// the files its shapes (`Stl`, `PolygonFile`) and `File` generators name, relative to
+    /// the directory of `path`: a file that cannot be read, or an STL mesh that is not
+    /// closed, is [`SceneError::Invalid`] naming the field.
     pub fn parse_only(text: &str, path: &Path, registry: &Registry) -> Result<Scene, SceneError> {
         // a UTF-8 byte-order mark (as some editors save) is not part of the scene; editors
         // hide it, so positions on the first line are counted without it
@@ -173,6 +177,7 @@ impl Scene {
                 .map_err(|e| SceneError::from_ron(path, text, e))?;
         let dir = path.parent().unwrap_or(Path::new(""));
         shapes::load_files(&mut scene.particles, dir, scene.dimension)
+            .and_then(|()| particles_file::load(&mut scene.particles, dir, scene.dimension))
             .map_err(|p| p.into_error(path))?;
         Ok(scene)
     }

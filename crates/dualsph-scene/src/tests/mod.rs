@@ -3,6 +3,7 @@
 mod generate;
 mod output;
 mod parse;
+mod particles_file;
 mod polygon_file;
 mod shapes;
 mod shapes_validate;
