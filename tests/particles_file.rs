@@ -1,6 +1,7 @@
-//! `File(path: ..)`: a run's `final.csv`, read as the particles of a new scene, starts that
-//! scene with every particle's position, velocity, mass, density, h and internal energy bit
-//! for bit as written, and its first snapshot writes them back unchanged. (The pressure is
+//! `File(path: ..)`: a run's `final.csv`, or its last snapshot as `.vtp`, read as the
+//! particles of a new scene, starts that scene with every particle's position, velocity,
+//! mass, density, h and internal energy bit for bit as written, and its first snapshot writes
+//! them back unchanged. (The pressure is
 //! not state: the file's is the one of the last force evaluation, at the corrector's
 //! predicted density; the new run computes it from the density read.)
 
@@ -32,7 +33,8 @@ fn scene(particles: &str, steps: u64, dir: &Path) -> Scene {
     ],
     integrator: (dt: Fixed(1e-4)),
     end_time: {end},
-    output: (diagnostics_every: 1, snapshot_every: 1, formats: [Csv]),
+    output: (diagnostics_every: 1, snapshot_every: 1, formats: [Csv, Vtk],
+             vtk_encoding: Compressed),
 )"#,
         end = steps as f64 * 1e-4
     );
@@ -59,28 +61,32 @@ fn a_final_csv_read_as_particles_starts_a_scene_bitwise() {
 
     // the file next to the new scene, read relative to its directory
     std::fs::copy(out.path().join("final.csv"), first.path().join("end.csv")).unwrap();
-    let next = scene("File(path: \"end.csv\")", 1, first.path());
-    let specs = next.generate();
-    assert_eq!(specs.len(), written.len());
-    for (s, r) in specs.iter().zip(&written) {
-        let spec = ParticleRecord {
-            id: r.id,
-            pos: s.pos,
-            vel: s.vel,
-            mass: s.mass,
-            rho: s.density,
-            p: r.p,
-            e: s.internal_energy,
-            h: s.h,
-        };
-        assert_eq!(bits(&spec), bits(r), "particle {}", r.id);
-    }
-    // the run's snapshot at step 0 holds them unchanged
-    let (again, _) = common::run_on_threads(&next, 1);
-    let start = read_particles_csv(&again.path().join("particles_000000.csv")).unwrap();
-    assert_eq!(start.len(), written.len());
-    for (a, b) in start.iter().zip(&written) {
-        assert_eq!(a.id, b.id);
-        assert_eq!(bits(a), bits(b), "particle {}", a.id);
+    let vtp = out.path().join("particles_000030.vtp");
+    std::fs::copy(vtp, first.path().join("end.vtp")).unwrap();
+    for file in ["end.csv", "end.vtp"] {
+        let next = scene(&format!("File(path: {file:?})"), 1, first.path());
+        let specs = next.generate();
+        assert_eq!(specs.len(), written.len());
+        for (s, r) in specs.iter().zip(&written) {
+            let spec = ParticleRecord {
+                id: r.id,
+                pos: s.pos,
+                vel: s.vel,
+                mass: s.mass,
+                rho: s.density,
+                p: r.p,
+                e: s.internal_energy,
+                h: s.h,
+            };
+            assert_eq!(bits(&spec), bits(r), "{file}: particle {}", r.id);
+        }
+        // the run's snapshot at step 0 holds them unchanged
+        let (again, _) = common::run_on_threads(&next, 1);
+        let start = read_particles_csv(&again.path().join("particles_000000.csv")).unwrap();
+        assert_eq!(start.len(), written.len());
+        for (a, b) in start.iter().zip(&written) {
+            assert_eq!(a.id, b.id);
+            assert_eq!(bits(a), bits(b), "{file}: particle {}", a.id);
+        }
     }
 }

@@ -39,6 +39,7 @@ mod loads;
 mod output_dir;
 mod table;
 mod vtk;
+mod vtp_read;
 
 #[cfg(test)]
 mod tests;
@@ -60,6 +61,7 @@ pub use output_dir::{
 };
 pub use table::{POSITION, ParticleTable, TableColumn};
 pub use vtk::{ArrayValues, ImageGrid, VtkArray, VtkEncoding, ZLIB_BLOCK, write_vti};
+pub use vtp_read::read_particles_vtp;
 
 /// Floating-point type of all written quantities.
 pub type Real = f64;

@@ -23,7 +23,7 @@
 //! closed STL mesh, the files relative to the scene file's directory — filled `Solid` or with
 //! `Layers(n: 3, side: Inside | Outside)` of wall particles along its surface; see
 //! [`ShapeGenerator`]), and `File(path: "final.csv", body: ..)`, the particles of a particle
-//! CSV the engine wrote, each with its own values (see [`FileParticles`]; it takes no
+//! CSV or `.vtp` snapshot the engine wrote, each with its own values (see [`FileParticles`]; it takes no
 //! `clip`, `cut`, `velocity` or `internal_energy`).
 //!
 //! Optional: `neighbours` (`skin: 0.15, tune_skin: true`: the first build's skin, then one chosen

@@ -1,6 +1,6 @@
-//! The `File` generator: particles read from a particle CSV the engine wrote (a snapshot
-//! `particles_NNNNNN.csv` or `final.csv`), each with its own position, velocity, mass,
-//! density, h and internal energy, bit for bit as written.
+//! The `File` generator: particles read from a particle file the engine wrote (a snapshot
+//! `particles_NNNNNN.csv` or `.vtp`, or `final.csv`), each with its own position, velocity,
+//! mass, density, h and internal energy, bit for bit as written.
 
 use crate::error::Problem;
 use crate::generate::ParticleSpec;
@@ -13,7 +13,9 @@ use std::sync::Arc;
 /// Particles from a file: `File(path: "final.csv", body: "water")`. The path is relative
 /// to the scene file's directory. The file is a particle CSV written by dualsph (its `id`,
 /// `x, y, z`, `vx, vy, vz`, `m`, `rho` and `h` columns, `e` when present; other columns
-/// are ignored); components beyond the scene's dimension must be 0.
+/// are ignored) or a `.vtp` snapshot in any of its encodings (the points, `id`, `velocity`,
+/// `mass`, `density`, `smoothing_length`, `internal_energy` when present); components beyond
+/// the scene's dimension must be 0.
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct FileParticles {
@@ -86,18 +88,16 @@ pub(crate) fn load(particles: &mut [Generator], dir: &Path, d: usize) -> Result<
         if let Generator::File(f) = g {
             let path = dir.join(&f.path);
             let at = format!("particles[{i}].path");
-            if path
+            let vtp = path
                 .extension()
-                .is_some_and(|e| e.eq_ignore_ascii_case("vtp"))
-            {
-                return Err(Problem::new(
-                    at,
-                    "a .vtp file cannot be read as particles: give a particle CSV (a snapshot \
-                     written with `formats: [Csv]`, or final.csv)",
-                ));
-            }
-            let records = dualsph_io::read_particles_csv(&path)
-                .map_err(|e| Problem::new(&at, format!("cannot read particles: {e}")))?;
+                .is_some_and(|e| e.eq_ignore_ascii_case("vtp"));
+            let read = if vtp {
+                dualsph_io::read_particles_vtp(&path)
+            } else {
+                dualsph_io::read_particles_csv(&path)
+            };
+            let records =
+                read.map_err(|e| Problem::new(&at, format!("cannot read particles: {e}")))?;
             let spacing = records
                 .iter()
                 .map(|r| (r.mass / r.rho).powf(1.0 / d.clamp(1, 3) as f64))
