@@ -1,7 +1,8 @@
 //! `File(path: ..)`: a run's `final.csv`, or its last snapshot as `.vtp`, read as the
 //! particles of a new scene, starts that scene with every particle's position, velocity,
-//! mass, density, h and internal energy bit for bit as written, and its first snapshot writes
-//! them back unchanged. (The pressure is
+//! mass, density, h and internal energy bit for bit as written, and with the file's value of
+//! every other registered column it holds (here the dissipated energy, `e_diss` in the CSV,
+//! `dissipated` in the `.vtp`); its first snapshot writes them back unchanged. (The pressure is
 //! not state: the file's is the one of the last force evaluation, at the corrector's
 //! predicted density; the new run computes it from the density read.)
 
@@ -27,7 +28,7 @@ fn scene(particles: &str, steps: u64, dir: &Path) -> Scene {
         ContinuityDensity(),
         TaitEos(rho0: 1000.0, gamma: 7.0, c0: 20.0),
         PressureForce(),
-        ArtificialViscosity(alpha: 0.1, beta: 0.0),
+        ArtificialViscosity(alpha: 0.1, beta: 0.0, dissipation: true),
         Gravity(g: [0.0, -9.81]),
         SpecularWalls(clearance: 0.25),
     ],
@@ -56,8 +57,10 @@ fn a_final_csv_read_as_particles_starts_a_scene_bitwise() {
     let first = tempfile::tempdir().unwrap();
     let (out, _) = common::run_on_threads(&scene(block, 30, first.path()), 1);
     let written = read_particles_csv(&out.path().join("final.csv")).unwrap();
-    // the particles moved, at different densities
+    let dissipated = e_diss(&out.path().join("final.csv"));
+    // the particles moved, at different densities, and the viscosity heated them
     assert!(written.iter().any(|r| r.vel[1] < -1e-3 && r.rho != 1000.0));
+    assert!(written.iter().any(|r| r.e > 0.0) && dissipated.iter().any(|&d| d > 0.0));
 
     // the file next to the new scene, read relative to its directory
     std::fs::copy(out.path().join("final.csv"), first.path().join("end.csv")).unwrap();
@@ -88,5 +91,17 @@ fn a_final_csv_read_as_particles_starts_a_scene_bitwise() {
             assert_eq!(a.id, b.id);
             assert_eq!(bits(a), bits(b), "{file}: particle {}", a.id);
         }
+        let again = e_diss(&again.path().join("particles_000000.csv"));
+        let same = again
+            .iter()
+            .zip(&dissipated)
+            .all(|(a, b)| a.to_bits() == b.to_bits());
+        assert!(same, "{file}: the dissipated energy");
     }
+}
+
+/// The `e_diss` column of a particle CSV.
+fn e_diss(path: &Path) -> Vec<f64> {
+    let table = dualsph::io::read_particle_table_csv(path).unwrap();
+    table.column("e_diss").unwrap().values.clone()
 }

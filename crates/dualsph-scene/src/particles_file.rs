@@ -5,7 +5,7 @@
 use crate::error::Problem;
 use crate::generate::ParticleSpec;
 use crate::schema::Generator;
-use dualsph_io::ParticleRecord;
+use dualsph_io::{ParticleRecord, ParticleTable};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 use std::sync::Arc;
@@ -38,6 +38,8 @@ pub struct ReadParticles(Option<Arc<Read>>);
 #[derive(Debug, PartialEq)]
 struct Read {
     records: Vec<ParticleRecord>,
+    table: ParticleTable,
+    vtk: bool,
     spacing: f64,
     h_factor: f64,
 }
@@ -49,6 +51,14 @@ impl FileParticles {
             .0
             .as_deref()
             .map_or(&[], |r| r.records.as_slice())
+    }
+
+    /// Every column of the file, in its rows' order, and whether its columns are named as
+    /// VTK arrays (`.vtp`: `velocity`, 3 components) rather than by CSV labels (one column
+    /// per label: `vx`, `vy`, `vz`); the engine sets from it the registered columns it
+    /// matches. None before the file is read.
+    pub fn table(&self) -> Option<(&ParticleTable, bool)> {
+        self.particles.0.as_deref().map(|r| (&r.table, r.vtk))
     }
 
     /// The spacing that stands for the particles in the scene's checks (the overlap of two
@@ -93,10 +103,12 @@ pub(crate) fn load(particles: &mut [Generator], dir: &Path, d: usize) -> Result<
                 .is_some_and(|e| e.eq_ignore_ascii_case("vtp"));
             let read = if vtp {
                 dualsph_io::read_particles_vtp(&path)
+                    .and_then(|r| Ok((r, dualsph_io::read_particle_table_vtp(&path)?)))
             } else {
                 dualsph_io::read_particles_csv(&path)
+                    .and_then(|r| Ok((r, dualsph_io::read_particle_table_csv(&path)?)))
             };
-            let records =
+            let (records, table) =
                 read.map_err(|e| Problem::new(&at, format!("cannot read particles: {e}")))?;
             let spacing = records
                 .iter()
@@ -105,6 +117,8 @@ pub(crate) fn load(particles: &mut [Generator], dir: &Path, d: usize) -> Result<
             let h = records.iter().map(|r| r.h).fold(0.0, f64::max);
             f.particles = ReadParticles(Some(Arc::new(Read {
                 records,
+                table,
+                vtk: vtp,
                 spacing,
                 h_factor: h / spacing,
             })));
