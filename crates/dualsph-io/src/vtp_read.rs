@@ -91,23 +91,30 @@ pub fn read_particle_table_vtp(path: &Path) -> Result<ParticleTable, OutputError
     vtp_table(path).map(|(t, _)| t)
 }
 
-/// The table of [`read_particle_table_vtp`] and the line of its `<Piece>`.
-fn vtp_table(path: &Path) -> Result<(ParticleTable, u64), OutputError> {
+/// The file's XML text (closed after the appended section, which is cut out) and the
+/// appended bytes.
+fn read_parts(path: &Path) -> Result<(String, Vec<u8>), OutputError> {
     let bytes = std::fs::read(path).map_err(|source| OutputError::Io {
         path: path.to_path_buf(),
         op: "read",
         source,
     })?;
     let (head, data) = split(&bytes);
+    let mut text = String::from_utf8_lossy(head).into_owned();
+    if !data.is_empty() {
+        text.push_str("</VTKFile>");
+    }
+    Ok((text, data.to_vec()))
+}
+
+/// The table of [`read_particle_table_vtp`] and the line of its `<Piece>`.
+fn vtp_table(path: &Path) -> Result<(ParticleTable, u64), OutputError> {
+    let (text, data) = read_parts(path)?;
     let fail = |line: u32, msg: String| OutputError::Parse {
         path: path.to_path_buf(),
         line: u64::from(line),
         msg,
     };
-    let mut text = String::from_utf8_lossy(head).into_owned();
-    if !data.is_empty() {
-        text.push_str("</VTKFile>");
-    }
     let doc = roxmltree::Document::parse(&text).map_err(|e| fail(e.pos().row, e.to_string()))?;
     let line = |n: roxmltree::Node| doc.text_pos_at(n.range().start).row;
     let root = doc.root_element();
@@ -116,7 +123,7 @@ fn vtp_table(path: &Path) -> Result<(ParticleTable, u64), OutputError> {
     }
     let file = File {
         compressed: root.attribute("compressor").is_some(),
-        data,
+        data: &data,
     };
     let piece = root
         .descendants()
