@@ -11,6 +11,7 @@
 
 pub mod checkpoint;
 pub mod cli;
+mod file_columns;
 pub mod gridded;
 pub mod perf;
 pub mod report;
@@ -269,6 +270,7 @@ pub fn build_sim<V: Vector>(scene: &Scene) -> Result<Sim<V>, SimError> {
         build_named(&mut sim, p.as_ref())?;
     }
     sim.finish()?;
+    file_columns::apply(&mut sim, scene)?;
     Ok(sim)
 }
 

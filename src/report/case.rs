@@ -116,6 +116,8 @@ pub fn coarsen(scene: &mut Scene, factor: Real) {
             Generator::Block(b) => b.spacing *= factor,
             Generator::Disk(d) => d.spacing *= factor,
             Generator::Shape(s) => s.spacing *= factor,
+            // particles read from a file keep their resolution
+            Generator::File(_) => {}
         }
     }
 }

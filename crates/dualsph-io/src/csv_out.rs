@@ -7,7 +7,7 @@ use std::io::{self, Write};
 use std::path::Path;
 use std::str::FromStr;
 
-use crate::{DiagnosticsRow, OutputError, ParticleRecord, ParticleTable, Real};
+use crate::{DiagnosticsRow, OutputError, ParticleRecord, ParticleTable, Real, TableColumn};
 
 /// The columns [`read_particles_csv`] reads: `id` and the core columns must be present, in
 /// any order; `p` and `e` are read as 0 when absent (a scene without an equation of state or
@@ -203,6 +203,38 @@ pub fn read_particles_csv(path: &Path) -> Result<Vec<ParticleRecord>, OutputErro
         });
     }
     Ok(out)
+}
+
+/// Read every column of a particle CSV as a [`ParticleTable`]: the `id` column as the ids,
+/// every other column as a one-component column named by its label, in file order; values
+/// bit for bit as written.
+pub fn read_particle_table_csv(path: &Path) -> Result<ParticleTable, OutputError> {
+    let (header, rows) = read_table(path)?;
+    let id = header.iter().position(|h| h == "id");
+    let mut table = ParticleTable {
+        ids: Vec::with_capacity(rows.len()),
+        columns: header
+            .iter()
+            .enumerate()
+            .filter(|&(k, _)| Some(k) != id)
+            .map(|(_, h)| TableColumn {
+                name: h.clone(),
+                labels: vec![h.clone()],
+                values: Vec::with_capacity(rows.len()),
+            })
+            .collect(),
+    };
+    for (line, rec) in rows {
+        table.ids.push(match id {
+            Some(i) => parse_field(path, line, &rec, i, "id")?,
+            None => table.ids.len() as u64,
+        });
+        let others = (0..header.len()).filter(|&k| Some(k) != id);
+        for (c, k) in table.columns.iter_mut().zip(others) {
+            c.values.push(parse_field(path, line, &rec, k, &header[k])?);
+        }
+    }
+    Ok(table)
 }
 
 /// Read a diagnostics CSV: returns the header and every row as reals

@@ -39,6 +39,7 @@ mod loads;
 mod output_dir;
 mod table;
 mod vtk;
+mod vtp_read;
 
 #[cfg(test)]
 mod tests;
@@ -51,7 +52,7 @@ use std::path::{Path, PathBuf};
 pub use atomic::{write_atomic, write_atomic_with};
 pub use csv_out::{
     DIAGNOSTICS_FIXED_COLUMNS, PARTICLE_COLUMNS, SNAPSHOT_INDEX_COLUMNS, SnapshotEntry,
-    read_diagnostics_csv, read_particles_csv,
+    read_diagnostics_csv, read_particle_table_csv, read_particles_csv,
 };
 pub use loads::{BODIES_COLUMNS, BODIES_FILE, BodyLoadRow};
 pub use output_dir::{
@@ -60,6 +61,7 @@ pub use output_dir::{
 };
 pub use table::{POSITION, ParticleTable, TableColumn};
 pub use vtk::{ArrayValues, ImageGrid, VtkArray, VtkEncoding, ZLIB_BLOCK, write_vti};
+pub use vtp_read::{read_particle_table_vtp, read_particles_vtp};
 
 /// Floating-point type of all written quantities.
 pub type Real = f64;

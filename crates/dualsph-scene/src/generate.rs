@@ -47,6 +47,7 @@ pub(crate) fn lattice_box(g: &Generator, d: usize) -> ([f64; 3], [f64; 3]) {
                 hi[k] = comp(&c.center, k) + c.radius;
             }
             Generator::Shape(s) => return s.shape.geometry(d).bounds(),
+            Generator::File(_) => {}
         }
     }
     (lo, hi)
@@ -79,15 +80,17 @@ pub(crate) fn estimate_count(g: &Generator, d: usize) -> f64 {
     if !(dx > 0.0 && dx.is_finite() && (1..=3).contains(&d)) {
         return f64::INFINITY;
     }
-    if let Generator::Shape(s) = g {
-        return shapes::estimate_count(s, d);
+    match g {
+        Generator::Shape(s) => return shapes::estimate_count(s, d),
+        Generator::File(f) => return f.records().len() as f64,
+        _ => {}
     }
     let n: f64 = index_ranges(g, d).iter().map(|(a, b)| b - a).product();
     if n.is_nan() {
         return f64::INFINITY;
     }
     match g {
-        Generator::Block(_) | Generator::Shape(_) => n,
+        Generator::Block(_) | Generator::Shape(_) | Generator::File(_) => n,
         // The lattice of the bounding box, times the ball's share of it (plus a margin of a
         // surface layer), but never more than the box itself.
         Generator::Disk(_) => {
@@ -129,6 +132,7 @@ pub(crate) fn for_each_position(g: &Generator, d: usize, mut f: impl FnMut([f64;
     }
     let disk = match g {
         Generator::Shape(s) => return shapes::for_each_position(s, d, f),
+        Generator::File(file) => return file.records().iter().for_each(|r| f(r.pos)),
         Generator::Disk(disk) => {
             let centre: Vec<f64> = (0..d).map(|k| comp(&disk.center, k)).collect();
             Some((centre, disk.radius * disk.radius * (1.0 + 1e-12)))
@@ -197,6 +201,9 @@ fn velocity(v: Option<&Velocity>, p: &[f64; 3], d: usize) -> [f64; 3] {
 /// The particles of generator number `index`.
 /// `body` is the index of the generator's body.
 pub(crate) fn particles(g: &Generator, generator: u32, body: u16, d: usize) -> Vec<ParticleSpec> {
+    if let Generator::File(f) = g {
+        return f.specs(generator, body);
+    }
     let c = g.common();
     let dx = c.spacing;
     let mass = c.density * dx.powi(d as i32);

@@ -19,9 +19,12 @@
 //! ```
 //!
 //! Generators: `Block` (a box of lattice points), `Disk` (a disk, ball or segment) and
-//! `Shape` (a [`Shape`] — box, polygon, circle, ball, cylinder — filled `Solid` or with
+//! `Shape` (a [`Shape`] — box, polygon, circle, ball, cylinder, a polygon from a file, a
+//! closed STL mesh, the files relative to the scene file's directory — filled `Solid` or with
 //! `Layers(n: 3, side: Inside | Outside)` of wall particles along its surface; see
-//! [`ShapeGenerator`]).
+//! [`ShapeGenerator`]), and `File(path: "final.csv", body: ..)`, the particles of a particle
+//! CSV or `.vtp` snapshot the engine wrote, each with its own values (see [`FileParticles`]; it takes no
+//! `clip`, `cut`, `velocity` or `internal_energy`).
 //!
 //! Optional: `neighbours` (`skin: 0.15, tune_skin: true`: the first build's skin, then one chosen
 //! from the measured motion), `plugins` (none), `max_steps` (None), `output`
@@ -46,8 +49,8 @@
 //! matrix) without exactly `dimension` finite components; domain or block `max <= min` on an
 //! axis; non-positive or non-finite spacing, density, h_factor, radius, length, end_time or
 //! fixed dt; a shape of the wrong dimension (a polygon or circle outside 2-D, a ball or
-//! cylinder outside 3-D); a polygon with fewer than 3 vertices, crossing edges or zero area; a
-//! zero cylinder axis; `Layers` with `n: 0`; a shape whose extent (with its outside layers,
+//! cylinder or STL mesh outside 3-D); a polygon with fewer than 3 vertices, crossing edges or
+//! zero area; an STL `scale` not > 0; a zero cylinder axis; `Layers` with `n: 0`; a shape whose extent (with its outside layers,
 //! narrowed to its clip box) leaves the domain; adaptive coefficients outside (0, 1]; negative skin; `diagnostics_every == 0`; both
 //! `snapshot_dt` and a `snapshot_every` other than its default or 0; a plugin's
 //! own `validate`; two integrators (or two diagnostics plugins), naming both; more than [`MAX_PARTICLES`] particles (estimated before generating); a
@@ -60,6 +63,7 @@
 mod error;
 mod generate;
 mod output;
+mod particles_file;
 mod plugins_list;
 mod schema;
 mod shapes;
@@ -70,11 +74,12 @@ pub use dualsph_core::plugin::{PluginConfig, Registry};
 pub use error::SceneError;
 pub use generate::{MAX_PARTICLES, ParticleSpec};
 pub use output::{DEFAULT_SNAPSHOT_EVERY, OutputFormat, OutputSettings, VtkEncoding};
+pub use particles_file::{FileParticles, ReadParticles};
 pub use schema::{
     Block, BodyKind, BodySettings, BoxRegion, Disk, Domain, Formulation, Generator, HealthSettings,
     IntegratorSettings, Lattice, MotionSettings, NeighbourSettings, TimeStep, Velocity,
 };
-pub use shapes::{Fill, Geometry, Region, Shape, ShapeGenerator, Side};
+pub use shapes::{Fill, Geometry, Outline, Region, Shape, ShapeGenerator, Side, StlMesh};
 
 use ron::extensions::Extensions;
 use serde::Deserialize;
@@ -159,13 +164,22 @@ impl Scene {
         Ok(named.next().map(|p| p.as_ref()))
     }
 
-    /// Parses `text` without validating it (syntax, field names and types only).
+    /// Parses `text` without validating it (syntax, field names and types only), and reads
+    /// the files its shapes (`Stl`, `PolygonFile`) and `File` generators name, relative to
+    /// the directory of `path`: a file that cannot be read, or an STL mesh that is not
+    /// closed, is [`SceneError::Invalid`] naming the field.
     pub fn parse_only(text: &str, path: &Path, registry: &Registry) -> Result<Scene, SceneError> {
         // a UTF-8 byte-order mark (as some editors save) is not part of the scene; editors
         // hide it, so positions on the first line are counted without it
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-        plugins_list::with_registry(registry, || ron_options().from_str::<Scene>(text))
-            .map_err(|e| SceneError::from_ron(path, text, e))
+        let mut scene =
+            plugins_list::with_registry(registry, || ron_options().from_str::<Scene>(text))
+                .map_err(|e| SceneError::from_ron(path, text, e))?;
+        let dir = path.parent().unwrap_or(Path::new(""));
+        shapes::load_files(&mut scene.particles, dir, scene.dimension)
+            .and_then(|()| particles_file::load(&mut scene.particles, dir, scene.dimension))
+            .map_err(|p| p.into_error(path))?;
+        Ok(scene)
     }
 
     /// Checks every value (see the crate docs for the list) and returns the first problem as

@@ -1,6 +1,7 @@
 //! The parts of a scene file. Every struct rejects unknown fields; vectors are RON lists whose
 //! length must equal the scene dimension (checked by validation, not by the parser).
 
+use crate::particles_file::FileParticles;
 use crate::shapes::{Region, ShapeGenerator};
 use serde::de::{self, DeserializeSeed, Deserializer, MapAccess, Visitor};
 use serde::{Deserialize, Serialize};
@@ -246,9 +247,11 @@ pub enum Generator {
     Disk(Disk),
     /// `Shape(shape: Circle(..), fill: Layers(n: 3, side: Inside), spacing: .., ...)`.
     Shape(ShapeGenerator),
+    /// `File(path: "final.csv", body: "water")`: particles read from a particle CSV.
+    File(FileParticles),
 }
 
-/// The settings both generator kinds share, borrowed.
+/// The settings the generators share, borrowed.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Common<'a> {
     pub spacing: f64,
@@ -263,19 +266,33 @@ pub(crate) struct Common<'a> {
 }
 
 impl Generator {
-    /// `"Block"`, `"Disk"` or `"Shape(Box)"`, `"Shape(Circle)"`, ... (the shape's name).
+    /// `"Block"`, `"Disk"`, `"File"` or `"Shape(Box)"`, `"Shape(Circle)"`, ... (the shape's
+    /// name).
     pub fn kind(&self) -> &'static str {
         use crate::shapes::Shape as S;
         match self {
             Generator::Block(_) => "Block",
             Generator::Disk(_) => "Disk",
+            Generator::File(_) => "File",
             Generator::Shape(g) => match g.shape {
                 S::Box { .. } => "Shape(Box)",
                 S::Polygon { .. } => "Shape(Polygon)",
                 S::Circle { .. } => "Shape(Circle)",
                 S::Ball { .. } => "Shape(Ball)",
                 S::Cylinder { .. } => "Shape(Cylinder)",
+                S::PolygonFile { .. } => "Shape(PolygonFile)",
+                S::Stl { .. } => "Shape(Stl)",
             },
+        }
+    }
+
+    /// The generator's `cut` regions, to read the files of the shapes among them.
+    pub(crate) fn cut_mut(&mut self) -> &mut [Region] {
+        match self {
+            Generator::Block(b) => &mut b.cut,
+            Generator::Disk(c) => &mut c.cut,
+            Generator::Shape(g) => &mut g.cut,
+            Generator::File(_) => &mut [],
         }
     }
 
@@ -323,6 +340,19 @@ impl Generator {
                 velocity: g.velocity.as_ref(),
                 internal_energy: g.internal_energy,
                 body: g.body.as_deref(),
+            },
+            // the particles carry their own values; spacing and h factor stand for them in
+            // the checks (`FileParticles::spacing`), the density is never used
+            Generator::File(f) => Common {
+                spacing: f.spacing(),
+                lattice: Lattice::Square,
+                density: f64::NAN,
+                h_factor: f.h_factor(),
+                clip: None,
+                cut: &[],
+                velocity: None,
+                internal_energy: 0.0,
+                body: f.body.as_deref(),
             },
         }
     }

@@ -66,6 +66,7 @@ fn boxes(field: &str, b: &BoxRegion, d: usize) -> Check {
 fn generator(i: usize, g: &Generator, d: usize) -> Check {
     let f = |name: &str| format!("particles[{i}].{name}");
     match g {
+        Generator::File(file) => return crate::particles_file::check(i, file, d),
         Generator::Block(b) => {
             vector(&f("min"), &b.min, d)?;
             vector(&f("max"), &b.max, d)?;

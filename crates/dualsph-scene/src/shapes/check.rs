@@ -10,10 +10,13 @@ use crate::validate::{Check, ordered, positive, vector};
 fn needs(s: &Shape) -> Option<(usize, &'static str)> {
     match s {
         Shape::Box { .. } => None,
-        Shape::Polygon { .. } => Some((2, "in 3-D use a Box, Ball or Cylinder")),
+        Shape::Polygon { .. } | Shape::PolygonFile { .. } => {
+            Some((2, "in 3-D use a Box, Ball, Cylinder or Stl mesh"))
+        }
         Shape::Circle { .. } => Some((2, "in 3-D use a Ball, or a Cylinder for a disk")),
         Shape::Ball { .. } => Some((3, "in 2-D use a Circle")),
         Shape::Cylinder { .. } => Some((3, "in 2-D its cross-section is a Circle")),
+        Shape::Stl { .. } => Some((3, "in 2-D give the outline as a Polygon or PolygonFile")),
     }
 }
 
@@ -37,7 +40,29 @@ pub(crate) fn shape(field: &str, s: &Shape, d: usize) -> Check {
             vector(&f("max"), max, d)?;
             ordered(&f("max"), min, max)
         }
-        Shape::Polygon { vertices } => polygon(&f("vertices"), vertices),
+        Shape::Polygon { vertices } => polygon(&f("vertices"), vertices, &|_| String::new()),
+        Shape::PolygonFile { file, outline } => match outline.vertices() {
+            Some(v) => polygon(&f("file"), v, &|i| match outline.line(i) {
+                Some(l) => format!(" (line {l} of `{file}`)"),
+                None => String::new(),
+            }),
+            None => Err(not_read(&f("file"))),
+        },
+        Shape::Stl {
+            scale,
+            translate,
+            mesh,
+            ..
+        } => {
+            if mesh.get().is_none() {
+                return Err(not_read(&f("file")));
+            }
+            positive(&f("scale"), *scale)?;
+            match translate {
+                Some(t) => vector(&f("translate"), t, d),
+                None => Ok(()),
+            }
+        }
         Shape::Circle { center, radius } | Shape::Ball { center, radius } => {
             vector(&f("center"), center, d)?;
             positive(&f("radius"), *radius)
@@ -59,9 +84,20 @@ pub(crate) fn shape(field: &str, s: &Shape, d: usize) -> Check {
     }
 }
 
+/// A shape whose file was not read: the scene was deserialized without
+/// [`crate::Scene::parse_only`].
+fn not_read(field: &str) -> Problem {
+    Problem::new(
+        field,
+        "the file was not read: parse scenes with Scene::load, Scene::from_str or \
+         Scene::parse_only",
+    )
+}
+
 /// At least 3 finite 2-D vertices, a simple boundary (no two edges meet except adjacent ones
-/// at their shared vertex) and a non-zero area.
-fn polygon(field: &str, vertices: &[Vec<f64>]) -> Check {
+/// at their shared vertex) and a non-zero area. `at(i)` follows vertex `i` in messages (where
+/// it comes from, or nothing).
+fn polygon(field: &str, vertices: &[Vec<f64>], at: &dyn Fn(usize) -> String) -> Check {
     if vertices.len() < 3 {
         return Err(Problem::new(
             field,
@@ -77,17 +113,21 @@ fn polygon(field: &str, vertices: &[Vec<f64>]) -> Check {
     let v: Vec<[f64; 2]> = vertices.iter().map(|p| [p[0], p[1]]).collect();
     let n = v.len();
     if let Some((i, j)) = first_crossing(&v) {
+        let (ni, nj) = ((i + 1) % n, (j + 1) % n);
         let message = if i == j {
             format!(
-                "vertices {i} and {} coincide: the polygon has an edge of zero length",
-                (i + 1) % n
+                "vertices {i}{} and {ni}{} coincide: the polygon has an edge of zero length",
+                at(i),
+                at(ni)
             )
         } else {
             format!(
-                "the polygon intersects itself: edge {i} (vertices {i} → {}) and edge {j} \
-                 (vertices {j} → {}) meet; the edges must only join at shared vertices",
-                (i + 1) % n,
-                (j + 1) % n
+                "the polygon intersects itself: edge {i} (vertices {i}{} → {ni}{}) and edge {j} \
+                 (vertices {j}{} → {nj}{}) meet; the edges must only join at shared vertices",
+                at(i),
+                at(ni),
+                at(j),
+                at(nj)
             )
         };
         return Err(Problem::new(field, message));

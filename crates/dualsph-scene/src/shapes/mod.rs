@@ -1,23 +1,33 @@
-//! Shapes for particle generators and cuts: a box, a polygon (2-D), a circle (2-D), a ball
-//! (3-D) and a cylinder (3-D), each with an exact signed distance and one inside test.
+//! Shapes for particle generators and cuts: a box, a polygon (2-D, inline or from a file), a
+//! circle (2-D), a ball (3-D), a cylinder (3-D) and a closed triangle mesh from an STL file
+//! (3-D), each with an exact signed distance and one inside test.
 //!
 //! Every shape implements [`Geometry`]: its signed distance `s(p)` (negative inside, positive
 //! outside, `|s|` the Euclidean distance to the surface), its closed inside test (the one test
 //! that serves a solid fill, both sides of a layered fill and a cut), the distance used to
-//! count wall layers, and its bounding box. A new shape (a triangle mesh, say) only has to
-//! implement the trait to be fillable, layerable and usable as a cut.
+//! count wall layers, and its bounding box. A new shape only has to implement the trait to be
+//! fillable, layerable and usable as a cut.
+//!
+//! The shapes read from files (`Stl`, `PolygonFile`) are read when the scene is parsed
+//! ([`files`]), relative to the scene file's directory, and keep the content in the shape.
 
 mod check;
+mod files;
 mod fill;
+mod mesh;
+mod mesh_geom;
 mod polygon;
 
 pub(crate) use check::{
     generator as check_generator, region as check_region, shape as check_shape,
 };
+pub(crate) use files::load as load_files;
+pub use files::{Outline, StlMesh};
 pub use fill::{Fill, ShapeGenerator, Side};
 pub(crate) use fill::{estimate_count, for_each_position};
 
 use crate::schema::BoxRegion;
+use mesh_geom::MeshGeom;
 use polygon::PolygonGeom;
 use serde::{Deserialize, Serialize};
 
@@ -64,6 +74,40 @@ pub enum Shape {
         /// Length along the axis (> 0), `length/2` on each side of `center`.
         length: f64,
     },
+    /// A simple polygon (2-D) whose vertices are the rows `x, y` of a text file (commas or
+    /// blanks between the two numbers; blank lines, `#` comments and a first line of column
+    /// names are skipped): `PolygonFile(file: "outline.csv")`. The path is relative to the
+    /// scene file's directory.
+    PolygonFile {
+        /// The file.
+        file: String,
+        /// The vertices once the scene is loaded.
+        #[serde(skip)]
+        outline: Outline,
+    },
+    /// A closed triangle mesh (3-D) read from an STL file, binary or ASCII, placed at
+    /// `x = scale · x_file + translate`:
+    /// `Stl(file: "obstacle.stl", scale: 0.001, translate: [0.5, 0.0, 0.2])`. The path is
+    /// relative to the scene file's directory; the mesh must be closed (every edge shared by
+    /// two triangles), consistently oriented (either way round) and free of degenerate
+    /// triangles.
+    Stl {
+        /// The file.
+        file: String,
+        /// The factor on the file's coordinates (default 1, > 0).
+        #[serde(default = "one")]
+        scale: f64,
+        /// The shift after scaling (default none).
+        #[serde(default)]
+        translate: Option<Vec<f64>>,
+        /// The mesh once the scene is loaded.
+        #[serde(skip)]
+        mesh: StlMesh,
+    },
+}
+
+fn one() -> f64 {
+    1.0
 }
 
 impl Shape {
@@ -75,6 +119,8 @@ impl Shape {
             Shape::Circle { .. } => "Circle",
             Shape::Ball { .. } => "Ball",
             Shape::Cylinder { .. } => "Cylinder",
+            Shape::PolygonFile { .. } => "PolygonFile",
+            Shape::Stl { .. } => "Stl",
         }
     }
 
@@ -104,6 +150,22 @@ impl Shape {
                 radius,
                 length,
             } => std::boxed::Box::new(CylinderGeom::new(v3(center), v3(axis), *radius, *length)),
+            Shape::PolygonFile { outline, .. } => match outline.vertices() {
+                Some(v) => std::boxed::Box::new(PolygonGeom::new(v)),
+                None => std::boxed::Box::new(Nothing),
+            },
+            Shape::Stl {
+                scale,
+                translate,
+                mesh,
+                ..
+            } => {
+                let shift = translate.as_deref().map_or([0.0; 3], v3);
+                match mesh.get().and_then(|m| MeshGeom::new(m, *scale, shift)) {
+                    Some(g) => std::boxed::Box::new(g),
+                    None => std::boxed::Box::new(Nothing),
+                }
+            }
         }
     }
 }
@@ -132,6 +194,25 @@ pub trait Geometry {
     fn bounds(&self) -> ([f64; 3], [f64; 3]);
     /// The surface measure (perimeter in 2-D, area in 3-D; 2 in 1-D), for count estimates.
     fn surface(&self) -> f64;
+}
+
+/// The geometry of a shape whose file was not read (or does not place): it contains
+/// nothing and its bounds are not numbers, so a generator over it yields nothing.
+struct Nothing;
+
+impl Geometry for Nothing {
+    fn signed_distance(&self, _: &[f64; 3]) -> f64 {
+        f64::INFINITY
+    }
+    fn contains(&self, _: &[f64; 3]) -> bool {
+        false
+    }
+    fn bounds(&self) -> ([f64; 3], [f64; 3]) {
+        ([f64::NAN; 3], [f64::NAN; 3])
+    }
+    fn surface(&self) -> f64 {
+        f64::NAN
+    }
 }
 
 /// `|v|` over the first 3 components.
@@ -290,7 +371,8 @@ impl Geometry for CylinderGeom {
 #[serde(
     untagged,
     expecting = "a cut region: a box `(min: [..], max: [..])` or a shape `Box(..)`, \
-                 `Polygon(..)`, `Circle(..)`, `Ball(..)` or `Cylinder(..)`"
+                 `Polygon(..)`, `PolygonFile(..)`, `Circle(..)`, `Ball(..)`, `Cylinder(..)` \
+                 or `Stl(..)`"
 )]
 pub enum Region {
     /// A shape.

@@ -3,8 +3,11 @@
 mod generate;
 mod output;
 mod parse;
+mod particles_file;
+mod polygon_file;
 mod shapes;
 mod shapes_validate;
+mod stl;
 mod validate;
 
 use crate::{Registry, Scene, SceneError};

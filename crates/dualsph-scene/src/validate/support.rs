@@ -58,7 +58,8 @@ pub(super) fn enough_neighbours(s: &Scene) -> Check {
     let d = s.dimension;
     for (i, g) in s.particles.iter().enumerate() {
         let c = g.common();
-        if c.h_factor >= CHECKED_BELOW {
+        // particles from a file are on no known lattice
+        if c.h_factor >= CHECKED_BELOW || matches!(g, Generator::File(_)) {
             continue;
         }
         let n = lattice_neighbours(c.lattice, c.h_factor, d);
