@@ -16,7 +16,8 @@ pub struct Recording {
     pub every: u64,
     /// Snapshot the particles at the first step at or after each of these times.
     pub snapshot_times: Vec<Real>,
-    /// Record the largest x of any particle (a dam-break water front).
+    /// Record the water front: the largest x of a fluid particle that is not alone in its
+    /// support (a dam-break water front).
     pub front: bool,
     /// Where plugins that write files of their own (probes) put them; in memory when `None`.
     pub output_dir: Option<std::path::PathBuf>,
@@ -124,11 +125,32 @@ pub fn coarsen(scene: &mut Scene, factor: Real) {
 
 pub use crate::perf::cpu_seconds as process_cpu_seconds;
 
+/// The water front: the largest x of a particle of a fluid body that has another fluid
+/// particle within its support radius — the leading edge of the water, not a droplet thrown
+/// ahead of it (nor the walls of a tank).
 fn largest_x<V: Vector>(sim: &mut Sim<V>) -> Real {
-    let mut q = sim.world.query::<&Position<V>>();
-    q.iter(&sim.world)
-        .map(|p| p.0.to_xyz()[0])
-        .fold(Real::NEG_INFINITY, Real::max)
+    let fluid: Vec<bool> = match sim.world.get_resource::<dualsph_core::bodies::Bodies>() {
+        Some(b) => b.0.iter().map(|b| b.is_fluid()).collect(),
+        None => Vec::new(),
+    };
+    let mut q = sim.world.query::<(&Position<V>, &SmoothingLength, &BodyId)>();
+    let mut water: Vec<(V, Real)> = q
+        .iter(&sim.world)
+        .filter(|(_, _, b)| fluid.get(b.0 as usize).copied().unwrap_or(true))
+        .map(|(p, h, _)| (p.0, h.0))
+        .collect();
+    water.sort_by(|a, b| b.0.get(0).total_cmp(&a.0.get(0)));
+    // the particles within h of particle k in x are next to it in the sorted order
+    let attached = |k: usize| {
+        let (x, h) = water[k];
+        let close = |j: &usize| (water[*j].0 - x).length() < h;
+        let ahead = (0..k).rev().take_while(|&j| water[j].0.get(0) - x.get(0) < h);
+        let behind = (k + 1..water.len()).take_while(|&j| x.get(0) - water[j].0.get(0) < h);
+        ahead.chain(behind).any(|j| close(&j))
+    };
+    (0..water.len())
+        .find(|&k| attached(k))
+        .map_or(Real::NEG_INFINITY, |k| water[k].0.get(0))
 }
 
 fn health<V: Vector>(sim: &Sim<V>, label: &str) -> Result<(), SimError> {

@@ -13,6 +13,8 @@
 //!   Fox & Zhu 1997);
 //! * [`cavity`]: the centreline velocities of the lid-driven cavity at Re = 100 (Ghia, Ghia &
 //!   Shin 1982);
+//! * [`wall_pressure`]: the dam-break wall pressure of Buchner (2002) and the δ-SPH results of
+//!   Marrone et al. (2011) on the same sensor;
 //! * [`norms`]: the error norms and interpolation used by the reports.
 #![warn(missing_docs)]
 
@@ -24,3 +26,4 @@ pub mod norms;
 pub mod poiseuille;
 pub mod riemann;
 pub mod sedov;
+pub mod wall_pressure;
