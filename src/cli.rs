@@ -76,9 +76,9 @@ impl From<FormulationArg> for Formulation {
 enum Command {
     /// Run a scene headless and write diagnostics, snapshots and run.json.
     Run(run::RunArgs),
-    /// Run the paper's benchmarks, grade them against their references, write report.md + PNGs.
+    /// Run benchmarks (the paper's, walls, viscous flows), grade them, write report.md + PNGs.
     Report {
-        /// Benchmarks to run (default: all four).
+        /// Benchmarks to run (default: the paper's four and the Sedov blast).
         #[arg(value_enum)]
         benchmarks: Vec<Benchmark>,
         /// Folder holding the scene files.

@@ -1,7 +1,8 @@
 //! `dualsph report`: the paper's benchmarks (§7 of Ren, Dai, Zhuang & Rabczuk, *Dual-support
 //! Smoothed Particle Hydrodynamics*, preprint; RenDSSPH in docs/references.md) run case by
 //! case, graded against their references ([`dualsph_reference`]) and written up as
-//! `report.md` with PNG plots.
+//! `report.md` with PNG plots; likewise the flows bounded by walls of particles and the
+//! viscous flows ([`walls`]).
 //!
 //! Each benchmark module builds its cases from the scene files, runs them ([`case`]),
 //! computes the error metrics, draws the plots and returns a markdown [`Section`] together
@@ -17,6 +18,7 @@ pub mod sedov;
 pub mod sod;
 pub mod speed_error;
 pub mod three_d;
+pub mod walls;
 
 pub use case::{CaseRun, CaseSpec, Recording, coarsen, run_case};
 pub use markdown::Table;
@@ -31,7 +33,8 @@ pub struct ReportOptions {
     pub scenes: PathBuf,
     /// Folder receiving `report.md` and the PNG plots.
     pub out: PathBuf,
-    /// Spacing multiplier: 1 is the paper's resolution, 2 halves it in every direction.
+    /// Spacing multiplier: 1 is the scenes' resolution (the paper's, for its benchmarks), 2
+    /// halves it in every direction.
     pub coarsen: f64,
     /// Replaces the end time of the long cases (the dam break) when set.
     pub end_time: Option<f64>,
@@ -44,6 +47,27 @@ impl ReportOptions {
     pub fn scene(&self, file: &str) -> Result<Scene, ReportError> {
         let path = self.scenes.join(file);
         let mut scene = Scene::load(&path, &crate::default_registry())
+            .map_err(|e| ReportError::Scene(e.to_string()))?;
+        if self.coarsen != 1.0 {
+            coarsen(&mut scene, self.coarsen);
+        }
+        Ok(scene)
+    }
+
+    /// Loads a scene of the set with `from` replaced by `to` in its text first (a plugin
+    /// left out or one of its options changed), applying the resolution option. Fails when
+    /// the text does not contain `from`.
+    pub fn scene_edited(&self, file: &str, from: &str, to: &str) -> Result<Scene, ReportError> {
+        let path = self.scenes.join(file);
+        let text = std::fs::read_to_string(&path)
+            .map_err(|e| ReportError::Scene(format!("{}: {e}", path.display())))?;
+        if !text.contains(from) {
+            return Err(ReportError::Scene(format!(
+                "{}: no `{from}` to replace",
+                path.display()
+            )));
+        }
+        let mut scene = Scene::from_str(&text.replace(from, to), &path, &crate::default_registry())
             .map_err(|e| ReportError::Scene(e.to_string()))?;
         if self.coarsen != 1.0 {
             coarsen(&mut scene, self.coarsen);
@@ -144,7 +168,7 @@ pub struct Section {
     pub body: String,
 }
 
-/// The benchmarks of the paper.
+/// The benchmarks: the paper's, then the walls of particles and the viscous flows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum Benchmark {
     /// 1-D heat conduction (§7.1).
@@ -161,6 +185,14 @@ pub enum Benchmark {
     ThreeD,
     /// The Sedov–Taylor blast wave in 2-D and 3-D: DualSupport, grad-h and SingleSupport.
     Sedov,
+    /// Water at rest in a tank with walls of particles: the hydrostatic pressure.
+    Hydrostatic,
+    /// Plane Poiseuille flow between walls of particles against the series solution.
+    Poiseuille,
+    /// The lid-driven cavity at Re = 100 against Ghia, Ghia & Shin (1982).
+    Cavity,
+    /// The periodic Taylor–Green vortex: the decay of its mode.
+    TaylorGreen,
 }
 
 impl Benchmark {
@@ -184,6 +216,10 @@ impl Benchmark {
             Benchmark::SpeedError => speed_error::run(opts)?.0,
             Benchmark::ThreeD => three_d::run(opts)?.0,
             Benchmark::Sedov => sedov::run(opts)?.0,
+            Benchmark::Hydrostatic => walls::hydrostatic::run(opts)?.0,
+            Benchmark::Poiseuille => walls::poiseuille::run(opts)?.0,
+            Benchmark::Cavity => walls::cavity::run(opts)?.0,
+            Benchmark::TaylorGreen => walls::taylor_green::run(opts)?.0,
         })
     }
 }
@@ -197,13 +233,13 @@ pub fn write_report(
 ) -> Result<PathBuf, ReportError> {
     std::fs::create_dir_all(&opts.out)
         .map_err(|e| ReportError::Output(format!("{}: {e}", opts.out.display())))?;
-    let mut md = String::from("# dualsph validation report: the paper's benchmarks\n\n");
+    let mut md = format!("# dualsph validation report: {}\n\n", title(benchmarks));
     md += &format!(
         "Regenerate with `{command}`. Resolution: {}. Threads: {} (rayon). Wall and CPU seconds \
          are of the stepping loop; CPU seconds add all threads. \"h\" is the support radius \
          (W = 0 for r ≥ h), as in the paper.\n\n",
         if opts.coarsen == 1.0 {
-            "the paper's".to_string()
+            "the scenes' (the paper's, for its benchmarks)".to_string()
         } else {
             format!("particle spacing × {}", opts.coarsen)
         },
@@ -218,6 +254,28 @@ pub fn write_report(
             .map_err(|e| ReportError::Output(e.to_string()))?;
     }
     Ok(path)
+}
+
+/// What a report of these benchmarks is: the paper's when every one is of the paper (its
+/// §7, the speed-against-error study of three of them, its 3-D cases and the Sedov blast),
+/// the viscous and wall flows when every one is of those, else both.
+fn title(benchmarks: &[Benchmark]) -> &'static str {
+    let walls = |b: &Benchmark| {
+        matches!(
+            b,
+            Benchmark::Hydrostatic
+                | Benchmark::Poiseuille
+                | Benchmark::Cavity
+                | Benchmark::TaylorGreen
+        )
+    };
+    if benchmarks.iter().all(|b| !walls(b)) {
+        "the paper's benchmarks"
+    } else if benchmarks.iter().all(walls) {
+        "walls of particles and viscous flows"
+    } else {
+        "the paper's benchmarks, walls of particles and viscous flows"
+    }
 }
 
 /// The common columns of every case table: the time reached (marked when the run blew up),

@@ -1,0 +1,23 @@
+//! Flows bounded by walls of particles, and the viscous flows that grade the viscous terms
+//! next to them: water at rest in a tank ([`hydrostatic`]), plane Poiseuille flow
+//! ([`poiseuille`]), the lid-driven cavity ([`cavity`]) and the periodic Taylor–Green vortex
+//! ([`taylor_green`]). The walls are layers of fixed particles whose pressure and viscous
+//! velocity are extrapolated from the fluid (Adami, Hu & Adams 2012, *A generalized wall
+//! boundary condition for smoothed particle hydrodynamics*, J. Comput. Phys. 231, 7057–7075,
+//! Eqs. 22–28). Where a wrong wall model is the failure the measure is meant to catch, the
+//! section runs it too: the walls' density evolved by the continuity equation (the dynamic
+//! boundary) in the tank, the walls' own velocity in the viscous terms in the channel and
+//! the cavity.
+//!
+//! Each module holds the measures its test in `tests/` asserts on, so the report and the
+//! test compute them once.
+
+pub mod cavity;
+pub mod hydrostatic;
+pub mod poiseuille;
+pub mod taylor_green;
+
+/// `"within"` when `ok`, else `"NOT within"`: a verdict computed from a comparison.
+pub(crate) fn within(ok: bool) -> &'static str {
+    if ok { "within" } else { "NOT within" }
+}
