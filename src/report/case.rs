@@ -133,7 +133,9 @@ fn largest_x<V: Vector>(sim: &mut Sim<V>) -> Real {
         Some(b) => b.0.iter().map(|b| b.is_fluid()).collect(),
         None => Vec::new(),
     };
-    let mut q = sim.world.query::<(&Position<V>, &SmoothingLength, &BodyId)>();
+    let mut q = sim
+        .world
+        .query::<(&Position<V>, &SmoothingLength, &BodyId)>();
     let mut water: Vec<(V, Real)> = q
         .iter(&sim.world)
         .filter(|(_, _, b)| fluid.get(b.0 as usize).copied().unwrap_or(true))
@@ -144,7 +146,9 @@ fn largest_x<V: Vector>(sim: &mut Sim<V>) -> Real {
     let attached = |k: usize| {
         let (x, h) = water[k];
         let close = |j: &usize| (water[*j].0 - x).length() < h;
-        let ahead = (0..k).rev().take_while(|&j| water[j].0.get(0) - x.get(0) < h);
+        let ahead = (0..k)
+            .rev()
+            .take_while(|&j| water[j].0.get(0) - x.get(0) < h);
         let behind = (k + 1..water.len()).take_while(|&j| x.get(0) - water[j].0.get(0) < h);
         ahead.chain(behind).any(|j| close(&j))
     };

@@ -193,6 +193,8 @@ pub enum Benchmark {
     Cavity,
     /// The periodic Taylor–Green vortex: the decay of its mode.
     TaylorGreen,
+    /// The pressure of a dam break on the far wall against Buchner (2002).
+    WallPressure,
 }
 
 impl Benchmark {
@@ -220,6 +222,7 @@ impl Benchmark {
             Benchmark::Poiseuille => walls::poiseuille::run(opts)?.0,
             Benchmark::Cavity => walls::cavity::run(opts)?.0,
             Benchmark::TaylorGreen => walls::taylor_green::run(opts)?.0,
+            Benchmark::WallPressure => walls::wall_pressure::run(opts)?.0,
         })
     }
 }
@@ -267,6 +270,7 @@ fn title(benchmarks: &[Benchmark]) -> &'static str {
                 | Benchmark::Poiseuille
                 | Benchmark::Cavity
                 | Benchmark::TaylorGreen
+                | Benchmark::WallPressure
         )
     };
     if benchmarks.iter().all(|b| !walls(b)) {

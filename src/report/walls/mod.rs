@@ -1,7 +1,7 @@
 //! Flows bounded by walls of particles, and the viscous flows that grade the viscous terms
 //! next to them: water at rest in a tank ([`hydrostatic`]), plane Poiseuille flow
 //! ([`poiseuille`]), the lid-driven cavity ([`cavity`]) and the periodic Taylor–Green vortex
-//! ([`taylor_green`]). The walls are layers of fixed particles whose pressure and viscous
+//! ([`taylor_green`]), and the pressure of a dam break on the far wall ([`wall_pressure`]). The walls are layers of fixed particles whose pressure and viscous
 //! velocity are extrapolated from the fluid (Adami, Hu & Adams 2012, *A generalized wall
 //! boundary condition for smoothed particle hydrodynamics*, J. Comput. Phys. 231, 7057–7075,
 //! Eqs. 22–28). Where a wrong wall model is the failure the measure is meant to catch, the
@@ -16,6 +16,7 @@ pub mod cavity;
 pub mod hydrostatic;
 pub mod poiseuille;
 pub mod taylor_green;
+pub mod wall_pressure;
 
 /// `"within"` when `ok`, else `"NOT within"`: a verdict computed from a comparison.
 pub(crate) fn within(ok: bool) -> &'static str {
