@@ -115,15 +115,7 @@ pub struct CavityCase {
 
 /// The scene with no-slip walls, then with the walls' own velocity.
 pub fn cases(opts: &ReportOptions) -> Result<Vec<CaseSpec>, ReportError> {
-    let file = "cavity_2d.ron";
-    Ok(vec![
-        CaseSpec::new("no-slip walls (Adami et al. 2012)", opts.scene(file)?, None),
-        CaseSpec::new(
-            "walls at their own velocity",
-            opts.scene_edited(file, "viscous: NoSlip", "viscous: Own")?,
-            None,
-        ),
-    ])
+    super::no_slip_and_own(opts, "cavity_2d.ron")
 }
 
 /// Runs both cases, each writing its probes into a folder of its own beside the report.

@@ -22,3 +22,20 @@ pub mod wall_pressure;
 pub(crate) fn within(ok: bool) -> &'static str {
     if ok { "within" } else { "NOT within" }
 }
+
+/// The scene `file` as it is (no-slip walls), then with the walls' own velocity in the
+/// viscous terms (`viscous: Own`): the wall model and the one the measure must tell apart.
+pub(crate) fn no_slip_and_own(
+    opts: &super::ReportOptions,
+    file: &str,
+) -> Result<Vec<super::CaseSpec>, super::ReportError> {
+    use super::CaseSpec;
+    Ok(vec![
+        CaseSpec::new("no-slip walls (Adami et al. 2012)", opts.scene(file)?, None),
+        CaseSpec::new(
+            "walls at their own velocity",
+            opts.scene_edited(file, "viscous: NoSlip", "viscous: Own")?,
+            None,
+        ),
+    ])
+}

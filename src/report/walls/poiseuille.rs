@@ -81,15 +81,7 @@ pub fn grade(run: CaseRun) -> ChannelCase {
 
 /// The scene with no-slip walls, then with the walls' own velocity.
 pub fn cases(opts: &ReportOptions) -> Result<Vec<CaseSpec>, ReportError> {
-    let file = "poiseuille_2d.ron";
-    Ok(vec![
-        CaseSpec::new("no-slip walls (Adami et al. 2012)", opts.scene(file)?, None),
-        CaseSpec::new(
-            "walls at their own velocity",
-            opts.scene_edited(file, "viscous: NoSlip", "viscous: Own")?,
-            None,
-        ),
-    ])
+    super::no_slip_and_own(opts, "poiseuille_2d.ron")
 }
 
 fn recording() -> Recording {
