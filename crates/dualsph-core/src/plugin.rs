@@ -44,6 +44,18 @@ impl SceneInfo {
             .zip(lo.iter().zip(hi))
             .all(|(&v, (&l, &h))| v >= l && v <= h)
     }
+
+    /// `Ok` when the scene has a body named `name`, else the message plugins' `validate`
+    /// gives for it: `"<field>: no body named `<name>`; the scene's bodies are <names>"`.
+    pub fn check_body(&self, field: &str, name: &str) -> Result<(), String> {
+        if self.bodies.iter().any(|b| b == name) {
+            return Ok(());
+        }
+        Err(format!(
+            "{field}: no body named `{name}`; the scene's bodies are {}",
+            self.bodies.join(", ")
+        ))
+    }
 }
 
 /// `Ok` when `x` is a finite number > 0, else the message plugins' `validate` gives for it:

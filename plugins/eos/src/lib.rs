@@ -290,13 +290,7 @@ impl SimPlugin for TaitEos {
         positive("rho0", self.rho0)?;
         for (k, m) in self.materials.iter().enumerate() {
             let at = format!("materials[{k}]");
-            if !info.bodies.contains(&m.body) {
-                return Err(format!(
-                    "{at}.body: no body named `{}`; the scene's bodies are {}",
-                    m.body,
-                    info.bodies.join(", ")
-                ));
-            }
+            info.check_body(&format!("{at}.body"), &m.body)?;
             if self.materials[..k].iter().any(|o| o.body == m.body) {
                 return Err(format!("{at}.body: `{}` is given twice", m.body));
             }

@@ -299,12 +299,7 @@ impl SimPlugin for Probes {
             return Err("probes: the list is empty".into());
         }
         for (k, b) in self.bodies.iter().enumerate() {
-            if !info.bodies.contains(b) {
-                return Err(format!(
-                    "bodies[{k}]: no body named `{b}`; the scene's bodies are {}",
-                    info.bodies.join(", ")
-                ));
-            }
+            info.check_body(&format!("bodies[{k}]"), b)?;
         }
         let mut names: Vec<&str> = Vec::new();
         for (i, p) in self.probes.iter().enumerate() {

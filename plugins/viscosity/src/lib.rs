@@ -516,12 +516,7 @@ fn non_negative(field: &str, x: Real) -> Result<(), String> {
 /// Every body named in `materials` (`bodies`, in order) exists, and none twice.
 fn check_bodies(bodies: &[&str], info: &SceneInfo) -> Result<(), String> {
     for (k, b) in bodies.iter().enumerate() {
-        if !info.bodies.iter().any(|n| n == b) {
-            return Err(format!(
-                "materials[{k}].body: no body named `{b}`; the scene's bodies are {}",
-                info.bodies.join(", ")
-            ));
-        }
+        info.check_body(&format!("materials[{k}].body"), b)?;
         if bodies[..k].contains(b) {
             return Err(format!("materials[{k}].body: `{b}` is given twice"));
         }

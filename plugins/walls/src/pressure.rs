@@ -177,12 +177,7 @@ impl SimPlugin for WallPressure {
 
     fn validate(&self, info: &SceneInfo) -> Result<(), String> {
         for (k, b) in self.bodies.iter().enumerate() {
-            if !info.bodies.contains(b) {
-                return Err(format!(
-                    "bodies[{k}]: no body named `{b}`; the scene's bodies are {}",
-                    info.bodies.join(", ")
-                ));
-            }
+            info.check_body(&format!("bodies[{k}]"), b)?;
         }
         Ok(())
     }
