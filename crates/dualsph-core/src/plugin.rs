@@ -46,7 +46,7 @@ impl SceneInfo {
     }
 
     /// `Ok` when the scene has a body named `name`, else the message plugins' `validate`
-    /// gives for it: `"<field>: no body named `<name>`; the scene's bodies are <names>"`.
+    /// gives for it: the field, then ``no body named `name`; the scene's bodies are …``.
     pub fn check_body(&self, field: &str, name: &str) -> Result<(), String> {
         if self.bodies.iter().any(|b| b == name) {
             return Ok(());
