@@ -58,16 +58,31 @@ impl ReportOptions {
     /// left out or one of its options changed), applying the resolution option. Fails when
     /// the text does not contain `from`.
     pub fn scene_edited(&self, file: &str, from: &str, to: &str) -> Result<Scene, ReportError> {
+        self.scene_with_edits(file, &[(from, to)])
+    }
+
+    /// Loads a scene of the set with each `(from, to)` of `edits` applied to its text in
+    /// turn (every occurrence of `from` replaced by `to`), applying the resolution option.
+    /// Fails when the text does not contain a `from`.
+    pub fn scene_with_edits<A: AsRef<str>, B: AsRef<str>>(
+        &self,
+        file: &str,
+        edits: &[(A, B)],
+    ) -> Result<Scene, ReportError> {
         let path = self.scenes.join(file);
-        let text = std::fs::read_to_string(&path)
+        let mut text = std::fs::read_to_string(&path)
             .map_err(|e| ReportError::Scene(format!("{}: {e}", path.display())))?;
-        if !text.contains(from) {
-            return Err(ReportError::Scene(format!(
-                "{}: no `{from}` to replace",
-                path.display()
-            )));
+        for (from, to) in edits {
+            let from = from.as_ref();
+            if !text.contains(from) {
+                return Err(ReportError::Scene(format!(
+                    "{}: no `{from}` to replace",
+                    path.display()
+                )));
+            }
+            text = text.replace(from, to.as_ref());
         }
-        let mut scene = Scene::from_str(&text.replace(from, to), &path, &crate::default_registry())
+        let mut scene = Scene::from_str(&text, &path, &crate::default_registry())
             .map_err(|e| ReportError::Scene(e.to_string()))?;
         if self.coarsen != 1.0 {
             coarsen(&mut scene, self.coarsen);

@@ -6,12 +6,17 @@
 //!
 //! `p_w = [Σ_f p_f W_wf + (g − a_w)·Σ_f ρ_f r_wf W_wf] / Σ_f W_wf`, `r_wf = x_w − x_f`,
 //!
-//! over the fluid particles f in the wall particle's support (W with the wall particle's own
-//! h), where `a_w` is the wall's acceleration (its law's, zero for a fixed body) and `g` the
-//! scene's gravity. The wall particle's density is then the equation of state's at `p_w`
-//! (Eq. 28), so the pressure term reads a consistent `p/ρ²` on both sides of every
-//! fluid–wall pair. A wall particle with no fluid in its support takes `ρ0` (and the
-//! pressure the equation gives there).
+//! over the fluid particles f within the larger of the two supports, `|r_wf| < max(h_w, h_f)`,
+//! with `W_wf = W(r_wf, max(h_w, h_f))`, where `a_w` is the wall's acceleration (its law's,
+//! zero for a fixed body) and `g` the scene's gravity. Where wall and fluid share one h this is
+//! Adami et al.'s sum over the wall particle's support. Where they do not, a wall particle
+//! takes its value from every fluid particle that sees it (its dual-support) as well as from
+//! those it sees: a fine wall next to coarse fluid has wall particles deeper than their own h
+//! from the fluid, which the coarse fluid's supports hold, and which would otherwise keep `ρ0`
+//! and show the fluid a wall without pressure. The wall particle's density is then the equation
+//! of state's at `p_w` (Eq. 28), so the pressure term reads a consistent `p/ρ²` on both sides
+//! of every fluid–wall pair. A wall particle with no fluid within either support takes `ρ0`
+//! (and the pressure the equation gives there).
 //!
 //! The fluid–wall pair forces are the ordinary pair terms of the sweep: each pair's reaction
 //! lands on the wall particle through its dual-support, so the load on a body is the exact sum
@@ -67,10 +72,11 @@ struct Fluid<'a> {
     walls: &'a [bool],
 }
 
-/// `(Σ_f p_f W, Σ_f ρ_f r_wf W, Σ_f W)` over the fluid in wall particle i's support.
+/// `(Σ_f p_f W, Σ_f ρ_f r_wf W, Σ_f W)` over the fluid within either support of wall
+/// particle i (module docs).
 fn sums<V: Vector>(support: &Support<'_, V>, f: &Fluid<'_>, i: usize) -> (Real, V, Real) {
     let (mut pw, mut rw, mut w_sum) = (0.0, V::zero(), 0.0);
-    support.for_each_neighbour(i, |j, rij, _r, w, _g| {
+    support.for_each_within_either(i, |j, rij, w| {
         if !f.walls[f.body[j].0 as usize] {
             pw += f.p[j].0 * w;
             rw += rij * (f.rho[j].0 * w);

@@ -1,7 +1,8 @@
 //! The velocity a wall particle shows the viscous terms (`WallPressure(viscous: ..)`), after
 //! Adami, Hu & Adams (2012), *A generalized wall boundary condition for smoothed particle
 //! hydrodynamics*, J. Comput. Phys. 231, 7057, Eq. 22–23: the fluid's velocity is first
-//! extrapolated to the wall particle w with the wall particle's own kernel,
+//! extrapolated to the wall particle w, over the fluid within either support with
+//! `W_wf = W(r_wf, max(h_w, h_f))` as for the pressure ([`crate::pressure`]),
 //!
 //! `ṽ_w = Σ_f v_f W_wf / Σ_f W_wf`,
 //!
@@ -14,7 +15,7 @@
 //!   shear at the wall.
 //!
 //! `v_w` is the wall's velocity from its law (zero for a fixed wall). A wall particle with no
-//! fluid in its support shows its own velocity. Only the viscous terms read `v̂_w` (through
+//! fluid within either support shows its own velocity. Only the viscous terms read `v̂_w` (through
 //! [`WallVelocityOffset`] `= v̂_w − v_w`); the continuity equation keeps the wall's own
 //! velocity, as in Adami et al. (2012).
 
@@ -41,15 +42,15 @@ pub enum ViscousWall {
     FreeSlip,
 }
 
-/// `Σ_f v_f W_wf / Σ_f W_wf` over the fluid in wall particle i's support, `None` if there is
-/// none.
+/// `Σ_f v_f W_wf / Σ_f W_wf` over the fluid within either support of wall particle i,
+/// `None` if there is none.
 fn extrapolated<V: Vector>(
     support: &Support<'_, V>,
     (vel, body, walls): (&[Velocity<V>], &[BodyId], &[bool]),
     i: usize,
 ) -> Option<V> {
     let (mut vw, mut w_sum) = (V::zero(), 0.0);
-    support.for_each_neighbour(i, |j, _rij, _r, w, _g| {
+    support.for_each_within_either(i, |j, _rij, w| {
         if !walls[body[j].0 as usize] {
             vw += vel[j].0 * w;
             w_sum += w;
