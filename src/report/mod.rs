@@ -58,16 +58,25 @@ impl ReportOptions {
     /// left out or one of its options changed), applying the resolution option. Fails when
     /// the text does not contain `from`.
     pub fn scene_edited(&self, file: &str, from: &str, to: &str) -> Result<Scene, ReportError> {
+        self.scene_edits(file, &[(from, to)])
+    }
+
+    /// Loads a scene of the set with each `(from, to)` of `edits` replaced in its text in
+    /// turn, applying the resolution option. Fails when the text does not contain a `from`.
+    pub fn scene_edits(&self, file: &str, edits: &[(&str, &str)]) -> Result<Scene, ReportError> {
         let path = self.scenes.join(file);
-        let text = std::fs::read_to_string(&path)
+        let mut text = std::fs::read_to_string(&path)
             .map_err(|e| ReportError::Scene(format!("{}: {e}", path.display())))?;
-        if !text.contains(from) {
-            return Err(ReportError::Scene(format!(
-                "{}: no `{from}` to replace",
-                path.display()
-            )));
+        for (from, to) in edits {
+            if !text.contains(from) {
+                return Err(ReportError::Scene(format!(
+                    "{}: no `{from}` to replace",
+                    path.display()
+                )));
+            }
+            text = text.replace(from, to);
         }
-        let mut scene = Scene::from_str(&text.replace(from, to), &path, &crate::default_registry())
+        let mut scene = Scene::from_str(&text, &path, &crate::default_registry())
             .map_err(|e| ReportError::Scene(e.to_string()))?;
         if self.coarsen != 1.0 {
             coarsen(&mut scene, self.coarsen);
@@ -195,6 +204,12 @@ pub enum Benchmark {
     TaylorGreen,
     /// The pressure of a dam break on the far wall against Buchner (2002).
     WallPressure,
+    /// The paper's Case II and Case III dam breaks with walls of particles: the water front
+    /// against Koshizuka & Oka (1996), beside specular walls.
+    WallsDamBreak,
+    /// The 3-D tank with an STL obstacle: the load on the submerged obstacle against its
+    /// buoyancy.
+    StlTank,
 }
 
 impl Benchmark {
@@ -223,6 +238,8 @@ impl Benchmark {
             Benchmark::Cavity => walls::cavity::run(opts)?.0,
             Benchmark::TaylorGreen => walls::taylor_green::run(opts)?.0,
             Benchmark::WallPressure => walls::wall_pressure::run(opts)?.0,
+            Benchmark::WallsDamBreak => walls::dam_break_fronts::run(opts)?.0,
+            Benchmark::StlTank => walls::stl_tank::run(opts)?.0,
         })
     }
 }
@@ -271,6 +288,8 @@ fn title(benchmarks: &[Benchmark]) -> &'static str {
                 | Benchmark::Cavity
                 | Benchmark::TaylorGreen
                 | Benchmark::WallPressure
+                | Benchmark::WallsDamBreak
+                | Benchmark::StlTank
         )
     };
     if benchmarks.iter().all(|b| !walls(b)) {
