@@ -241,8 +241,9 @@ fn plot(opts: &ReportOptions, all: &[&DamBreakCase]) -> Result<std::path::PathBu
             k,
         ));
     }
+    // room above the fronts for the legend (upper right)
     front.x_range = Some((0.0, 0.8));
-    front.y_range = Some((0.9, 4.1));
+    front.y_range = Some((0.9, 5.4));
     let png = opts.file("walls_dam_break_front.png");
     front.write_png(&png)?;
     Ok(png)
