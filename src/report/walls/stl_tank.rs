@@ -213,7 +213,7 @@ pub fn run(opts: &ReportOptions) -> Result<(Section, Vec<ObstacleLoad>), ReportE
             "vs ρ0 g V",
             "vs the compressed weight",
             "sideways / ρ0 g V",
-            "bound on vs ρ0 g V",
+            "bound (vs ρ0 g V)",
             "largest |F_z / ρ0 g V − 1| over the run",
         ]
         .into_iter()
