@@ -2,12 +2,14 @@
 //! Δx = 0.05 m): it runs at a CFL of 0.2 of the support radius with no clearance to tune
 //! through the impact on the far wall, and the momentum of water and tank balances to
 //! round-off in every step — the tank's load (`fx[tank]`, `fy[tank]`) is exactly minus the
-//! force of the walls on the water.
+//! force of the walls on the water. The paper's Cases II and III with walls of particles
+//! (second tier) follow Koshizuka & Oka's water front.
 
 mod common;
 
-use dualsph::report::dam_break::{DamBreakCase, front_rms_between, grade};
-use dualsph::report::{CaseSpec, Recording, run_case};
+use dualsph::report::walls::dam_break_fronts::{
+    BETWEEN_RMS, END_TIME, EXPERIMENT_RMS, MIN_POINTS, run_pair,
+};
 use dualsph::scene::Scene;
 use std::collections::HashMap;
 use std::path::Path;
@@ -70,61 +72,37 @@ fn the_walls_hold_the_surge_and_the_momentum_balances_every_step() {
     assert!(push > weight, "the far wall took at most {push} N/m");
 }
 
-/// A scene of the set, run to 0.72 s (the experimental front reaches the far wall at 0.70 s)
-/// with the water front recorded every 20 steps, and graded against Koshizuka & Oka's front.
-fn front_case(label: &str, file: &str, edit: impl Fn(String) -> String) -> DamBreakCase {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("scenes")
-        .join(file);
-    let text = edit(std::fs::read_to_string(&path).unwrap())
-        .replace("end_time: 1.5", "end_time: 0.72")
-        .replace("end_time: 1.0", "end_time: 0.72");
-    let scene = Scene::from_str(&text, &path, &dualsph::default_registry()).unwrap();
-    let spec = CaseSpec::new(label, scene, None);
-    let rec = Recording {
-        every: 20,
-        front: true,
-        ..Recording::default()
-    };
-    let run = run_case(&spec, &rec).unwrap();
-    assert!(run.failure.is_none(), "{label}: {:?}", run.failure);
-    grade(run)
-}
-
 /// The paper's Case II (two resolutions in the column, dual-support) and Case III (uniform
-/// fine Δx = 0.0125 m) with walls of particles instead of specular walls: both water fronts
-/// follow Koshizuka & Oka's experiment to 0.70 s, and Case II's front stays next to Case
-/// III's — the coarse water meets the fine walls through the dual-support sweep without
-/// changing the flow. Measured: front RMS against the experiment 0.090 m (II) and 0.086 m
-/// (III), 0.034 m between the two (with specular walls, `docs/validation/report.md`: 0.110,
-/// 0.076 and 0.035 m). The walls are free-slip for the artificial viscosity; with the walls'
-/// own velocity (`viscous: Own`) the floor drags the surge and Case II's front is 0.37 m RMS
-/// behind, which the bound below catches.
+/// fine Δx = 0.0125 m) with walls of particles instead of specular walls, run to 0.72 s and
+/// graded as in the report's section (`dualsph::report::walls::dam_break_fronts`): both water
+/// fronts follow Koshizuka & Oka's experiment to 0.70 s within 0.1 m RMS, and Case II's
+/// front stays within 0.04 m RMS of Case III's — the coarse water meets the fine walls
+/// through the dual-support sweep without changing the flow. Measured: front RMS against the
+/// experiment 0.089 m (II) and 0.081 m (III), 0.014 m between the two (with specular walls,
+/// `docs/validation/report.md`: 0.110, 0.076 and 0.035 m). The walls are free-slip for the
+/// artificial viscosity; with the walls' own velocity (`viscous: Own`) the floor drags the
+/// surge and Case II's front is 0.37 m RMS behind, which the bounds catch.
 #[test]
 #[ignore = "second tier (cargo test --release -- --ignored): two dam breaks to 0.72 s"]
 fn case_two_with_walls_follows_the_experiment_and_case_three() {
-    let two = front_case("II", "dam_break_2d_walls_two_level.ron", |t| t);
-    let three = front_case("III", "dam_break_2d_walls.ron", |t| {
-        t.replace("spacing: 0.025", "spacing: 0.0125").replace(
-            "domain: (min: [-0.075, -0.075], max: [4.075, 3.075])",
-            "domain: (min: [-0.0375, -0.0375], max: [4.0375, 3.0375])",
-        )
-    });
-    let between = front_rms_between(&two.run, &three.run);
-    println!(
-        "front RMS against the experiment: II {:.4} m, III {:.4} m ({} points); II vs III {:.4} m",
-        two.front_rms_experiment, three.front_rms_experiment, two.front_points, between
-    );
-    assert!(two.front_points >= 10, "{} points", two.front_points);
-    assert!(
-        two.front_rms_experiment < 1.0,
-        "II: {}",
-        two.front_rms_experiment
-    );
-    assert!(
-        three.front_rms_experiment < 1.0,
-        "III: {}",
-        three.front_rms_experiment
-    );
-    assert!(between < 1.0, "II vs III: {between}");
+    let pair = run_pair(&common::report_options(1.0, None)).unwrap();
+    println!("{}", pair.describe());
+    for c in [&pair.two, &pair.three] {
+        assert!(
+            c.run.failure.is_none(),
+            "{}: {:?}",
+            c.run.label,
+            c.run.failure
+        );
+        assert!((c.run.final_diagnostics().t - END_TIME).abs() < 1e-9);
+        assert!(c.front_points >= MIN_POINTS, "{} points", c.front_points);
+        assert!(
+            c.front_rms_experiment < EXPERIMENT_RMS,
+            "{}: {}",
+            c.run.label,
+            c.front_rms_experiment
+        );
+    }
+    assert!(pair.between < BETWEEN_RMS, "II vs III: {}", pair.between);
+    assert!(pair.within_bounds());
 }

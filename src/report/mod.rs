@@ -210,6 +210,12 @@ pub enum Benchmark {
     TaylorGreen,
     /// The pressure of a dam break on the far wall against Buchner (2002).
     WallPressure,
+    /// The paper's Case II and Case III dam breaks with walls of particles: the water front
+    /// against Koshizuka & Oka (1996), beside specular walls.
+    WallsDamBreak,
+    /// The 3-D tank with an STL obstacle: the load on the submerged obstacle against its
+    /// buoyancy.
+    StlTank,
 }
 
 impl Benchmark {
@@ -238,6 +244,8 @@ impl Benchmark {
             Benchmark::Cavity => walls::cavity::run(opts)?.0,
             Benchmark::TaylorGreen => walls::taylor_green::run(opts)?.0,
             Benchmark::WallPressure => walls::wall_pressure::run(opts)?.0,
+            Benchmark::WallsDamBreak => walls::dam_break_fronts::run(opts)?.0,
+            Benchmark::StlTank => walls::stl_tank::run(opts)?.0,
         })
     }
 }
@@ -286,6 +294,8 @@ fn title(benchmarks: &[Benchmark]) -> &'static str {
                 | Benchmark::Cavity
                 | Benchmark::TaylorGreen
                 | Benchmark::WallPressure
+                | Benchmark::WallsDamBreak
+                | Benchmark::StlTank
         )
     };
     if benchmarks.iter().all(|b| !walls(b)) {

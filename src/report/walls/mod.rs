@@ -1,20 +1,24 @@
 //! Flows bounded by walls of particles, and the viscous flows that grade the viscous terms
 //! next to them: water at rest in a tank ([`hydrostatic`]), plane Poiseuille flow
 //! ([`poiseuille`]), the lid-driven cavity ([`cavity`]) and the periodic Taylor–Green vortex
-//! ([`taylor_green`]), and the pressure of a dam break on the far wall ([`wall_pressure`]). The walls are layers of fixed particles whose pressure and viscous
-//! velocity are extrapolated from the fluid (Adami, Hu & Adams 2012, *A generalized wall
-//! boundary condition for smoothed particle hydrodynamics*, J. Comput. Phys. 231, 7057–7075,
-//! Eqs. 22–28). Where a wrong wall model is the failure the measure is meant to catch, the
+//! ([`taylor_green`]), the pressure of a dam break on the far wall ([`wall_pressure`]), the
+//! water front of the paper's dam-break Cases II and III ([`dam_break_fronts`]) and the load
+//! on a submerged obstacle read from an STL file in a 3-D tank ([`stl_tank`]). The walls are
+//! layers of fixed particles whose pressure and viscous velocity are extrapolated from the
+//! fluid (Adami, Hu & Adams 2012, *A generalized wall boundary condition for smoothed particle
+//! hydrodynamics*, J. Comput. Phys. 231, 7057–7075, Eqs. 22–28). Where a wrong wall model is the failure the measure is meant to catch, the
 //! section runs it too: the walls' density evolved by the continuity equation (the dynamic
-//! boundary) in the tank, the walls' own velocity in the viscous terms in the channel and
-//! the cavity.
+//! boundary) in the tanks, the walls' own velocity in the viscous terms in the channel, the
+//! cavity and the dam break.
 //!
 //! Each module holds the measures its test in `tests/` asserts on, so the report and the
 //! test compute them once.
 
 pub mod cavity;
+pub mod dam_break_fronts;
 pub mod hydrostatic;
 pub mod poiseuille;
+pub mod stl_tank;
 pub mod taylor_green;
 pub mod wall_pressure;
 
