@@ -44,7 +44,7 @@ pub mod prelude {
     pub use crate::math::{Mat1, Matrix, Real, Vec1, Vector};
     pub use crate::neighbours::SkinRule;
     pub use crate::output::{RunOutputDir, StepLimit};
-    pub use crate::pair::{BoundTerm, Out, OwnerSums, PairLanes, PairTerm};
+    pub use crate::pair::{BoundTerm, Out, OwnerSums, PairLanes, PairTerm, Specialised};
     pub use crate::plugin::{PluginConfig, Registry, Role, SceneInfo, SimPlugin};
     pub use crate::sim::{
         Domain, KernelRes, ParticleInit, Sim, SimClock, SimConfig, SimError, StepSet, TimeStepping,

@@ -41,6 +41,8 @@ pub struct PairLanes<'a, T: Lanes, V: Vector> {
     data: &'a ParticleData<'a, V>,
     /// The particle count, to which every gathered column is cut (see [`Self::gather`]).
     n: usize,
+    /// True when `grad` is corrected (see [`Self::corrected`]).
+    corrected: bool,
 }
 
 /// The geometry of `T::N` pairs of one owner: `(r_ij, |r_ij|, v_ij, ∇_iW_ij, L_i∇_iW_ij)`.
@@ -48,12 +50,13 @@ pub type Geometry<T> = (LaneVec<T>, T, LaneVec<T>, LaneVec<T>, LaneVec<T>);
 
 impl<'a, T: Lanes, V: Vector> PairLanes<'a, T, V> {
     /// The pairs (i, `j[l]`) with their geometry; `W_ij` given (`w`) or, if `None`, from the
-    /// owner's kernel on demand.
+    /// owner's kernel on demand; `corrected` when the geometry's `L_i∇_iW_ij` applies the
+    /// kernel-gradient correction.
     #[inline(always)]
     pub fn new(
         (i, j): (usize, [u32; 2]),
         (rij, r, vij, grad_raw, grad): Geometry<T>,
-        w: Option<T>,
+        (w, corrected): (Option<T>, bool),
         kernel: OwnerKernel,
         data: &'a ParticleData<'a, V>,
     ) -> Self {
@@ -69,6 +72,7 @@ impl<'a, T: Lanes, V: Vector> PairLanes<'a, T, V> {
             kernel,
             data,
             n: data.len(),
+            corrected,
         }
     }
 
@@ -134,6 +138,14 @@ impl<'a, T: Lanes, V: Vector> PairLanes<'a, T, V> {
     #[inline(always)]
     pub fn grad(&self) -> LaneVec<T> {
         self.grad
+    }
+
+    /// True when [`Self::grad`] is `L_i∇_iW_ij`, the scene applying the kernel-gradient
+    /// correction (Eq. 2.10). The sweep's row loop is compiled for either case, so a term
+    /// that tests this has no test left per pair.
+    #[inline(always)]
+    pub fn corrected(&self) -> bool {
+        self.corrected
     }
 
     /// `W_ij` (Eq. 2.1).
@@ -433,6 +445,20 @@ pub trait BoundTerm<V: Vector>: Sync {
     fn has_pairs(&self) -> bool {
         true
     }
+
+    /// Hands `k` the term the sweep's row loop is compiled for: the term itself by default.
+    /// A term whose settings switch parts of [`BoundTerm::interact`] on or off for a whole
+    /// sweep (an optional channel, an optional column) can hand over, for its common case, a
+    /// version with those switches fixed when it is compiled, so that the row loop tests
+    /// nothing per pair for them and keeps its registers for the pair's values. Fused terms
+    /// ([`crate::sweep::Fused`]) hand over the fusion of their parts' versions.
+    #[inline(always)]
+    fn specialise<K: Specialised<V>>(&self, k: K) -> K::Out
+    where
+        Self: Sized,
+    {
+        k.with(self)
+    }
 }
 
 /// A [`BoundTerm`] with its type erased, as a sweep holds it.
@@ -475,8 +501,7 @@ impl<V: Vector, B: BoundTerm<V>> RowTerm<V> for B {
         block: crate::sweep::block::Block<'_>,
         s: &mut crate::sweep::row::RowScratch<V>,
     ) -> Vec<u32> {
-        let rows = crate::sweep::block::OneTermRows(self);
-        crate::sweep::block::run_block(sweep, &rows, block, s)
+        self.specialise(RunBlock { sweep, block, s })
     }
 
     fn initialize(&self, i: usize, sums: &mut OwnerSums<'_>) {
@@ -527,6 +552,9 @@ impl<V: Vector, T: PairTerm<V>> DynPairTerm<V> for T {
 
 mod owner_kernel;
 pub use owner_kernel::OwnerKernel;
+mod specialise;
+use specialise::RunBlock;
+pub use specialise::Specialised;
 
 #[cfg(test)]
 mod tests;

@@ -39,7 +39,7 @@ use crate::math::{Matrix, Real, Vector};
 use crate::neighbours::Neighbours;
 pub use crate::pair::{
     Acc, Binder, BoundTerm, DynPairTerm, Out, OwnerKernel, PairLanes, PairTerm, ParticleData,
-    Reaction, RowTerm,
+    Reaction, RowTerm, Specialised,
 };
 use bevy_ecs::prelude::*;
 use rayon::prelude::*;

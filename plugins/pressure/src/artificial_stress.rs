@@ -112,7 +112,7 @@ impl<V: Vector> BoundTerm<V> for BoundStress<'_> {
         let ratio = p.w() * T::splat(inv_w0);
         let n = self.term.exponent;
         let fn_ = T::from_fn(|l| ratio.lane(l).powi(n));
-        let coef = T::splat(owner) * neighbour_lanes(p, self.corrected) * fn_;
+        let coef = T::splat(owner) * neighbour_lanes(p) * fn_;
         add_pressure_like(p, coef, out);
     }
 }

@@ -49,10 +49,11 @@ pub(crate) fn is_corrected<V: Vector>(b: &Binder<'_, '_, V>) -> bool {
 }
 
 /// The neighbour's factor in every lane (see [`owner_factor`]): `m_j/ρ_j` with the kernel
-/// correction, `m_j` without.
+/// correction, `m_j` without (the pairs say which: [`PairLanes::corrected`], fixed for the
+/// row loop, so nothing is tested per pair).
 #[inline(always)]
-pub(crate) fn neighbour_lanes<T: Lanes, V: Vector>(p: &PairLanes<'_, T, V>, corrected: bool) -> T {
-    if corrected {
+pub(crate) fn neighbour_lanes<T: Lanes, V: Vector>(p: &PairLanes<'_, T, V>) -> T {
+    if p.corrected() {
         p.m_j() / p.rho_j()
     } else {
         p.m_j()
@@ -116,7 +117,7 @@ impl<V: Vector> BoundTerm<V> for BoundPressure<'_, V> {
 
     #[inline(always)]
     fn interact<T: Lanes>(&self, owner: &Real, p: &PairLanes<'_, T, V>, out: &mut Out<'_, T>) {
-        let coef = T::splat(*owner) * neighbour_lanes(p, self.corrected);
+        let coef = T::splat(*owner) * neighbour_lanes(p);
         add_pressure_like(p, coef, out);
     }
 }

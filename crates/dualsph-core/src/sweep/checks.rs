@@ -90,7 +90,7 @@ fn check_rows<V: Vector>(
     ctx: &SweepCtx<'_, V>,
     layout: &crate::accum::Layout,
 ) -> Result<(), String> {
-    let data = &ctx.data;
+    let (data, corrected) = (&ctx.data, ctx.correction.is_some());
     for i in 0..ctx.len() {
         let k_i = OwnerKernel::new(ctx.kernel, data.h[i].0);
         let mut pairs = Vec::new();
@@ -106,7 +106,13 @@ fn check_rows<V: Vector>(
                 lv(&|l| two[l].4),
                 lv(&|l| two[l].5),
             );
-            let p = PairLanes::new((i, [two[0].0, two[1].0]), geometry, None, k_i, data);
+            let p = PairLanes::new(
+                (i, [two[0].0, two[1].0]),
+                geometry,
+                (None, corrected),
+                k_i,
+                data,
+            );
             let mut e2 = Extra::<f64x2>::default();
             let mut out2 = Out::new(&mut e2);
             term.pairs2(&p, &mut out2);
@@ -115,7 +121,7 @@ fn check_rows<V: Vector>(
                 let p = PairLanes::new(
                     (i, [j; 2]),
                     (s(rij), r, s(vij), s(g), s(gc)),
-                    None,
+                    (None, corrected),
                     k_i,
                     data,
                 );

@@ -48,7 +48,7 @@ pub(super) fn classical<V: Vector>(
     layout: &Layout,
     sums: &mut [Real],
 ) {
-    let data = &ctx.data;
+    let (data, corr) = (&ctx.data, ctx.correction.is_some());
     let v = |x: V| LaneVec::<Real>::splat(x);
     let (own_extra, nbr_extra) = (layout.extra_owner, layout.extra_neighbour);
     sums.par_chunks_mut(layout.owner).enumerate().for_each_init(
@@ -61,12 +61,13 @@ pub(super) fn classical<V: Vector>(
             let k_i = OwnerKernel::new(ctx.kernel, data.h[i].0);
             ctx.for_each_neighbour(i, |j, rij, r, w, g| {
                 let geometry = (v(rij), r, v(data.vij(i, j)), v(g), v(ctx.corrected(i, g)));
-                let own = PairLanes::new((i, [j as u32; 2]), geometry, Some(w), k_i, data);
+                let own = PairLanes::new((i, [j as u32; 2]), geometry, (Some(w), corr), k_i, data);
                 // the mirrored pair: owner j, neighbour i, the same W
                 let k_j = OwnerKernel::new(ctx.kernel, data.h[j].0);
                 let (mg, mr) = (-g, -rij);
                 let geometry = (v(mr), r, v(data.vij(j, i)), v(mg), v(ctx.corrected(j, mg)));
-                let mirror = PairLanes::new((j, [i as u32; 2]), geometry, Some(w), k_j, data);
+                let mirror =
+                    PairLanes::new((j, [i as u32; 2]), geometry, (Some(w), corr), k_j, data);
                 let (mut a, mut b) = (Out::new(ea), Out::new(eb));
                 eval(pair_terms, &own, &mut a);
                 eval(pair_terms, &mirror, &mut b);

@@ -283,7 +283,14 @@ fn lanes<'a, T: Lanes, V: Vector, const CORR: bool>(
         raw
     };
     let j = [js[0][0], js[T::N - 1][0]];
-    PairLanes::new((o.i, j), (rij, r, vij, raw, grad), None, o.kernel, data).with_len(o.n)
+    PairLanes::new(
+        (o.i, j),
+        (rij, r, vij, raw, grad),
+        (None, CORR),
+        o.kernel,
+        data,
+    )
+    .with_len(o.n)
 }
 
 /// Adds the lanes' pairs to i's sums, pair by pair, writes their reactions into their
