@@ -54,7 +54,7 @@ mod fuse;
 pub mod row;
 mod system;
 use block::{Block, Sweep, block_of, dual_sum};
-pub use checks::{check_lanes_2d, lattice_2d};
+pub use checks::{check_lanes_2d, check_specialised_2d, lattice_2d};
 pub use fuse::{Fused, FusedBound, Fusions};
 use row::{RowPlan, RowScratch, Terms};
 pub(crate) use system::add_zero_acceleration_system;

@@ -145,5 +145,6 @@ mod tests {
     #[test]
     fn two_lanes_equal_one_lane_bitwise() {
         dualsph_core::sweep::check_lanes_2d(&PressureTerm).unwrap();
+        dualsph_core::sweep::check_specialised_2d(std::sync::Arc::new(PressureTerm)).unwrap();
     }
 }

@@ -82,6 +82,65 @@ pub fn check_lanes_2d(term: &dyn DynPairTerm<glam::DVec2>) -> Result<(), String>
     Ok(())
 }
 
+/// Checks a 2-D term on [`lattice_2d`], without and with the kernel-gradient correction: as a
+/// sweep's only term — its block loop compiled for the version
+/// [`crate::pair::BoundTerm::specialise`] hands over — it gives bitwise the sums it gives
+/// through a dynamic call per two pairs beside a term with no sums (the term itself, every
+/// switch tested at run time).
+pub fn check_specialised_2d(term: Arc<dyn DynPairTerm<glam::DVec2>>) -> Result<(), String> {
+    let world = lattice_2d();
+    let mut nb = Neighbours::new(0.1);
+    {
+        let data = ParticleData::<glam::DVec2>::of(&world).ok_or("no particles")?;
+        let pos: Vec<_> = data.pos.iter().map(|p| p.0).collect();
+        let h: Vec<_> = data.h.iter().map(|h| h.0).collect();
+        nb.rebuild(&pos, &h);
+    }
+    let kernel = Kernel::new(crate::kernels::KernelKind::CubicSpline, 2);
+    for corrected in [false, true] {
+        let data = ParticleData::of(&world).ok_or("no particles")?;
+        let mut ctx = SweepCtx::new(data, &nb, &kernel, Formulation::DualSupport);
+        if !corrected {
+            ctx.correction = None;
+        }
+        let (mut alone, mut beside) = (SweepBuffers::default(), SweepBuffers::default());
+        evaluate(&ctx, std::slice::from_ref(&term), &mut alone)?;
+        evaluate(&ctx, &[term.clone(), Arc::new(NoSums)], &mut beside)?;
+        let same = alone.sums.len() == beside.sums.len()
+            && alone
+                .sums
+                .iter()
+                .zip(&beside.sums)
+                .all(|(a, b)| a.to_bits() == b.to_bits());
+        if !same {
+            return Err(format!(
+                "{} (correction {corrected}): its specialised version gives other sums",
+                term.name()
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// A term with a pair part and no sums (see [`check_specialised_2d`]).
+struct NoSums;
+
+impl<V: Vector> PairTerm<V> for NoSums {
+    type Bound<'w> = NoSums;
+    fn name(&self) -> &str {
+        "no sums"
+    }
+    fn bind<'w>(&'w self, _: &mut Binder<'_, 'w, V>) -> Result<NoSums, String> {
+        Ok(NoSums)
+    }
+}
+
+impl<V: Vector> BoundTerm<V> for NoSums {
+    type Owner = ();
+    fn owner(&self, _: usize) {}
+    fn interact<T: Lanes>(&self, _: &(), _: &PairLanes<'_, T, V>, _: &mut Out<'_, T>) {}
+}
+
 /// Every row of `ctx` through `term` two pairs at a time and pair by pair: bitwise the same
 /// outputs.
 fn check_rows<V: Vector>(
