@@ -27,7 +27,7 @@
 //! Sci. Eng. 123, 421–434, measured the front of the same column (width a, height 2a) on a dry
 //! floor; their front, stored for a = 1 m ([`KOSHIZUKA_OKA_FRONT`]), applies at a = 0.3 m by
 //! Froude scaling, `x ∝ a` and `t ∝ √(a/g)`, until the front meets the step. The time the
-//! step's load starts is reported beside the experiment's front reaching the face and the
+//! step's load passes [`ONSET`] is reported beside the experiment's front reaching the face and the
 //! front of Ritter's (1892) shallow-water solution, `x = a + 2√(2ga) t` (Ritter, *Die
 //! Fortpflanzung der Wasserwellen*, Z. Ver. Dtsch. Ing. 36, 947–954), the inviscid front
 //! speed the measured fronts stay below. It is reported, not bounded: the face is 0.5a from
@@ -74,8 +74,12 @@ pub const SIDEWAYS: f64 = 0.1;
 pub const STILL: f64 = 0.01;
 /// The tank's inside length (m).
 pub const TANK_LENGTH: f64 = 0.8;
-/// A load above this (N/m, a quarter of one particle's weight) marks the surge's arrival.
-pub const ONSET: f64 = 1.0;
+/// The step's height (m).
+pub const STEP_HEIGHT: f64 = 0.06;
+/// A load above this (N/m) marks the surge's arrival: `½ ρ0 g c²`, the thrust of water at
+/// rest as deep as the step's height c on its face (the few particles that run ahead of the
+/// surge along the floor push less).
+pub const ONSET: f64 = 0.5 * RHO0 * G * STEP_HEIGHT * STEP_HEIGHT;
 
 /// The water the cylinder displaces, from the scene's particles.
 #[derive(Clone, Copy, Debug)]
@@ -228,12 +232,12 @@ impl ObstacleLoads {
         self.vertical_error().abs() < VERTICAL && self.sideways() < SIDEWAYS
     }
 
-    /// The first recorded time the step's load exceeds [`ONSET`].
+    /// The first recorded time `|F|` on the step exceeds [`ONSET`].
     pub fn step_onset(&self) -> Option<f64> {
         onset(&self.step)
     }
 
-    /// The first recorded time the cylinder's load exceeds [`ONSET`].
+    /// The first recorded time `|F|` on the cylinder exceeds [`ONSET`].
     pub fn cylinder_onset(&self) -> Option<f64> {
         onset(&self.cylinder)
     }
@@ -336,8 +340,8 @@ fn rest_table(graded: &[ObstacleLoads]) -> Table {
 fn arrival_table(graded: &[ObstacleLoads]) -> Table {
     let mut table = Table::new([
         "case",
-        "step's load starts (s)",
-        "cylinder's load starts (s)",
+        "step's load passes ½ ρ0 g c² (s)",
+        "cylinder's load passes it (s)",
         "largest |F| on the step (N/m, at s)",
         "largest |F| on the cylinder (N/m, at s)",
     ]);
@@ -378,7 +382,8 @@ fn verdict(g: &[ObstacleLoads]) -> String {
         "**Finding.** At rest the cylinder's vertical load is {:+.2} % from its buoyancy \
          ρ0 g V and its sideways load {:.1} % of it, {} the bounds of {:.0} % and {:.0} % \
          (the vertical load swings by {:.2} % of ρ0 g V over the window: {still}). The wrong \
-         wall models, over the same window: {}. The step's load starts at t = {:.3} s; \
+         wall models, over the same window: {}. The step's load passes ½ ρ0 g c² = {:.1} N/m \
+         at t = {:.3} s; \
          Koshizuka & Oka's front, Froude-scaled, reaches its face at {:.3} s, Ritter's at \
          {:.3} s.\n\n",
         100.0 * ours.vertical_error(),
@@ -388,6 +393,7 @@ fn verdict(g: &[ObstacleLoads]) -> String {
         100.0 * SIDEWAYS,
         100.0 * ours.rest_swing(),
         wrong.join("; "),
+        ONSET,
         ours.step_onset().unwrap_or(f64::NAN),
         experiment_arrival(STEP_FACE).unwrap_or(f64::NAN),
         ritter_arrival(STEP_FACE),
