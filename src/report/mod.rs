@@ -216,6 +216,9 @@ pub enum Benchmark {
     /// The 3-D tank with an STL obstacle: the load on the submerged obstacle against its
     /// buoyancy.
     StlTank,
+    /// A 2-D dam break onto a step and a cylinder: the obstacles' load history, the
+    /// cylinder's at rest against its buoyancy.
+    DamBreakObstacle,
 }
 
 impl Benchmark {
@@ -246,6 +249,7 @@ impl Benchmark {
             Benchmark::WallPressure => walls::wall_pressure::run(opts)?.0,
             Benchmark::WallsDamBreak => walls::dam_break_fronts::run(opts)?.0,
             Benchmark::StlTank => walls::stl_tank::run(opts)?.0,
+            Benchmark::DamBreakObstacle => walls::dam_break_obstacle::run(opts)?.0,
         })
     }
 }
@@ -296,6 +300,7 @@ fn title(benchmarks: &[Benchmark]) -> &'static str {
                 | Benchmark::WallPressure
                 | Benchmark::WallsDamBreak
                 | Benchmark::StlTank
+                | Benchmark::DamBreakObstacle
         )
     };
     if benchmarks.iter().all(|b| !walls(b)) {

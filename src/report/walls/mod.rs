@@ -2,20 +2,22 @@
 //! next to them: water at rest in a tank ([`hydrostatic`]), plane Poiseuille flow
 //! ([`poiseuille`]), the lid-driven cavity ([`cavity`]) and the periodic Taylor–Green vortex
 //! ([`taylor_green`]), the pressure of a dam break on the far wall ([`wall_pressure`]), the
-//! water front of the paper's dam-break Cases II and III ([`dam_break_fronts`]) and the load
-//! on a submerged obstacle read from an STL file in a 3-D tank ([`stl_tank`]). The walls are
+//! water front of the paper's dam-break Cases II and III ([`dam_break_fronts`]), the load
+//! on a submerged obstacle read from an STL file in a 3-D tank ([`stl_tank`]) and the load
+//! history of a 2-D dam break onto a step and a cylinder ([`dam_break_obstacle`]). The walls are
 //! layers of fixed particles whose pressure and viscous velocity are extrapolated from the
 //! fluid (Adami, Hu & Adams 2012, *A generalized wall boundary condition for smoothed particle
 //! hydrodynamics*, J. Comput. Phys. 231, 7057–7075, Eqs. 22–28). Where a wrong wall model is the failure the measure is meant to catch, the
 //! section runs it too: the walls' density evolved by the continuity equation (the dynamic
-//! boundary) in the tanks, the walls' own velocity in the viscous terms in the channel, the
-//! cavity and the dam break.
+//! boundary) in the tanks and the dam break onto obstacles, the walls' own velocity in the
+//! viscous terms in the channel, the cavity and the dam breaks.
 //!
 //! Each module holds the measures its test in `tests/` asserts on, so the report and the
 //! test compute them once.
 
 pub mod cavity;
 pub mod dam_break_fronts;
+pub mod dam_break_obstacle;
 pub mod hydrostatic;
 pub mod poiseuille;
 pub mod stl_tank;
