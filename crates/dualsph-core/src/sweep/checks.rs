@@ -54,11 +54,12 @@ pub fn lattice_2d() -> World {
     world
 }
 
-/// Checks a 2-D term on [`lattice_2d`], first without and then with a non-trivial
-/// kernel-gradient correction: every row evaluated as the sweep does (two pairs per lane
-/// group) gives bitwise what each pair alone gives; the error names the first differing pair
-/// and channel.
-pub fn check_lanes_2d(term: &dyn DynPairTerm<glam::DVec2>) -> Result<(), String> {
+/// Runs `check` on [`lattice_2d`]'s particles with their lists and the cubic spline, first
+/// without and then with the kernel-gradient correction; its error is
+/// prefixed with which.
+fn on_lattice(
+    mut check: impl FnMut(&SweepCtx<'_, glam::DVec2>) -> Result<(), String>,
+) -> Result<(), String> {
     let world = lattice_2d();
     let mut nb = Neighbours::new(0.1);
     {
@@ -74,12 +75,22 @@ pub fn check_lanes_2d(term: &dyn DynPairTerm<glam::DVec2>) -> Result<(), String>
         if !corrected {
             ctx.correction = None;
         }
-        let mut layout = crate::accum::Layout::default();
-        let bound = term.bind_dyn(&mut Binder::new(data, &kernel, &mut layout, term.name()))?;
-        check_rows(term.name(), &*bound, &ctx, &layout)
-            .map_err(|e| format!("correction {corrected}: {e}"))?;
+        check(&ctx).map_err(|e| format!("correction {corrected}: {e}"))?;
     }
     Ok(())
+}
+
+/// Checks a 2-D term on [`lattice_2d`], first without and then with a non-trivial
+/// kernel-gradient correction: every row evaluated as the sweep does (two pairs per lane
+/// group) gives bitwise what each pair alone gives; the error names the first differing pair
+/// and channel.
+pub fn check_lanes_2d(term: &dyn DynPairTerm<glam::DVec2>) -> Result<(), String> {
+    on_lattice(|ctx| {
+        let mut layout = crate::accum::Layout::default();
+        let binder = &mut Binder::new(ctx.data, ctx.kernel, &mut layout, term.name());
+        let bound = term.bind_dyn(binder)?;
+        check_rows(term.name(), &*bound, ctx, &layout)
+    })
 }
 
 /// Checks a 2-D term on [`lattice_2d`], without and with the kernel-gradient correction: as a
@@ -88,38 +99,24 @@ pub fn check_lanes_2d(term: &dyn DynPairTerm<glam::DVec2>) -> Result<(), String>
 /// through a dynamic call per two pairs beside a term with no sums (the term itself, every
 /// switch tested at run time).
 pub fn check_specialised_2d(term: Arc<dyn DynPairTerm<glam::DVec2>>) -> Result<(), String> {
-    let world = lattice_2d();
-    let mut nb = Neighbours::new(0.1);
-    {
-        let data = ParticleData::<glam::DVec2>::of(&world).ok_or("no particles")?;
-        let pos: Vec<_> = data.pos.iter().map(|p| p.0).collect();
-        let h: Vec<_> = data.h.iter().map(|h| h.0).collect();
-        nb.rebuild(&pos, &h);
-    }
-    let kernel = Kernel::new(crate::kernels::KernelKind::CubicSpline, 2);
-    for corrected in [false, true] {
-        let data = ParticleData::of(&world).ok_or("no particles")?;
-        let mut ctx = SweepCtx::new(data, &nb, &kernel, Formulation::DualSupport);
-        if !corrected {
-            ctx.correction = None;
-        }
+    on_lattice(|ctx| {
         let (mut alone, mut beside) = (SweepBuffers::default(), SweepBuffers::default());
-        evaluate(&ctx, std::slice::from_ref(&term), &mut alone)?;
-        evaluate(&ctx, &[term.clone(), Arc::new(NoSums)], &mut beside)?;
+        evaluate(ctx, std::slice::from_ref(&term), &mut alone)?;
+        evaluate(ctx, &[term.clone(), Arc::new(NoSums)], &mut beside)?;
         let same = alone.sums.len() == beside.sums.len()
             && alone
                 .sums
                 .iter()
                 .zip(&beside.sums)
                 .all(|(a, b)| a.to_bits() == b.to_bits());
-        if !same {
-            return Err(format!(
-                "{} (correction {corrected}): its specialised version gives other sums",
+        match same {
+            true => Ok(()),
+            false => Err(format!(
+                "{}: its specialised version gives other sums",
                 term.name()
-            ));
+            )),
         }
-    }
-    Ok(())
+    })
 }
 
 /// A term with a pair part and no sums (see [`check_specialised_2d`]).
