@@ -43,7 +43,7 @@ use super::super::{
     COST_HEADERS, CaseRun, CaseSpec, Recording, ReportError, ReportOptions, Section, Table,
     cost_cells, failures, image,
 };
-use super::within;
+use super::{body_force, within};
 use dualsph_plot::{LinePlot, Series, SeriesStyle};
 use dualsph_reference::dam_break::KOSHIZUKA_OKA_FRONT;
 use dualsph_reference::norms::interpolate;
@@ -169,13 +169,9 @@ pub struct ObstacleLoads {
     pub cylinder: Vec<(f64, f64, f64)>,
 }
 
-/// A body's force in a diagnostics row (zero when the row has no load for it).
+/// `(t, F_x, F_y)` of body `body` in a diagnostics row.
 fn force(d: &dualsph_diagnostics::Diagnostics, body: usize) -> (f64, f64, f64) {
-    let f = d
-        .loads
-        .iter()
-        .find(|l| l.body == body)
-        .map_or([0.0; 3], |l| l.force);
+    let f = body_force(d, body);
     (d.t, f[0], f[1])
 }
 

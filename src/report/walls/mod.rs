@@ -24,6 +24,14 @@ pub mod stl_tank;
 pub mod taylor_green;
 pub mod wall_pressure;
 
+/// The force on body `body` in a diagnostics row (zero when the row has no load for it).
+pub(crate) fn body_force(d: &dualsph_diagnostics::Diagnostics, body: usize) -> [f64; 3] {
+    d.loads
+        .iter()
+        .find(|l| l.body == body)
+        .map_or([0.0; 3], |l| l.force)
+}
+
 /// `"within"` when `ok`, else `"NOT within"`: a verdict computed from a comparison.
 pub(crate) fn within(ok: bool) -> &'static str {
     if ok { "within" } else { "NOT within" }

@@ -29,7 +29,7 @@ use super::super::{
     COST_HEADERS, CaseRun, CaseSpec, Recording, ReportError, ReportOptions, Section, Table,
     cost_cells, failures, image,
 };
-use super::within;
+use super::{body_force, within};
 use dualsph_plot::{LinePlot, Series, SeriesStyle};
 use dualsph_scene::Scene;
 
@@ -168,21 +168,13 @@ impl ObstacleLoad {
     }
 }
 
-/// The obstacle's force in a diagnostics row (zero when the row has no load for it).
-fn obstacle_force(d: &dualsph_diagnostics::Diagnostics) -> [f64; 3] {
-    d.loads
-        .iter()
-        .find(|l| l.body == OBSTACLE)
-        .map_or([0.0; 3], |l| l.force)
-}
-
 /// Grades a run against the water `displaced` displaces.
 pub fn grade(run: CaseRun, displaced: Displaced) -> ObstacleLoad {
-    let load = obstacle_force(&run.diagnostics[0]);
+    let load = body_force(&run.diagnostics[0], OBSTACLE);
     let history = run
         .diagnostics
         .iter()
-        .map(|d| (d.t, obstacle_force(d)[2] / displaced.buoyancy))
+        .map(|d| (d.t, body_force(d, OBSTACLE)[2] / displaced.buoyancy))
         .collect();
     ObstacleLoad {
         run,
