@@ -307,7 +307,8 @@ fn write_column<C: Component<Mutability = Mutable>>(
     // pieces of MIN_LEN particles, each a plain loop (rayon's per-item calls cost more than
     // the finish itself)
     let piece = crate::chunks::MIN_LEN;
-    cols.par_chunks_mut(piece)
+    cols.bypass_change_detection()
+        .par_chunks_mut(piece)
         .zip(sums.par_chunks(stride * piece))
         .zip(mass.par_chunks(piece))
         .for_each(|((cols, sums), mass)| {

@@ -283,7 +283,8 @@ pub fn drive_bodies<V: Vector>(
 ) {
     let t = clock.t + clock.dt;
     for (body, anchor, mut r, mut v) in q.contiguous_iter_mut().expect(DENSE) {
-        (body, anchor, &mut *r, &mut *v)
+        let (r, v) = (r.bypass_change_detection(), v.bypass_change_detection());
+        (body, anchor, r, v)
             .into_par_iter()
             .with_min_len(MIN_LEN)
             .for_each(|(b, a, r, v)| match driven.0[b.0 as usize] {

@@ -4,6 +4,7 @@
 
 use crate::math::{Real, Vector};
 use bevy_ecs::prelude::Component;
+use bytemuck::TransparentWrapper;
 
 /// Stable particle index `0..n`; also the row of the particle in every dense array.
 #[derive(Component, Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -22,7 +23,8 @@ pub struct Velocity<V: Vector>(pub V);
 pub struct Mass(pub Real);
 
 /// Density `ρ_i`.
-#[derive(Component, Clone, Copy, Debug, PartialEq)]
+#[derive(Component, Clone, Copy, Debug, PartialEq, TransparentWrapper)]
+#[repr(transparent)]
 pub struct Density(pub Real);
 
 /// Support radius `h_i` (paper notation: `H_i = { j : |r_ij| <= h_i }`).
@@ -42,11 +44,13 @@ pub struct Pressure(pub Real);
 pub struct SoundSpeed(pub Real);
 
 /// Specific internal energy `ε_i` (added when an energy equation is solved).
-#[derive(Component, Clone, Copy, Debug, PartialEq)]
+#[derive(Component, Clone, Copy, Debug, PartialEq, TransparentWrapper)]
+#[repr(transparent)]
 pub struct InternalEnergy(pub Real);
 
 /// `dε_i/dt` (added with the energy equation; integrated into [`InternalEnergy`]).
-#[derive(Component, Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Component, Clone, Copy, Debug, Default, PartialEq, TransparentWrapper)]
+#[repr(transparent)]
 pub struct EnergyRate {
     /// `dε/dt` from the last evaluation.
     pub rate: Real,
@@ -57,19 +61,22 @@ pub struct EnergyRate {
 /// mass (added with [`crate::integrate::ensure_dissipation`]). It is part of
 /// [`InternalEnergy`], not added to it: `Σ m_i d_i` is the dissipated energy of the run and
 /// `Σ m_i (ε_i − d_i)` the rest of the internal energy (the reversible compression work).
-#[derive(Component, Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Component, Clone, Copy, Debug, Default, PartialEq, TransparentWrapper)]
+#[repr(transparent)]
 pub struct Dissipated(pub Real);
 
 /// `ḋ_i`: the heating rate per unit mass of the dissipative pair terms, a part of
 /// [`EnergyRate`] (integrated into [`Dissipated`]).
-#[derive(Component, Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Component, Clone, Copy, Debug, Default, PartialEq, TransparentWrapper)]
+#[repr(transparent)]
 pub struct DissipationRate {
     /// `dd/dt` from the last evaluation.
     pub rate: Real,
 }
 
 /// `dρ_i/dt` (added by the continuity equation; integrated into [`Density`]).
-#[derive(Component, Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Component, Clone, Copy, Debug, Default, PartialEq, TransparentWrapper)]
+#[repr(transparent)]
 pub struct DensityRate {
     /// `dρ/dt` from the last evaluation.
     pub rate: Real,

@@ -18,11 +18,11 @@
 //! ([`ScalarKernel`]) over the scalar's values, rates and two registers per particle
 //! ([`Registers`], a column the scheme adds and owns: its start-of-step values).
 //!
-//! The scalar systems copy each block of up to [`BLOCK`] particles into arrays of reals (a
-//! thread's own, reused), run the scheme's kernel on them and copy the values and registers
-//! back: the scheme's loop is a plain array loop, compiled once, whatever the column's type.
-//! Each particle is updated from its own data, so the result does not depend on the number of
-//! threads.
+//! An integrated scalar and its rate are `#[repr(transparent)]` wrappers of one real, so the
+//! scalar systems hand the scheme's kernel the columns themselves as slices of reals, a
+//! block of up to [`BLOCK`] particles at a time: the scheme's loop is a plain array loop,
+//! compiled once, whatever the column's type, and no value is copied. Each particle is
+//! updated from its own data, so the result does not depend on the number of threads.
 
 use crate::chunks::{DENSE, MIN_LEN};
 use crate::columns::{ColumnSpec, ColumnValue, Shape};
@@ -33,61 +33,40 @@ use crate::sim::{Sim, SimClock, SimError, StepSet, SystemOrder};
 use crate::store::single_table;
 use bevy_ecs::component::Mutable;
 use bevy_ecs::prelude::*;
+use bytemuck::TransparentWrapper;
 use rayon::prelude::*;
 use std::any::TypeId;
-use std::cell::RefCell;
 use std::marker::PhantomData;
 use std::sync::Arc;
 
-/// A per-particle scalar that can be integrated in time (the `x` of `dx/dt = ẋ`).
-pub trait ScalarState: Component<Mutability = Mutable> {
-    /// The value.
-    fn value(&self) -> Real;
-    /// Sets the value.
-    fn set_value(&mut self, x: Real);
-}
+/// A per-particle scalar that can be integrated in time (the `x` of `dx/dt = ẋ`): a
+/// `#[repr(transparent)]` wrapper of one real, so that a column of it is a slice of reals
+/// (the schemes' kernels run on the column itself, with no copy).
+pub trait ScalarState: Component<Mutability = Mutable> + TransparentWrapper<Real> {}
 
-/// A per-particle rate `ẋ` of an integrated scalar, written by the step's systems.
-pub trait ScalarRate: Component {
-    /// The rate from the last evaluation.
-    fn rate(&self) -> Real;
-}
+/// A per-particle rate `ẋ` of an integrated scalar, written by the step's systems: a
+/// `#[repr(transparent)]` wrapper of one real, like [`ScalarState`].
+pub trait ScalarRate: Component + TransparentWrapper<Real> {}
 
-macro_rules! scalar_state {
-    ($($t:ty),*) => {$(
-        impl ScalarState for $t {
-            #[inline(always)]
-            fn value(&self) -> Real {
-                self.0
-            }
-            #[inline(always)]
-            fn set_value(&mut self, x: Real) {
-                self.0 = x
-            }
-        }
-    )*};
-}
-scalar_state!(Density, InternalEnergy, Dissipated);
+impl ScalarState for Density {}
+impl ScalarState for InternalEnergy {}
+impl ScalarState for Dissipated {}
+impl ScalarRate for DensityRate {}
+impl ScalarRate for EnergyRate {}
+impl ScalarRate for DissipationRate {}
 
-macro_rules! scalar_rate {
-    ($($t:ty),*) => {$(
-        impl ScalarRate for $t {
-            #[inline(always)]
-            fn rate(&self) -> Real {
-                self.rate
-            }
-        }
-    )*};
-}
-scalar_rate!(DensityRate, EnergyRate, DissipationRate);
+/// A scheme's two reals of one particle (see [`Registers`]).
+pub type Pair = [Real; 2];
 
 /// Two reals per particle that a scheme keeps for the integrated scalar `S` (e.g. its value
 /// and rate at the start of the step). Added, as a column, by the scheme that uses them
 /// ([`ScalarEquation::add_registers`]); no other system reads them.
-#[derive(Component)]
+#[derive(Component, TransparentWrapper)]
+#[repr(transparent)]
+#[transparent(Pair)]
 pub struct Registers<S: Send + Sync + 'static> {
     /// The values, in the scheme's own meaning.
-    pub values: [Real; 2],
+    pub values: Pair,
     _of: PhantomData<fn() -> S>,
 }
 
@@ -189,20 +168,8 @@ impl<V: Vector, S: ScalarState, R: ScalarRate> ScalarEquation<V> for Equation<S,
     }
 }
 
-/// A thread's arrays for one block (reused from block to block: no allocation and no zeroing
-/// per block).
-#[derive(Default)]
-struct Scratch {
-    value: Vec<Real>,
-    rate: Vec<Real>,
-    registers: Vec<[Real; 2]>,
-}
-
-thread_local! {
-    static SCRATCH: RefCell<Scratch> = RefCell::new(Scratch::default());
-}
-
-/// Runs `kernel` over the particles in blocks of [`BLOCK`], in parallel over blocks.
+/// Runs `kernel` over the particles in blocks of [`BLOCK`], in parallel over blocks, on the
+/// columns themselves (their reals: see [`ScalarState`]).
 #[inline(never)] // a frame of its own in profiles
 fn run_blocks<S: ScalarState, R: ScalarRate>(
     clock: &SimClock,
@@ -210,34 +177,20 @@ fn run_blocks<S: ScalarState, R: ScalarRate>(
     kernel: &(dyn Fn(&SimClock, ScalarRows<'_>) + Send + Sync),
 ) {
     for (mut s, r, mut regs) in q.contiguous_iter_mut().expect(DENSE) {
-        let (s, regs): (&mut [S], &mut [Registers<S>]) = (&mut s, &mut regs);
-        let blocks = s.par_chunks_mut(BLOCK).zip(r.par_chunks(BLOCK));
-        let blocks = blocks.zip(regs.par_chunks_mut(BLOCK));
+        // the engine reads no change ticks (see `crate::chunks`)
+        let value = S::peel_slice_mut(s.bypass_change_detection());
+        let rate = R::peel_slice(&r);
+        let registers = Registers::<S>::peel_slice_mut(regs.bypass_change_detection());
+        let blocks = value.par_chunks_mut(BLOCK).zip(rate.par_chunks(BLOCK));
+        let blocks = blocks.zip(registers.par_chunks_mut(BLOCK));
         let blocks = blocks.with_min_len(MIN_LEN.div_ceil(BLOCK));
-        blocks.for_each(|((s, r), regs)| {
-            SCRATCH.with(|scratch| {
-                // the kernel does not enter rayon, so no other block runs on this thread
-                // while the scratch is borrowed
-                let a = &mut *scratch.borrow_mut();
-                a.value.clear();
-                a.value.extend(s.iter().map(|x| x.value()));
-                a.rate.clear();
-                a.rate.extend(r.iter().map(|x| x.rate()));
-                a.registers.clear();
-                a.registers.extend(regs.iter().map(|k| k.values));
-                let rows = ScalarRows {
-                    value: &mut a.value,
-                    rate: &a.rate,
-                    registers: &mut a.registers,
-                };
-                kernel(clock, rows);
-                for (s, x) in s.iter_mut().zip(&a.value) {
-                    s.set_value(*x);
-                }
-                for (k, v) in regs.iter_mut().zip(&a.registers) {
-                    k.values = *v;
-                }
-            })
+        blocks.for_each(|((value, rate), registers)| {
+            let rows = ScalarRows {
+                value,
+                rate,
+                registers,
+            };
+            kernel(clock, rows)
         });
     }
 }
@@ -425,7 +378,8 @@ pub fn update_neighbours<V: Vector>(
 pub fn wrap_periodic<V: Vector>(nb: Res<Neighbours<V>>, mut q: Query<&mut Position<V>>) {
     let Some(period) = nb.period else { return };
     for mut r in q.contiguous_iter_mut().expect(DENSE) {
-        r.par_iter_mut()
+        r.bypass_change_detection()
+            .par_iter_mut()
             .with_min_len(MIN_LEN)
             .for_each(|r| r.0 = period.wrap(r.0));
     }

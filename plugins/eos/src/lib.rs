@@ -214,7 +214,7 @@ pub fn apply_eos(
 ) {
     let eos = *eos;
     for (rho, eps, mut p, mut c) in q.contiguous_iter_mut().expect(DENSE) {
-        let (p, c) = (&mut *p, &mut *c);
+        let (p, c) = (p.bypass_change_detection(), c.bypass_change_detection());
         match eps {
             Some(eps) => (rho, eps, p, c)
                 .into_par_iter()
@@ -242,7 +242,7 @@ pub fn apply_eos_by_body(
 ) {
     let eos = &materials.0;
     for (body, rho, eps, mut p, mut c) in q.contiguous_iter_mut().expect(DENSE) {
-        let (p, c) = (&mut *p, &mut *c);
+        let (p, c) = (p.bypass_change_detection(), c.bypass_change_detection());
         (body, rho, p, c)
             .into_par_iter()
             .enumerate()

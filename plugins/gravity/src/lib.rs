@@ -46,10 +46,13 @@ pub fn apply_gravity<V: Vector>(
     let all_fluid = fluid.iter().all(|&f| f);
     for (body, mut a) in q.contiguous_iter_mut().expect(DENSE) {
         if all_fluid {
-            let rows = a.par_iter_mut().with_min_len(MIN_LEN);
+            let rows = a.bypass_change_detection().par_iter_mut();
+            let rows = rows.with_min_len(MIN_LEN);
             rows.for_each(|a| a.0 += g);
         } else {
-            let rows = (body, &mut *a).into_par_iter().with_min_len(MIN_LEN);
+            let rows = (body, a.bypass_change_detection())
+                .into_par_iter()
+                .with_min_len(MIN_LEN);
             rows.for_each(|(b, a)| {
                 if fluid.get(b.0 as usize).copied().unwrap_or(true) {
                     a.0 += g;

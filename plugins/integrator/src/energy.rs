@@ -97,7 +97,9 @@ pub fn record_evaluation<V: Vector>(
     mut q: Query<(&Acceleration<V>, &Velocity<V>, &mut Evaluations<V>)>,
 ) {
     for (a, v, mut e) in q.contiguous_iter_mut().expect(DENSE) {
-        let rows = (a, v, &mut *e).into_par_iter().with_min_len(MIN_LEN);
+        let rows = (a, v, e.bypass_change_detection())
+            .into_par_iter()
+            .with_min_len(MIN_LEN);
         rows.for_each(|(a, v, e)| {
             (e.a_prev, e.w_prev) = (e.a, e.w);
             (e.a, e.w) = (a.0, a.0.dot(v.0));

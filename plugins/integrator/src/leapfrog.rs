@@ -64,7 +64,8 @@ pub fn predict_kinematics<V: Vector>(
 ) {
     let dt = clock.dt;
     for (mut r, mut v, a, mut k) in q.contiguous_iter_mut().expect(DENSE) {
-        let rows = (&mut *r, &mut *v, a, &mut *k).into_par_iter();
+        let (r, v) = (r.bypass_change_detection(), v.bypass_change_detection());
+        let rows = (r, v, a, k.bypass_change_detection()).into_par_iter();
         rows.with_min_len(MIN_LEN).for_each(|(r, v, a, k)| {
             k.v0 = v.0;
             k.a0 = a.0;
@@ -82,7 +83,9 @@ pub fn correct_kinematics<V: Vector>(
 ) {
     let half = 0.5 * clock.dt;
     for (mut v, a, k) in q.contiguous_iter_mut().expect(DENSE) {
-        let rows = (&mut *v, a, k).into_par_iter().with_min_len(MIN_LEN);
+        let rows = (v.bypass_change_detection(), a, k)
+            .into_par_iter()
+            .with_min_len(MIN_LEN);
         rows.for_each(|(v, a, k)| v.0 = k.v0 + (k.a0 + a.0) * half);
     }
 }
@@ -129,7 +132,9 @@ pub fn correct_energy_work<V: Vector>(
 ) {
     let half = 0.5 * clock.dt;
     for (mut e, v, k, ev) in q.contiguous_iter_mut().expect(DENSE) {
-        let rows = (&mut *e, v, k, ev).into_par_iter().with_min_len(MIN_LEN);
+        let rows = (e.bypass_change_detection(), v, k, ev)
+            .into_par_iter()
+            .with_min_len(MIN_LEN);
         rows.for_each(|(e, v, k, ev)| {
             let vbar = (k.v0 + v.0) * 0.5;
             let terms = [(half, ev.a_prev, ev.w_prev), (half, ev.a, ev.w)];

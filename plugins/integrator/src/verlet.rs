@@ -60,7 +60,8 @@ pub fn drift_and_predict<V: Vector>(
 ) {
     let half = 0.5 * clock.dt;
     for (mut r, mut v, a, mut k) in q.contiguous_iter_mut().expect(DENSE) {
-        let rows = (&mut *r, &mut *v, a, &mut *k).into_par_iter();
+        let (r, v) = (r.bypass_change_detection(), v.bypass_change_detection());
+        let rows = (r, v, a, k.bypass_change_detection()).into_par_iter();
         rows.with_min_len(MIN_LEN).for_each(|(r, v, a, k)| {
             k.0 = v.0;
             r.0 += v.0 * half;
@@ -82,7 +83,8 @@ pub fn kick_and_drift<V: Vector>(
 ) {
     let (dt, half) = (clock.dt, 0.5 * clock.dt);
     for (mut r, mut v, a, k) in q.contiguous_iter_mut().expect(DENSE) {
-        let rows = (&mut *r, &mut *v, a, k).into_par_iter();
+        let (r, v) = (r.bypass_change_detection(), v.bypass_change_detection());
+        let rows = (r, v, a, k).into_par_iter();
         rows.with_min_len(MIN_LEN).for_each(|(r, v, a, k)| {
             v.0 = k.0 + a.0 * dt;
             r.0 += v.0 * half;
@@ -132,7 +134,9 @@ pub fn correct_energy_work<V: Vector>(
 ) {
     let dt = clock.dt;
     for (mut e, v, k, ev) in q.contiguous_iter_mut().expect(DENSE) {
-        let rows = (&mut *e, v, k, ev).into_par_iter().with_min_len(MIN_LEN);
+        let rows = (e.bypass_change_detection(), v, k, ev)
+            .into_par_iter()
+            .with_min_len(MIN_LEN);
         rows.for_each(|(e, v, k, ev)| {
             let vbar = (k.0 + v.0) * 0.5;
             e.0 += crate::energy::correction([(dt, ev.a, ev.w)], vbar);

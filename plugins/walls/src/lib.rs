@@ -48,7 +48,8 @@ pub fn reflect<V: Vector>(
     let kappa = clearance.0;
     let walled = domain.periodic.map(|p| !p);
     for (mut r, mut v, h) in q.contiguous_iter_mut().expect(DENSE) {
-        let rows = (&mut *r, &mut *v, h).into_par_iter().with_min_len(MIN_LEN);
+        let (r, v) = (r.bypass_change_detection(), v.bypass_change_detection());
+        let rows = (r, v, h).into_par_iter().with_min_len(MIN_LEN);
         rows.for_each(|(r, v, h)| reflect_one(&mut r.0, &mut v.0, kappa * h.0, (lo, hi), walled));
     }
 }
