@@ -244,9 +244,7 @@ fn restore_neighbours<V: Vector>(
     if !(slots_ok && positions_ok) {
         return Err("its neighbour-list rebuild state is inconsistent".into());
     }
-    nb.support = support;
-    nb.dual = dual;
-    nb.dual_slot = d.dual_slot.clone();
+    nb.set_lists(support, dual, d.dual_slot.clone());
     nb.build_positions = d
         .build_positions
         .chunks(V::DIM)

@@ -307,13 +307,19 @@ fn write_column<C: Component<Mutability = Mutable>>(
     // pieces of MIN_LEN particles, each a plain loop (rayon's per-item calls cost more than
     // the finish itself)
     let piece = crate::chunks::MIN_LEN;
+    let (lo, hi) = (at, at + width);
+    // checked once here, so that the loop cuts each particle's sums with no test
+    assert!(
+        lo <= hi && hi <= stride,
+        "a sum lies inside its particle's row"
+    );
     cols.bypass_change_detection()
         .par_chunks_mut(piece)
         .zip(sums.par_chunks(stride * piece))
         .zip(mass.par_chunks(piece))
         .for_each(|((cols, sums), mass)| {
             for ((c, s), m) in cols.iter_mut().zip(sums.chunks_exact(stride)).zip(mass) {
-                finish(c, &s[at..at + width], m.0);
+                finish(c, &s[lo..hi], m.0);
             }
         });
     true

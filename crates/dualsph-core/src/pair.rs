@@ -473,7 +473,7 @@ pub trait RowTerm<V: Vector>: Sync {
     fn initializes(&self) -> bool;
     /// See [`BoundTerm::has_pairs`].
     fn has_pairs(&self) -> bool;
-    /// Pass 1 and its pass-2 wavefront over one block of rows with this term alone, the
+    /// Pass 1 and the in-block part of pass 2 over one block of rows with this term alone, the
     /// block loop compiled for the term (the sweep's fast path: see
     /// [`crate::sweep::Fused`] for several terms); returns the block's particles that gather
     /// after every block is done.

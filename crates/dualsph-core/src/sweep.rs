@@ -277,16 +277,91 @@ fn own_support<V: Vector>(
 /// Fewest particles per block of the dual-support sweep (see [`dual_support`]).
 const MIN_BLOCK: usize = 1024;
 
-/// Rows of pass 1 between two advances of the pass-2 wavefront (see [`dual_support`]). The
-/// wavefront stops at the first particle with an owner not yet done; advancing it after every
-/// row made that stop a branch mispredicted on ~70 % of rows, advancing it every 16 rows
-/// mispredicts once per 16 rows. The lag is 16 rows of reactions, still in cache.
-const WAVE: usize = 16;
-
 /// Particles per block of the dual-support sweep for `n` particles: about four blocks per
 /// thread, at least [`MIN_BLOCK`]. Any block length gives bitwise the same sums.
 fn block_len(n: usize) -> usize {
     n.div_ceil(4 * rayon::current_num_threads()).max(MIN_BLOCK)
+}
+
+/// Where pass 1 sends each support slot's reactions (see [`dual_support`]), for one
+/// generation of neighbour lists ([`Neighbours::generation`]) and one block length; kept
+/// between sweeps and made anew when either changes.
+#[derive(Default)]
+struct Routes {
+    /// `(generation, particles, block length)` of the routes.
+    key: (u64, usize, usize),
+    /// Per particle: it and every owner of its dual support lie in one block.
+    inside: Vec<bool>,
+    /// Per support slot, its route (see [`row::RowDest`]): `INSIDE | (j − a)` for a j that is
+    /// `inside` (block from `a`), else the index of the slot's stored record (records in slot
+    /// order).
+    routes: Vec<u32>,
+    /// Per block, the index of its first stored record; then their number.
+    first_record: Vec<usize>,
+}
+
+impl Routes {
+    /// The routes of `nb`'s lists over `n` particles in blocks of `block`.
+    fn of<V: Vector>(nb: &Neighbours<V>, n: usize, block: usize) -> Self {
+        let inside_of = |j: usize| {
+            let lo = j / block * block;
+            let hi = (lo + block).min(n);
+            let owners = nb.dual.row(j);
+            let first = owners.first().map_or(j, |&o| o as usize);
+            let last = owners.last().map_or(j, |&o| o as usize);
+            lo <= first && last < hi
+        };
+        let inside: Vec<bool> = (0..n)
+            .into_par_iter()
+            .with_min_len(4096)
+            .map(inside_of)
+            .collect();
+        let offsets = &nb.support.offsets;
+        let indices = &nb.support.indices;
+        let blocks: Vec<usize> = (0..n).step_by(block).collect();
+        let slots_of = |a: usize| offsets[a] as usize..offsets[(a + block).min(n)] as usize;
+        let stored = |a: &usize| {
+            indices[slots_of(*a)]
+                .iter()
+                .filter(|&&j| !inside[j as usize])
+                .count()
+        };
+        let counts: Vec<usize> = blocks.par_iter().map(stored).collect();
+        let mut first_record = Vec::with_capacity(blocks.len() + 1);
+        let mut total = 0;
+        for c in counts {
+            first_record.push(total);
+            total += c;
+        }
+        first_record.push(total);
+        assert!(
+            total < row::INSIDE as usize,
+            "more than 2^31 stored reaction records in one sweep"
+        );
+        let mut routes = vec![0; indices.len()];
+        let pieces = split_rows_mut(&mut routes, offsets, block, 1);
+        pieces
+            .into_par_iter()
+            .zip(&blocks)
+            .zip(&first_record)
+            .for_each(|((out, &a), &k)| {
+                let mut k = k as u32;
+                for (r, &j) in out.iter_mut().zip(&indices[slots_of(a)]) {
+                    *r = if inside[j as usize] {
+                        row::INSIDE | (j - a as u32)
+                    } else {
+                        k += 1;
+                        k - 1
+                    };
+                }
+            });
+        Routes {
+            key: (nb.generation, n, block),
+            inside,
+            routes,
+            first_record,
+        }
+    }
 }
 
 /// Splits a slot buffer of `width` reals per slot at the slot boundaries of consecutive
@@ -314,8 +389,11 @@ fn split_rows_mut<'a, T>(
 /// Reusable buffers of a sweep, and its result: the sums of every particle.
 #[derive(Default)]
 pub struct SweepBuffers {
-    /// Per-slot reactions of pass 1, `layout.reactions().len()` reals per support slot.
+    /// The stored reactions of pass 1, `layout.reactions().len()` reals per stored record
+    /// (see [`Routes`]).
     reactions: Vec<Real>,
+    /// Where pass 1 sends each support slot's reactions.
+    routes: Routes,
     /// The accumulators of the last sweep.
     pub layout: Layout,
     /// Every particle's sums from the last sweep: `layout.owner` reals per particle (row
@@ -378,14 +456,16 @@ pub fn evaluate<V: Vector>(
     Ok(())
 }
 
-/// Pass 1 and pass 2 in blocks of consecutive particles (in parallel over blocks). Inside a
-/// block, pass 2 runs as a wavefront behind pass 1: every [`WAVE`] rows, j gathers its
-/// reactions once pass 1 has done its own row and the rows of all its dual-support owners,
-/// which, with particles numbered in space order, lie within about one lattice row of j — so
-/// the reactions are read back from cache rather than from memory. A particle with an owner
-/// outside its block waits for the end of pass 1 and gathers then. Every sum keeps its order
-/// (own row, then the reactions in ascending owner order), so the result is bitwise that of
-/// two separate passes, for any block length and thread count.
+/// Pass 1 and pass 2 in blocks of consecutive particles (in parallel over blocks). A particle
+/// j whose dual-support owners all lie in its own block (with particles numbered in space
+/// order, nearly all of them: [`inside_block`]) has its reactions added by pass 1 itself, as
+/// each owner's row forms them, into a per-block accumulator in ascending owner order; the
+/// accumulator is added to j's sums when the block's rows are done, and no reaction of j is
+/// stored. A particle with an owner in another block has its reactions stored per support
+/// slot and gathers them, in ascending owner order, once every block is done. Either way each
+/// sum keeps its order (own row, then the reactions summed from zero in ascending owner
+/// order), so the result is bitwise that of two separate passes, for any block length and
+/// thread count.
 fn dual_support<V: Vector>(
     ctx: &SweepCtx<'_, V>,
     (terms, pair_terms): (&Terms<'_, '_, V>, &Terms<'_, '_, V>),
@@ -397,10 +477,21 @@ fn dual_support<V: Vector>(
     let react = buf.layout.reactions::<V>();
     let rw = react.len();
     let owner = buf.layout.owner;
-    buf.reactions.resize(nb.support.indices.len() * rw, 0.0);
+    let block = block_len(n);
+    if buf.routes.key != (nb.generation, n, block) {
+        buf.routes = Routes::of(nb, n, block);
+    }
+    let routes = &buf.routes;
+    let stored = *routes.first_record.last().unwrap_or(&0);
+    buf.reactions.resize(stored * rw, 0.0);
     // the terms with a per-particle part, found once (not by a dynamic call per term and row)
     let inits: Vec<&dyn RowTerm<V>> = terms.iter().copied().filter(|t| t.initializes()).collect();
-    let plan = RowPlan::new(&buf.layout, &react, (pair_terms, !inits.is_empty()));
+    let plan = RowPlan::new(
+        &buf.layout,
+        &react,
+        (pair_terms, !inits.is_empty()),
+        &routes.inside,
+    );
     if !plan.fresh {
         buf.sums.fill(0.0);
     }
@@ -410,21 +501,27 @@ fn dual_support<V: Vector>(
         inits: &inits,
         react: &react,
     };
-    let block = block_len(n);
-    let r_blocks = split_rows_mut(&mut buf.reactions, offsets, block, rw);
+    let r_blocks = split_at_counts(&mut buf.reactions, &routes.first_record, rw);
+    let route_blocks = split_rows(&routes.routes, offsets, block);
     let later: Vec<Vec<u32>> = buf
         .sums
         .par_chunks_mut(block * owner)
         .zip(r_blocks)
+        .zip(route_blocks)
         .enumerate()
-        .map_init(RowScratch::default, |s, (b, (sums, reactions))| {
-            let blk = Block {
-                a: b * block,
-                sums,
-                reactions,
-            };
-            block_of(&sweep, blk, s)
-        })
+        .map_init(
+            RowScratch::default,
+            |s, (b, ((sums, records), routes_b))| {
+                let blk = Block {
+                    a: b * block,
+                    sums,
+                    routes: routes_b,
+                    records,
+                    base: routes.first_record[b],
+                };
+                block_of(&sweep, blk, s)
+            },
+        )
         .collect();
     // the particles with owners in other blocks, now that every row is done
     let later: Vec<u32> = later.concat();
@@ -435,7 +532,7 @@ fn dual_support<V: Vector>(
         .with_min_len(64)
         .for_each(|(own, &j)| {
             let slots = &nb.dual_slot[nb.dual.slots(j as usize)];
-            dual_sum(slots, reactions, 0, &react, own)
+            dual_sum((slots, &routes.routes), reactions, &react, own)
         });
     for (&j, add) in later.iter().zip(sums.chunks_exact(owner)) {
         let own = &mut buf.sums[j as usize * owner..(j as usize + 1) * owner];
@@ -443,6 +540,31 @@ fn dual_support<V: Vector>(
             own[rc.target] += add[rc.target];
         }
     }
+}
+
+/// `buf` cut into consecutive pieces of `width` reals per record, piece `b` holding records
+/// `first[b]..first[b + 1]`.
+fn split_at_counts<'a>(
+    mut buf: &'a mut [Real],
+    first: &[usize],
+    width: usize,
+) -> Vec<&'a mut [Real]> {
+    let mut out = Vec::with_capacity(first.len().saturating_sub(1));
+    for w in first.windows(2) {
+        let (piece, rest) = buf.split_at_mut((w[1] - w[0]) * width);
+        out.push(piece);
+        buf = rest;
+    }
+    out
+}
+
+/// The per-slot `routes` cut at the slot boundaries of consecutive blocks of `rows` rows.
+fn split_rows<'a>(routes: &'a [u32], offsets: &[u32], rows: usize) -> Vec<&'a [u32]> {
+    let n = offsets.len().saturating_sub(1);
+    (0..n)
+        .step_by(rows.max(1))
+        .map(|a| &routes[offsets[a] as usize..offsets[(a + rows).min(n)] as usize])
+        .collect()
 }
 
 #[cfg(test)]

@@ -256,6 +256,10 @@ pub struct Neighbours<V: Vector> {
     pub dirty: bool,
     /// Number of builds so far.
     pub builds: u64,
+    /// Names the current lists: a number no other lists of this process have had, new with
+    /// every build and every [`Neighbours::set_lists`]. What is derived from the lists and
+    /// kept between sweeps (a sweep's routes) is kept under it.
+    pub generation: u64,
     /// The spatial index searched with (default `Auto`).
     pub index: NeighbourIndex,
     /// The index the last build used (`CellGrid` or `KdTree`; `None` before the first).
@@ -264,7 +268,23 @@ pub struct Neighbours<V: Vector> {
     pub period: Option<Period<V>>,
 }
 
+/// A generation number for new lists (see [`Neighbours::generation`]).
+fn next_generation() -> u64 {
+    use std::sync::atomic::{AtomicU64, Ordering};
+    static NEXT: AtomicU64 = AtomicU64::new(1);
+    NEXT.fetch_add(1, Ordering::Relaxed)
+}
+
 impl<V: Vector> Neighbours<V> {
+    /// Replaces the lists (a restored checkpoint's): `dual` and `dual_slot` must be the
+    /// transpose of `support` ([`Csr::transpose_with_slots`]).
+    pub fn set_lists(&mut self, support: Csr, dual: Csr, dual_slot: Vec<u32>) {
+        self.support = support;
+        self.dual = dual;
+        self.dual_slot = dual_slot;
+        self.generation = next_generation();
+    }
+
     /// Empty lists with the given fixed skin; the first `update` builds them.
     pub fn new(skin: Real) -> Self {
         Neighbours {
@@ -278,6 +298,7 @@ impl<V: Vector> Neighbours<V> {
             h_min: 0.0,
             dirty: true,
             builds: 0,
+            generation: next_generation(),
             index: NeighbourIndex::Auto,
             used_index: None,
             period: None,
@@ -355,6 +376,7 @@ impl<V: Vector> Neighbours<V> {
         let (dual, slots) = self.support.transpose_with_slots();
         self.dual = dual;
         self.dual_slot = slots;
+        self.generation = next_generation();
         self.build_positions = positions.to_vec();
         self.h_min = h.iter().copied().fold(Real::INFINITY, Real::min);
         self.dirty = false;

@@ -1,5 +1,6 @@
-//! One block of consecutive owner rows of the dual-support sweep: pass 1 row by row, and the
-//! pass-2 wavefront behind it (see `sweep::dual_support`).
+//! One block of consecutive owner rows of the dual-support sweep: pass 1 row by row, then
+//! pass 2 for the block's particles whose dual support lies in the block (see
+//! `sweep::dual_support`).
 //!
 //! The block loop is compiled once per way of evaluating a row (`RowEval`): a sweep whose
 //! pair terms are one term (or one fused chain) runs the term's own instance of the loop
@@ -8,8 +9,8 @@
 //! loop, its compaction and pair loops lost registers to the block's state (callgrind: 30 →
 //! 33 instructions per candidate, 170 → 173 per two pairs, more than the call costs).
 
-use super::row::{DynTerms, OneTerm, RowPlan, RowScratch, Terms, initialize, row_apart};
-use super::{SweepCtx, WAVE};
+use super::SweepCtx;
+use super::row::{DynTerms, OneTerm, RowDest, RowPlan, RowScratch, Terms, initialize, row_apart};
 use crate::accum::ReactionChannel;
 use crate::math::{Real, Vector};
 use crate::pair::BoundTerm;
@@ -24,31 +25,32 @@ pub struct Sweep<'a, 'w, V: Vector> {
     pub(crate) react: &'a [ReactionChannel],
 }
 
-/// One block: its first row `a`, its rows' sums (`layout.owner` reals per row) and the
-/// reaction records of its rows' support slots.
+/// One block: its first row `a`, its rows' sums (`layout.owner` reals per row), the routes
+/// of its rows' support slots and its stored reaction records, the first numbered `base`
+/// (see [`RowDest`]).
 pub struct Block<'b> {
     pub(crate) a: usize,
     pub(crate) sums: &'b mut [Real],
-    pub(crate) reactions: &'b mut [Real],
+    pub(crate) routes: &'b [u32],
+    pub(crate) records: &'b mut [Real],
+    pub(crate) base: usize,
 }
 
 /// How the rows of a sweep are evaluated after their per-particle parts: i's pairs added to
-/// i's `sums` and their reactions written into the row's slots (`rec`).
+/// i's `sums` and their reactions sent where the row's routes say.
 pub(crate) trait RowEval<V: Vector> {
     fn row(&self, sw: &Sweep<'_, '_, V>, row: (usize, &mut RowScratch<V>), rec_sums: RecSums);
 }
 
-/// A row's reaction records and its owner's sums.
-pub(crate) type RecSums<'r> = (&'r mut [Real], &'r mut [Real]);
+/// Where a row's reactions go, and its owner's sums.
+pub(crate) type RecSums<'r> = (RowDest<'r>, &'r mut [Real]);
 
-/// No term has a pair part: every reaction is zero.
+/// No term has a pair part: every reaction is zero (the block's records arrive zeroed).
 struct NoPairs;
 
 impl<V: Vector> RowEval<V> for NoPairs {
     #[inline(always)]
-    fn row(&self, _: &Sweep<'_, '_, V>, _: (usize, &mut RowScratch<V>), (rec, _): RecSums) {
-        rec.fill(0.0)
-    }
+    fn row(&self, _: &Sweep<'_, '_, V>, _: (usize, &mut RowScratch<V>), _: RecSums) {}
 }
 
 /// Several terms, each called through its vtable once per lane group.
@@ -73,8 +75,8 @@ impl<V: Vector, B: BoundTerm<V>> RowEval<V> for OneTermRows<'_, B> {
     }
 }
 
-/// Pass 1 and the pass-2 wavefront over one block (see [`super::dual_support`]); returns the
-/// block's particles with a dual-support owner in another block, which gather later.
+/// Pass 1 over one block, then pass 2 for the block's particles whose dual support lies in
+/// it (see [`super::dual_support`]); returns the block's other particles, which gather later.
 pub(super) fn block_of<V: Vector>(
     sw: &Sweep<'_, '_, V>,
     blk: Block<'_>,
@@ -92,58 +94,131 @@ pub(super) fn block_of<V: Vector>(
 pub(crate) fn run_block<V: Vector, E: RowEval<V>>(
     sw: &Sweep<'_, '_, V>,
     eval: &E,
-    Block { a, sums, reactions }: Block<'_>,
+    blk: Block<'_>,
     s: &mut RowScratch<V>,
 ) -> Vec<u32> {
-    let nb = sw.ctx.neighbours;
-    let offsets = &nb.support.offsets[..];
+    let Block {
+        a,
+        sums,
+        routes,
+        records,
+        base,
+    } = blk;
+    let offsets = &sw.ctx.neighbours.support.offsets[..];
     let (owner, rw) = (sw.plan.owner, sw.react.len());
     let end = a + sums.len() / owner;
-    let base = offsets[a] as usize;
-    let mut later = Vec::new();
-    let mut next = a; // the wavefront of pass 2
+    let first = offsets[a] as usize;
+    s.start_block(a, (end - a) * rw);
+    if !sw.plan.rows_zero_records() {
+        records.fill(0.0);
+    }
     for i in a..end {
-        let r = (offsets[i] as usize - base) * rw..(offsets[i + 1] as usize - base) * rw;
+        let slots = offsets[i] as usize - first..offsets[i + 1] as usize - first;
         let own = &mut sums[(i - a) * owner..(i - a + 1) * owner];
         if !sw.inits.is_empty() {
             initialize((sw.inits, sw.plan.layout), i, own);
         }
-        eval.row(sw, (i, s), (&mut reactions[r], own));
-        let wave = (i - a) % WAVE == WAVE - 1 || i + 1 == end;
-        while wave && next <= i {
-            let owners = nb.dual.row(next);
-            let first = owners.first().map_or(next, |&o| o as usize);
-            let last = owners.last().map_or(next, |&o| o as usize);
-            if first < a || last >= end {
-                later.push(next as u32);
-            } else if last <= i {
-                let slots = &nb.dual_slot[nb.dual.slots(next)];
-                let own = &mut sums[(next - a) * owner..(next - a + 1) * owner];
-                dual_sum(slots, reactions, base, sw.react, own);
-            } else {
-                break;
+        let to = RowDest {
+            routes: &routes[slots],
+            records: &mut *records,
+            base,
+        };
+        eval.row(sw, (i, s), (to, own));
+    }
+    block_sums(sw, a, sums, s.block_reactions())
+}
+
+/// Pass 2 for the particles of the block from `a` on (their `sums`) whose owners all lie in
+/// the block: their reactions `accs`, summed in ascending owner order by the rows, added to
+/// their sums. Returns the block's other particles.
+fn block_sums<V: Vector>(
+    sw: &Sweep<'_, '_, V>,
+    a: usize,
+    sums: &mut [Real],
+    accs: &[Real],
+) -> Vec<u32> {
+    let owner = sw.plan.owner;
+    let inside = &sw.plan.inside[a..a + sums.len() / owner];
+    let rows = (sums, accs, inside);
+    match sw.react.len() {
+        // no reactions: nothing to add, nothing to gather later
+        0 => Vec::new(),
+        1 => add_block_sums::<1>(rows, sw.react, a),
+        2 => add_block_sums::<2>(rows, sw.react, a),
+        3 => add_block_sums::<3>(rows, sw.react, a),
+        4 => add_block_sums::<4>(rows, sw.react, a),
+        5 => add_block_sums::<5>(rows, sw.react, a),
+        _ => add_block_sums_any(rows, sw.react, a),
+    }
+}
+
+/// [`block_sums`] with `R` reaction channels.
+fn add_block_sums<const R: usize>(
+    (sums, accs, inside): (&mut [Real], &[Real], &[bool]),
+    react: &[ReactionChannel],
+    a: usize,
+) -> Vec<u32> {
+    let owner = sums.len() / inside.len().max(1);
+    let targets: [usize; R] = std::array::from_fn(|c| react[c].target);
+    // checked once here, so that the loop adds with no test
+    assert!(
+        targets.iter().all(|&t| t < owner),
+        "reaction targets lie in the sums"
+    );
+    let mut later = Vec::new();
+    let (accs, _) = accs.as_chunks::<R>();
+    let rows = sums.chunks_exact_mut(owner).zip(accs).zip(inside);
+    for (k, ((own, acc), &inside)) in rows.enumerate() {
+        if inside {
+            for c in 0..R {
+                own[targets[c]] += acc[c];
             }
-            next += 1;
+        } else {
+            later.push((a + k) as u32);
+        }
+    }
+    later
+}
+
+/// [`block_sums`] with any number of reaction channels.
+fn add_block_sums_any(
+    (sums, accs, inside): (&mut [Real], &[Real], &[bool]),
+    react: &[ReactionChannel],
+    a: usize,
+) -> Vec<u32> {
+    let owner = sums.len() / inside.len().max(1);
+    let rw = react.len();
+    let mut later = Vec::new();
+    let rows = sums
+        .chunks_exact_mut(owner)
+        .zip(accs.chunks_exact(rw))
+        .zip(inside);
+    for (k, ((own, acc), &inside)) in rows.enumerate() {
+        if inside {
+            for (x, rc) in acc.iter().zip(react) {
+                own[rc.target] += x;
+            }
+        } else {
+            later.push((a + k) as u32);
         }
     }
     later
 }
 
 /// j's share of the reactions: over j's dual-support slots (`slots`, ascending owner i),
-/// each reaction channel summed from zero, then added to j's sums at its target. `reactions`
-/// holds `R` reals per slot from slot `base` on.
+/// each reaction channel summed from zero, then added to j's sums at its target. A slot's
+/// record is the `routes[slot]`-th of `reactions`, `R` reals each.
 #[inline(always)]
 fn dual_sum_fixed<const R: usize>(
-    slots: &[u32],
+    (slots, routes): (&[u32], &[u32]),
     reactions: &[Real],
-    base: usize,
     react: &[ReactionChannel],
     sums: &mut [Real],
 ) {
     let mut acc = [0.0; R];
     let (records, _) = reactions.as_chunks::<R>();
     for &slot in slots {
-        let r = &records[slot as usize - base];
+        let r = &records[routes[slot as usize] as usize];
         for c in 0..R {
             acc[c] += r[c];
         }
@@ -156,23 +231,22 @@ fn dual_sum_fixed<const R: usize>(
 /// [`dual_sum_fixed`] for any number of reaction channels.
 #[inline(always)]
 pub(super) fn dual_sum(
-    slots: &[u32],
+    (slots, routes): (&[u32], &[u32]),
     reactions: &[Real],
-    base: usize,
     react: &[ReactionChannel],
     sums: &mut [Real],
 ) {
     match react.len() {
         0 => {}
-        1 => dual_sum_fixed::<1>(slots, reactions, base, react, sums),
-        2 => dual_sum_fixed::<2>(slots, reactions, base, react, sums),
-        3 => dual_sum_fixed::<3>(slots, reactions, base, react, sums),
-        4 => dual_sum_fixed::<4>(slots, reactions, base, react, sums),
-        5 => dual_sum_fixed::<5>(slots, reactions, base, react, sums),
+        1 => dual_sum_fixed::<1>((slots, routes), reactions, react, sums),
+        2 => dual_sum_fixed::<2>((slots, routes), reactions, react, sums),
+        3 => dual_sum_fixed::<3>((slots, routes), reactions, react, sums),
+        4 => dual_sum_fixed::<4>((slots, routes), reactions, react, sums),
+        5 => dual_sum_fixed::<5>((slots, routes), reactions, react, sums),
         w => {
             let mut acc = vec![0.0; w];
             for &slot in slots {
-                let at = (slot as usize - base) * w;
+                let at = routes[slot as usize] as usize * w;
                 for (a, r) in acc.iter_mut().zip(&reactions[at..at + w]) {
                     *a += r;
                 }

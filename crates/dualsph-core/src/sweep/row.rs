@@ -40,6 +40,9 @@ pub struct RowPlan<'a, 'w, V: Vector> {
     /// (pair terms, no per-particle part, standard sums only): the rows then start from zero
     /// in registers, and the sweep's sums need no zeroing beforehand.
     pub(super) fresh: bool,
+    /// Per particle: its dual support lies in its block, so pass 1 adds its reactions to the
+    /// block's accumulator instead of storing them (see `sweep::dual_support`).
+    pub(super) inside: &'a [bool],
 }
 
 /// How a sweep's reaction records are laid out: the standard ones only — the force's `d`
@@ -59,6 +62,7 @@ impl<'a, 'w, V: Vector> RowPlan<'a, 'w, V> {
         layout: &'a Layout,
         react: &[ReactionChannel],
         (pair_terms, initializes): (&'a Terms<'a, 'w, V>, bool),
+        inside: &'a [bool],
     ) -> Self {
         let at = |k| layout.standard(k).map(|s| s.i);
         let r_of = |src: Source| react.iter().position(|r| r.source == src);
@@ -85,6 +89,7 @@ impl<'a, 'w, V: Vector> RowPlan<'a, 'w, V> {
             records: Records::General,
             pair_terms,
             fresh: false,
+            inside,
         };
         plan.records = plan.records_shape();
         plan.fresh = !pair_terms.is_empty() && !initializes && plan.extra_own.is_empty();
@@ -111,6 +116,14 @@ impl<'a, 'w, V: Vector> RowPlan<'a, 'w, V> {
     }
 }
 
+impl<V: Vector> RowPlan<'_, '_, V> {
+    /// True when the rows zero the stored records they use (the standard layouts, with pair
+    /// terms); otherwise a block's records are zeroed before its rows.
+    pub(super) fn rows_zero_records(&self) -> bool {
+        !self.pair_terms.is_empty() && matches!(self.records, Records::Standard { .. })
+    }
+}
+
 /// i's standard sums while its row runs (in registers; the others in an array apart).
 #[derive(Clone, Copy)]
 struct RowSums<V: Vector> {
@@ -125,17 +138,68 @@ pub struct RowScratch<V: Vector> {
     extra2: Extra<f64x2>,
     extra1: Extra<Real>,
     all: Vec<Real>,
-    /// Each pair's `[j, slot]`, side by side (one store when compacting, one slice to cut).
-    js: Vec<[u32; 2]>,
-    rij: Vec<V>,
-    r2: Vec<Real>,
+    /// The compacted candidates, each one record (one store when compacting, one slice to
+    /// cut into lane groups).
+    cands: Vec<Cand<V>>,
+    /// One pair's reaction record, as [`flush`] forms it.
+    rec: Vec<Real>,
+    /// The block's first particle, and the reactions to the block's particles whose dual
+    /// support lies in the block: the sweep's reaction channels per particle, summed from
+    /// zero in ascending owner order.
+    block: (usize, Vec<Real>),
+}
+
+/// One candidate of a row, compacted: `r_ij`, `|r_ij|²`, j and where its reactions go (a
+/// route of [`RowDest`], with the record's index counted from the block's first).
+#[derive(Clone, Copy)]
+pub struct Cand<V: Vector> {
+    rij: V,
+    r2: Real,
+    j: u32,
+    dest: u32,
+}
+
+/// The flag of a route into the block's sums (see [`RowDest`]).
+pub(crate) const INSIDE: u32 = 1 << 31;
+
+/// Where one row's reactions go (see `sweep::dual_support`): per candidate slot its route —
+/// `INSIDE | (j − a)` into the block's sums, for a j whose dual support lies in the block, or
+/// else the index of the slot's stored record — and the block's stored records, the first
+/// of them numbered `base`.
+pub(crate) struct RowDest<'r> {
+    pub(crate) routes: &'r [u32],
+    pub(crate) records: &'r mut [Real],
+    pub(crate) base: usize,
+}
+
+impl<V: Vector> Default for Cand<V> {
+    fn default() -> Self {
+        Cand {
+            rij: V::zero(),
+            r2: 0.0,
+            j: 0,
+            dest: 0,
+        }
+    }
 }
 
 impl<V: Vector> RowScratch<V> {
+    /// Starts the block of particles from `a` on, with `len` reals of reactions, zeroed.
+    pub(super) fn start_block(&mut self, a: usize, len: usize) {
+        self.block.0 = a;
+        self.block.1.clear();
+        self.block.1.resize(len, 0.0);
+    }
+
+    /// The block's reactions summed so far (see [`RowScratch::start_block`]).
+    pub(super) fn block_reactions(&self) -> &[Real] {
+        &self.block.1
+    }
+
     /// Makes room for `m` candidates (grows only; never shrinks).
     #[inline(always)]
     fn reserve(&mut self, m: usize) {
-        if self.js.len() < m {
+        if self.cands.len() < m {
             self.grow(m);
         }
     }
@@ -143,9 +207,7 @@ impl<V: Vector> RowScratch<V> {
     #[cold]
     #[inline(never)]
     fn grow(&mut self, m: usize) {
-        self.js.resize(m, [0; 2]);
-        self.rij.resize(m, V::zero());
-        self.r2.resize(m, 0.0);
+        self.cands.resize(m, Cand::default());
     }
 }
 
@@ -164,22 +226,22 @@ pub(super) fn initialize<V: Vector>(
     }
 }
 
-/// Compacts the candidates with `|r_ij|² < h_i²` into the front of the scratch (`j`, slot,
-/// `r_ij`, `|r_ij|²`) and returns their number; with `w > 0`, zeroes each candidate's
-/// record of `w` reals in `records` on the way. Branch-free: every candidate is written at
-/// the next free place and the place is kept only if it is inside. On a periodic domain
-/// `r_ij` is the minimum image ([`Period::image`]).
+/// Compacts the candidates with `|r_ij|² < h_i²` into the front of the scratch (`j`, route,
+/// `r_ij`, `|r_ij|²`) and returns their number; with `zero = Some((records, w))`, zeroes on
+/// the way the stored record (`w` reals) of every candidate that has one (see [`RowDest`]).
+/// Branch-free: every candidate is written at the next free place and the place is kept only
+/// if it is inside. On a periodic domain `r_ij` is the minimum image ([`Period::image`]).
 #[inline(always)]
 fn compact_row<V: Vector>(
     cand: &[u32],
     (pos, period): (&[Position<V>], Option<&Period<V>>),
     (xi, h2): (V, Real),
     s: &mut RowScratch<V>,
-    (records, w): (&mut [Real], usize),
+    routes: (&[u32], usize, Option<(&mut [Real], usize)>),
 ) -> usize {
     match period {
-        None => compact_with(cand, |j| xi - pos[j].0, h2, s, (records, w)),
-        Some(p) => compact_with(cand, |j| p.image(xi - pos[j].0), h2, s, (records, w)),
+        None => compact_with(cand, |j| xi - pos[j].0, h2, s, routes),
+        Some(p) => compact_with(cand, |j| p.image(xi - pos[j].0), h2, s, routes),
     }
 }
 
@@ -190,23 +252,36 @@ fn compact_with<V: Vector>(
     rij: impl Fn(usize) -> V,
     h2: Real,
     s: &mut RowScratch<V>,
-    (records, w): (&mut [Real], usize),
+    (routes, base, zero): (&[u32], usize, Option<(&mut [Real], usize)>),
 ) -> usize {
     let m = cand.len();
     let mut at = Compacted {
-        js: &mut s.js[..m],
-        rijs: &mut s.rij[..m],
-        r2s: &mut s.r2[..m],
+        cands: &mut s.cands[..m],
         n: 0,
     };
-    if w > 0 {
-        for ((slot, &j), rec) in cand.iter().enumerate().zip(records.chunks_exact_mut(w)) {
-            rec.fill(0.0);
-            at.put(slot, j, rij(j as usize), h2);
+    let routes = &routes[..m];
+    match zero {
+        Some((records, w)) => {
+            for (&j, &route) in cand.iter().zip(routes) {
+                let dest = if route & INSIDE == 0 {
+                    let r = route as usize - base;
+                    records[r * w..(r + 1) * w].fill(0.0);
+                    r as u32
+                } else {
+                    route
+                };
+                at.put(dest, j, rij(j as usize), h2);
+            }
         }
-    } else {
-        for (slot, &j) in cand.iter().enumerate() {
-            at.put(slot, j, rij(j as usize), h2);
+        None => {
+            for (&j, &route) in cand.iter().zip(routes) {
+                let dest = if route & INSIDE == 0 {
+                    route - base as u32
+                } else {
+                    route
+                };
+                at.put(dest, j, rij(j as usize), h2);
+            }
         }
     }
     at.n
@@ -214,23 +289,19 @@ fn compact_with<V: Vector>(
 
 /// The front of the scratch being filled by [`compact_row`].
 struct Compacted<'s, V: Vector> {
-    js: &'s mut [[u32; 2]],
-    rijs: &'s mut [V],
-    r2s: &'s mut [Real],
+    cands: &'s mut [Cand<V>],
     n: usize,
 }
 
 impl<V: Vector> Compacted<'_, V> {
-    /// Writes candidate `slot` (particle j at `r_ij`) at the next free place, kept when
-    /// `|r_ij|² < h²`.
+    /// Writes a candidate (particle j at `r_ij`, its reactions to `dest`) at the next free
+    /// place, kept when `|r_ij|² < h²`.
     #[inline(always)]
-    fn put(&mut self, slot: usize, j: u32, rij: V, h2: Real) {
+    fn put(&mut self, dest: u32, j: u32, rij: V, h2: Real) {
         let r2 = rij.length_squared();
         let n = self.n;
-        // n <= slot < m: the writes stay in bounds
-        self.js[n] = [j, slot as u32];
-        self.rijs[n] = rij;
-        self.r2s[n] = r2;
+        // n <= the candidate's place < m: the writes stay in bounds
+        self.cands[n] = Cand { rij, r2, j, dest };
         self.n += (r2 < h2) as usize;
     }
 }
@@ -260,29 +331,27 @@ struct Owner<V: Vector> {
     n: usize,
 }
 
-/// The geometry of the `T::N` pairs `js` (with `r_ij`, `|r_ij|²`): `|r_ij|`,
+/// The geometry of the `T::N` pairs `c` (with `r_ij`, `|r_ij|²`): `|r_ij|`,
 /// `∇_iW_ij = r_ij ·` [`OwnerKernel::grad_factor`] (Eq. 2.2), `v_ij` and, with `CORR`,
 /// `L_i∇_iW_ij` (Eq. 2.10).
 #[inline(always)]
 fn lanes<'a, T: Lanes, V: Vector, const CORR: bool>(
     data: &'a ParticleData<'a, V>,
     o: Owner<V>,
-    js: &[[u32; 2]],
-    rijs: &[V],
-    r2s: &[Real],
+    c: &[Cand<V>],
 ) -> PairLanes<'a, T, V> {
     let vel = data.vel;
-    let rij = LaneVec::<T>::from_fn(|l| rijs[l]);
-    let r = T::from_fn(|l| r2s[l]).sqrt();
+    let rij = LaneVec::<T>::from_fn(|l| c[l].rij);
+    let r = T::from_fn(|l| c[l].r2).sqrt();
     let (kind, g_norm, inv_h) = o.factor;
     let raw = rij.scale::<V>(OwnerKernel::factor_lanes(kind, g_norm, inv_h, r));
-    let vij = LaneVec::<T>::splat(o.v).minus::<V>(LaneVec::from_fn(|l| vel[js[l][0] as usize].0));
+    let vij = LaneVec::<T>::splat(o.v).minus::<V>(LaneVec::from_fn(|l| vel[c[l].j as usize].0));
     let grad = if CORR {
         LaneVec::from_fn(|l| o.l.mul_vec(raw.lane::<V>(l)))
     } else {
         raw
     };
-    let j = [js[0][0], js[T::N - 1][0]];
+    let j = [c[0].j, c[T::N - 1].j];
     PairLanes::new(
         (o.i, j),
         (rij, r, vij, raw, grad),
@@ -293,19 +362,21 @@ fn lanes<'a, T: Lanes, V: Vector, const CORR: bool>(
     .with_len(o.n)
 }
 
-/// Adds the lanes' pairs to i's sums, pair by pair, writes their reactions into their
-/// support `slots` (one per lane) and clears `out` for the next lanes.
+/// Adds the lanes' pairs to i's sums, pair by pair, sends each pair's reaction record (formed
+/// in `rec`) where its route says — the block's stored `records` or the block's sums `acc` —
+/// and clears `out` for the next lanes.
 #[inline(always)]
 fn flush<T: Lanes, V: Vector>(
     out: &mut Out<'_, T>,
-    slots: &[[u32; 2]],
+    pairs: &[Cand<V>],
     plan: &RowPlan<'_, '_, V>,
-    (sums, all): (&mut RowSums<V>, &mut [Real]),
-    reactions: &mut [Real],
+    (sums, all, rec): (&mut RowSums<V>, &mut [Real], &mut Vec<Real>),
+    (records, acc): (&mut [Real], &mut [Real]),
 ) {
-    for (l, &[_, slot]) in slots.iter().enumerate() {
-        let base = slot as usize * plan.rw;
-        let rec = &mut reactions[base..base + plan.rw];
+    let rw = plan.rw;
+    for (l, &Cand { dest, .. }) in pairs.iter().enumerate() {
+        rec.clear();
+        rec.resize(rw, 0.0);
         if let Some((_, r)) = plan.force {
             let f: V = out.force.lane(l);
             sums.force += f;
@@ -334,6 +405,15 @@ fn flush<T: Lanes, V: Vector>(
                 Source::Neighbour(c) => out.extra.nbr[c].lane(l),
                 _ => unreachable!("standard sums are written above"),
             };
+        }
+        if dest & INSIDE != 0 {
+            let k = (dest ^ INSIDE) as usize * rw;
+            for (x, r) in acc[k..k + rw].iter_mut().zip(&*rec) {
+                *x += r;
+            }
+        } else {
+            let k = dest as usize * rw;
+            records[k..k + rw].copy_from_slice(rec);
         }
     }
     let z = T::splat(EMPTY);
@@ -389,85 +469,88 @@ impl<V: Vector, B: BoundTerm<V>> GroupEval<V> for OneTerm<'_, V, B> {
 /// Every pair of the compacted row `0..n`, two at a time, through `eval`; returns i's
 /// standard sums `own` with the pairs added. With `STD` the records are
 /// [`Records::Standard`] (with the density rate to j when `RATE_J`); with `CORR` the
-/// gradients are corrected (`L_i∇_iW_ij`).
+/// gradients are corrected (`L_i∇_iW_ij`). The reactions go to the block's stored `records`
+/// or to its sums in the scratch (see [`RowDest`]).
 #[inline(always)]
 fn row_pairs<V: Vector, E: GroupEval<V>, const STD: bool, const RATE_J: bool, const CORR: bool>(
     data: &ParticleData<'_, V>,
     (plan, eval): (&RowPlan<'_, '_, V>, &E),
     (o, n): (Owner<V>, usize),
     s: &mut RowScratch<V>,
-    reactions: &mut [Real],
+    records: &mut [Real],
     mut own: RowSums<V>,
 ) -> RowSums<V> {
     let RowScratch {
         extra2,
         extra1,
         all,
-        js,
-        rij,
-        r2,
+        cands,
+        rec,
+        block,
     } = s;
     let all = &mut all[..];
-    let (js2, js1) = js[..n].as_chunks::<2>();
-    let (rijs2, rijs1) = rij[..n].as_chunks::<2>();
-    let (r2s2, r2s1) = r2[..n].as_chunks::<2>();
+    let acc = &mut block.1[..];
+    let (c2, c1) = cands[..n].as_chunks::<2>();
     let mut out = Out::new(extra2);
-    for ((js, rijs), r2s) in js2.iter().zip(rijs2).zip(r2s2) {
-        let p = lanes::<f64x2, V, CORR>(data, o, js, rijs, r2s);
+    for c in c2 {
+        let p = lanes::<f64x2, V, CORR>(data, o, c);
         eval.two(&p, &mut out);
         if STD {
-            flush_standard::<_, V, RATE_J>(&mut out, js, &mut own, reactions);
+            flush_standard::<_, V, RATE_J>(&mut out, c, &mut own, (&mut *records, &mut *acc));
         } else {
-            flush(&mut out, js, plan, (&mut own, &mut *all), reactions);
+            let to = (&mut *records, &mut *acc);
+            flush(&mut out, c, plan, (&mut own, &mut *all, &mut *rec), to);
         }
     }
-    if !js1.is_empty() {
-        let p = lanes::<Real, V, CORR>(data, o, js1, rijs1, r2s1);
+    if !c1.is_empty() {
+        let p = lanes::<Real, V, CORR>(data, o, c1);
         let mut out = Out::new(extra1);
         eval.one(&p, &mut out);
         if STD {
-            flush_standard::<_, V, RATE_J>(&mut out, js1, &mut own, reactions);
+            flush_standard::<_, V, RATE_J>(&mut out, c1, &mut own, (records, acc));
         } else {
-            flush(&mut out, js1, plan, (&mut own, all), reactions);
+            flush(&mut out, c1, plan, (&mut own, all, rec), (records, acc));
         }
     }
     own
 }
 
 /// [`flush`] for [`Records::Standard`]: the records have `d + 1 + RATE_J` channels at
-/// fixed places, so nothing is tested per pair.
+/// fixed places, so nothing is tested per pair but the route.
 #[inline(always)]
 fn flush_standard<T: Lanes, V: Vector, const RATE_J: bool>(
     out: &mut Out<'_, T>,
-    slots: &[[u32; 2]],
+    pairs: &[Cand<V>],
     sums: &mut RowSums<V>,
-    reactions: &mut [Real],
+    to: (&mut [Real], &mut [Real]),
 ) {
     // the record width as a constant, so that a record is one array (one bounds check)
     match V::DIM + RATE_J as usize {
-        1 => flush_records::<T, V, RATE_J, 2>(out, slots, sums, reactions),
-        2 => flush_records::<T, V, RATE_J, 3>(out, slots, sums, reactions),
-        3 => flush_records::<T, V, RATE_J, 4>(out, slots, sums, reactions),
-        _ => flush_records::<T, V, RATE_J, 5>(out, slots, sums, reactions),
+        1 => flush_records::<T, V, RATE_J, 2>(out, pairs, sums, to),
+        2 => flush_records::<T, V, RATE_J, 3>(out, pairs, sums, to),
+        3 => flush_records::<T, V, RATE_J, 4>(out, pairs, sums, to),
+        _ => flush_records::<T, V, RATE_J, 5>(out, pairs, sums, to),
     }
 }
 
-/// [`flush_standard`] with records of `W = d + 1 + RATE_J` reals.
+/// [`flush_standard`] with records of `W = d + 1 + RATE_J` reals: each pair's record into
+/// the block's stored `records` or added to the block's sums `acc`, as its route says.
 #[inline(always)]
 fn flush_records<T: Lanes, V: Vector, const RATE_J: bool, const W: usize>(
     out: &mut Out<'_, T>,
-    slots: &[[u32; 2]],
+    pairs: &[Cand<V>],
     sums: &mut RowSums<V>,
-    reactions: &mut [Real],
+    (records, acc): (&mut [Real], &mut [Real]),
 ) {
     debug_assert_eq!(W, V::DIM + 1 + RATE_J as usize);
-    let (records, _) = reactions.as_chunks_mut::<W>();
-    for (l, &[_, slot]) in slots.iter().enumerate() {
+    let (records, _) = records.as_chunks_mut::<W>();
+    let (accs, _) = acc.as_chunks_mut::<W>();
+    for (l, &Cand { dest, .. }) in pairs.iter().enumerate() {
         let f: V = out.force.lane(l);
         sums.force += f;
         sums.power += out.power.lane(l);
         sums.rate += out.rate.lane(l);
-        let rec = &mut records[slot as usize];
+        let mut rec = [0.0; W];
         for (c, x) in rec[..V::DIM].iter_mut().enumerate() {
             *x = -f.get(c);
         }
@@ -475,20 +558,28 @@ fn flush_records<T: Lanes, V: Vector, const RATE_J: bool, const W: usize>(
         if RATE_J {
             rec[V::DIM + 1] = out.rate_j.lane(l);
         }
+        if dest & INSIDE != 0 {
+            let sum = &mut accs[(dest ^ INSIDE) as usize];
+            for (s, r) in sum.iter_mut().zip(rec) {
+                *s += r;
+            }
+        } else {
+            records[dest as usize] = rec;
+        }
     }
     let z = T::splat(EMPTY);
     (out.force, out.power, out.power_j, out.rate, out.rate_j) = (LaneVec([z; 3]), z, z, z, z);
 }
 
 /// Pass 1 for owner i after its per-particle parts: i's pairs in `H_i` ascending through
-/// `eval`, added to i's `sums`, and their reactions into the row's slots of `reactions` (the
-/// sweep's reaction channels per slot; zero for candidates outside `h_i`).
+/// `eval`, added to i's `sums`, and their reactions sent where the row's routes say (`to`:
+/// see [`RowDest`]; a stored record of a candidate outside `h_i` is zero).
 #[inline(always)]
 pub(crate) fn pairs_of_row<V: Vector, E: GroupEval<V>>(
     ctx: &SweepCtx<'_, V>,
     (plan, eval): (&RowPlan<'_, '_, V>, &E),
     (i, s): (usize, &mut RowScratch<V>),
-    reactions: &mut [Real],
+    to: RowDest<'_>,
     sums: &mut [Real],
 ) {
     let row = (plan, eval);
@@ -496,9 +587,9 @@ pub(crate) fn pairs_of_row<V: Vector, E: GroupEval<V>>(
     macro_rules! go {
         ($std:literal, $rate:literal) => {
             if ctx.correction.is_some() {
-                row_of::<V, E, $std, $rate, true>(ctx, row, (i, s), reactions, sums)
+                row_of::<V, E, $std, $rate, true>(ctx, row, (i, s), to, sums)
             } else {
-                row_of::<V, E, $std, $rate, false>(ctx, row, (i, s), reactions, sums)
+                row_of::<V, E, $std, $rate, false>(ctx, row, (i, s), to, sums)
             }
         };
     }
@@ -516,10 +607,10 @@ pub(crate) fn row_apart<V: Vector, E: GroupEval<V>>(
     ctx: &SweepCtx<'_, V>,
     row: (&RowPlan<'_, '_, V>, &E),
     owner: (usize, &mut RowScratch<V>),
-    reactions: &mut [Real],
+    to: RowDest<'_>,
     sums: &mut [Real],
 ) {
-    pairs_of_row(ctx, row, owner, reactions, sums)
+    pairs_of_row(ctx, row, owner, to, sums)
 }
 
 /// [`pairs_of_row`] with the records' layout fixed (see [`row_pairs`]).
@@ -528,7 +619,11 @@ fn row_of<V: Vector, E: GroupEval<V>, const STD: bool, const RATE_J: bool, const
     ctx: &SweepCtx<'_, V>,
     (plan, eval): (&RowPlan<'_, '_, V>, &E),
     (i, s): (usize, &mut RowScratch<V>),
-    reactions: &mut [Real],
+    RowDest {
+        routes,
+        records,
+        base,
+    }: RowDest<'_>,
     sums: &mut [Real],
 ) {
     let data = &cut(&ctx.data);
@@ -538,12 +633,13 @@ fn row_of<V: Vector, E: GroupEval<V>, const STD: bool, const RATE_J: bool, const
     s.reserve(cand.len());
     let xi = (data.pos[i].0, kernel.h2);
     let n = if STD {
-        // each candidate's record zeroed as it is compacted (those inside are then written)
+        // each stored record zeroed as its candidate is compacted (those inside h_i are then
+        // written); with other layouts the block's records arrive zeroed
         let w = V::DIM + 1 + RATE_J as usize;
-        compact_row(cand, (data.pos, period), xi, s, (&mut *reactions, w))
+        let zero = Some((&mut *records, w));
+        compact_row(cand, (data.pos, period), xi, s, (routes, base, zero))
     } else {
-        reactions.fill(0.0);
-        compact_row(cand, (data.pos, period), xi, s, (&mut [], 0))
+        compact_row(cand, (data.pos, period), xi, s, (routes, base, None))
     };
     let mut own = if plan.fresh {
         RowSums {
@@ -575,7 +671,7 @@ fn row_of<V: Vector, E: GroupEval<V>, const STD: bool, const RATE_J: bool, const
         factor: kernel.factor_parts(),
         n: data.len(),
     };
-    own = row_pairs::<V, E, STD, RATE_J, CORR>(data, (plan, eval), (o, n), s, reactions, own);
+    own = row_pairs::<V, E, STD, RATE_J, CORR>(data, (plan, eval), (o, n), s, records, own);
     if !plan.extra_own.is_empty() {
         sums.copy_from_slice(&s.all[..plan.owner]);
     }

@@ -145,10 +145,11 @@ fn row_sweep_with_a_rate_to_the_neighbour_equals_pairwise_reference_bitwise() {
     assert_sweep_matches_pairwise(&c, &p, true);
 }
 
-/// The same with several blocks and particles in space order, so that pass 2 runs both
-/// behind pass 1 inside a block and, for particles with owners in another block, after it.
+/// The same with several blocks and particles in space order, so that j's reactions are
+/// both summed by pass 1 inside j's block and, for particles with owners in another block,
+/// stored and gathered after it.
 #[test]
-fn blocked_wavefront_sweep_equals_pairwise_reference_bitwise() {
+fn blocked_sweep_equals_pairwise_reference_bitwise() {
     let n = 3 * MIN_BLOCK + 77;
     let (c, p) = cloud_in(n, 55.0, true);
     let nb = lists(&c);
