@@ -179,7 +179,7 @@ fn run_blocks<S: ScalarState, R: ScalarRate>(
     for (mut s, r, mut regs) in q.contiguous_iter_mut().expect(DENSE) {
         // the engine reads no change ticks (see `crate::chunks`)
         let value = S::peel_slice_mut(s.bypass_change_detection());
-        let rate = R::peel_slice(&r);
+        let rate = R::peel_slice(r);
         let registers = Registers::<S>::peel_slice_mut(regs.bypass_change_detection());
         let blocks = value.par_chunks_mut(BLOCK).zip(rate.par_chunks(BLOCK));
         let blocks = blocks.zip(registers.par_chunks_mut(BLOCK));

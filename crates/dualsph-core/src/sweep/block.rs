@@ -27,7 +27,7 @@ pub struct Sweep<'a, 'w, V: Vector> {
 
 /// One block: its first row `a`, its rows' sums (`layout.owner` reals per row), the routes
 /// of its rows' support slots and its stored reaction records, the first numbered `base`
-/// (see [`RowDest`]).
+/// (see `row::RowDest`).
 pub struct Block<'b> {
     pub(crate) a: usize,
     pub(crate) sums: &'b mut [Real],

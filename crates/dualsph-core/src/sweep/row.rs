@@ -150,7 +150,7 @@ pub struct RowScratch<V: Vector> {
 }
 
 /// One candidate of a row, compacted: `r_ij`, `|r_ij|²`, j and where its reactions go (a
-/// route of [`RowDest`], with the record's index counted from the block's first).
+/// route of `RowDest`, with the record's index counted from the block's first).
 #[derive(Clone, Copy)]
 pub struct Cand<V: Vector> {
     rij: V,
