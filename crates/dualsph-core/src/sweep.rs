@@ -50,6 +50,7 @@ pub mod block;
 mod checks;
 mod classical;
 mod fuse;
+mod route;
 #[doc(hidden)]
 pub mod row;
 mod system;
