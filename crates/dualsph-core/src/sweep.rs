@@ -297,6 +297,8 @@ struct Routes {
     /// `inside` (block from `a`), else the index of the slot's stored record (records in slot
     /// order).
     routes: Vec<u32>,
+    /// Per block, its first support slot; then the number of slots.
+    first_slot: Vec<usize>,
     /// Per block, the index of its first stored record; then their number.
     first_record: Vec<usize>,
 }
@@ -317,16 +319,18 @@ impl Routes {
             .with_min_len(4096)
             .map(inside_of)
             .collect();
-        let offsets = &nb.support.offsets;
-        let indices = &nb.support.indices;
-        let blocks: Vec<usize> = (0..n).step_by(block).collect();
-        let slots_of = |a: usize| offsets[a] as usize..offsets[(a + block).min(n)] as usize;
-        let stored = |a: &usize| {
-            indices[slots_of(*a)]
-                .iter()
-                .filter(|&&j| !inside[j as usize])
-                .count()
-        };
+        let (offsets, indices) = (&nb.support.offsets, &nb.support.indices);
+        let mut first_slot: Vec<usize> =
+            (0..n).step_by(block).map(|a| offsets[a] as usize).collect();
+        first_slot.push(offsets[n] as usize);
+        // block b: its first particle, and the particles of its support slots
+        let blocks: Vec<(usize, &[u32])> = first_slot
+            .windows(2)
+            .enumerate()
+            .map(|(b, w)| (b * block, &indices[w[0]..w[1]]))
+            .collect();
+        let stored =
+            |(_, js): &(usize, &[u32])| js.iter().filter(|&&j| !inside[j as usize]).count();
         let counts: Vec<usize> = blocks.par_iter().map(stored).collect();
         let mut first_record = Vec::with_capacity(blocks.len() + 1);
         let mut total = 0;
@@ -340,14 +344,14 @@ impl Routes {
             "more than 2^31 stored reaction records in one sweep"
         );
         let mut routes = vec![0; indices.len()];
-        let pieces = split_rows_mut(&mut routes, offsets, block, 1);
+        let pieces = split_at_counts(&mut routes, &first_slot, 1);
         pieces
             .into_par_iter()
             .zip(&blocks)
             .zip(&first_record)
-            .for_each(|((out, &a), &k)| {
+            .for_each(|((out, &(a, js)), &k)| {
                 let mut k = k as u32;
-                for (r, &j) in out.iter_mut().zip(&indices[slots_of(a)]) {
+                for (r, &j) in out.iter_mut().zip(js) {
                     *r = if inside[j as usize] {
                         row::INSIDE | (j - a as u32)
                     } else {
@@ -360,31 +364,10 @@ impl Routes {
             key: (nb.generation, n, block),
             inside,
             routes,
+            first_slot,
             first_record,
         }
     }
-}
-
-/// Splits a slot buffer of `width` reals per slot at the slot boundaries of consecutive
-/// blocks of `rows` rows.
-fn split_rows_mut<'a, T>(
-    mut buf: &'a mut [T],
-    offsets: &[u32],
-    rows: usize,
-    width: usize,
-) -> Vec<&'a mut [T]> {
-    let n = offsets.len().saturating_sub(1);
-    let mut out = Vec::with_capacity(n.div_ceil(rows));
-    let mut start = 0;
-    while start < n {
-        let end = (start + rows).min(n);
-        let len = (offsets[end] - offsets[start]) as usize * width;
-        let (chunk, rest) = buf.split_at_mut(len);
-        out.push(chunk);
-        buf = rest;
-        start = end;
-    }
-    out
 }
 
 /// Reusable buffers of a sweep, and its result: the sums of every particle.
@@ -459,7 +442,7 @@ pub fn evaluate<V: Vector>(
 
 /// Pass 1 and pass 2 in blocks of consecutive particles (in parallel over blocks). A particle
 /// j whose dual-support owners all lie in its own block (with particles numbered in space
-/// order, nearly all of them: [`inside_block`]) has its reactions added by pass 1 itself, as
+/// order, nearly all of them: see [`Routes`]) has its reactions added by pass 1 itself, as
 /// each owner's row forms them, into a per-block accumulator in ascending owner order; the
 /// accumulator is added to j's sums when the block's rows are done, and no reaction of j is
 /// stored. A particle with an owner in another block has its reactions stored per support
@@ -473,7 +456,6 @@ fn dual_support<V: Vector>(
     buf: &mut SweepBuffers,
 ) {
     let nb = ctx.neighbours;
-    let offsets = &nb.support.offsets;
     let n = ctx.len();
     let react = buf.layout.reactions::<V>();
     let rw = react.len();
@@ -503,7 +485,9 @@ fn dual_support<V: Vector>(
         react: &react,
     };
     let r_blocks = split_at_counts(&mut buf.reactions, &routes.first_record, rw);
-    let route_blocks = split_rows(&routes.routes, offsets, block);
+    let route_blocks: Vec<&[u32]> = (routes.first_slot.windows(2))
+        .map(|w| &routes.routes[w[0]..w[1]])
+        .collect();
     let later: Vec<Vec<u32>> = buf
         .sums
         .par_chunks_mut(block * owner)
@@ -543,13 +527,9 @@ fn dual_support<V: Vector>(
     }
 }
 
-/// `buf` cut into consecutive pieces of `width` reals per record, piece `b` holding records
-/// `first[b]..first[b + 1]`.
-fn split_at_counts<'a>(
-    mut buf: &'a mut [Real],
-    first: &[usize],
-    width: usize,
-) -> Vec<&'a mut [Real]> {
+/// `buf` cut into consecutive pieces of `width` items per record, piece `b` holding records
+/// `first[b]..first[b + 1]` (`first[0] == 0`).
+fn split_at_counts<'a, T>(mut buf: &'a mut [T], first: &[usize], width: usize) -> Vec<&'a mut [T]> {
     let mut out = Vec::with_capacity(first.len().saturating_sub(1));
     for w in first.windows(2) {
         let (piece, rest) = buf.split_at_mut((w[1] - w[0]) * width);
@@ -557,15 +537,6 @@ fn split_at_counts<'a>(
         buf = rest;
     }
     out
-}
-
-/// The per-slot `routes` cut at the slot boundaries of consecutive blocks of `rows` rows.
-fn split_rows<'a>(routes: &'a [u32], offsets: &[u32], rows: usize) -> Vec<&'a [u32]> {
-    let n = offsets.len().saturating_sub(1);
-    (0..n)
-        .step_by(rows.max(1))
-        .map(|a| &routes[offsets[a] as usize..offsets[(a + rows).min(n)] as usize])
-        .collect()
 }
 
 #[cfg(test)]

@@ -108,7 +108,7 @@ pub(crate) fn run_block<V: Vector, E: RowEval<V>>(
     let (owner, rw) = (sw.plan.owner, sw.react.len());
     let end = a + sums.len() / owner;
     let first = offsets[a] as usize;
-    s.start_block(a, (end - a) * rw);
+    s.start_block((end - a) * rw);
     if !sw.plan.rows_zero_records() {
         records.fill(0.0);
     }

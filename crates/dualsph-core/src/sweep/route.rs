@@ -83,28 +83,31 @@ fn compact_with<V: Vector>(
     match zero {
         Some((records, w)) => {
             for (&j, &route) in cand.iter().zip(routes) {
-                let dest = if route & INSIDE == 0 {
-                    let r = route as usize - base;
+                let dest = in_block(route, base);
+                if dest & INSIDE == 0 {
+                    let r = dest as usize;
                     records[r * w..(r + 1) * w].fill(0.0);
-                    r as u32
-                } else {
-                    route
-                };
+                }
                 at.put(dest, j, rij(j as usize), h2);
             }
         }
         None => {
             for (&j, &route) in cand.iter().zip(routes) {
-                let dest = if route & INSIDE == 0 {
-                    route - base as u32
-                } else {
-                    route
-                };
-                at.put(dest, j, rij(j as usize), h2);
+                at.put(in_block(route, base), j, rij(j as usize), h2);
             }
         }
     }
     at.n
+}
+
+/// A route with a stored record's index counted from the block's first (`base`).
+#[inline(always)]
+fn in_block(route: u32, base: usize) -> u32 {
+    if route & INSIDE == 0 {
+        route - base as u32
+    } else {
+        route
+    }
 }
 
 /// The front of the scratch being filled by [`compact_row`].
@@ -188,8 +191,8 @@ pub(super) fn flush<T: Lanes, V: Vector>(
     }
 }
 
-/// [`flush`] for the standard records (`Records::Standard` of `row.rs`): the records have `d + 1 + RATE_J` channels at
-/// fixed places, so nothing is tested per pair but the route.
+/// [`flush`] for the standard records (`Records::Standard` of `row.rs`): the records have
+/// `d + 1 + RATE_J` channels at fixed places, so nothing is tested per pair but the route.
 #[inline(always)]
 pub(super) fn flush_standard<T: Lanes, V: Vector, const RATE_J: bool>(
     out: &mut Out<'_, T>,

@@ -143,23 +143,21 @@ pub struct RowScratch<V: Vector> {
     cands: Vec<Cand<V>>,
     /// One pair's reaction record, as [`flush`] forms it.
     rec: Vec<Real>,
-    /// The block's first particle, and the reactions to the block's particles whose dual
-    /// support lies in the block: the sweep's reaction channels per particle, summed from
-    /// zero in ascending owner order.
-    block: (usize, Vec<Real>),
+    /// The reactions to the block's particles whose dual support lies in the block: the
+    /// sweep's reaction channels per particle, summed from zero in ascending owner order.
+    block: Vec<Real>,
 }
 
 impl<V: Vector> RowScratch<V> {
-    /// Starts the block of particles from `a` on, with `len` reals of reactions, zeroed.
-    pub(super) fn start_block(&mut self, a: usize, len: usize) {
-        self.block.0 = a;
-        self.block.1.clear();
-        self.block.1.resize(len, 0.0);
+    /// Starts a block with `len` reals of reactions, zeroed.
+    pub(super) fn start_block(&mut self, len: usize) {
+        self.block.clear();
+        self.block.resize(len, 0.0);
     }
 
     /// The block's reactions summed so far (see [`RowScratch::start_block`]).
     pub(super) fn block_reactions(&self) -> &[Real] {
-        &self.block.1
+        &self.block
     }
 
     /// Makes room for `m` candidates (grows only; never shrinks).
@@ -313,7 +311,7 @@ fn row_pairs<V: Vector, E: GroupEval<V>, const STD: bool, const RATE_J: bool, co
         block,
     } = s;
     let all = &mut all[..];
-    let acc = &mut block.1[..];
+    let acc = &mut block[..];
     let (c2, c1) = cands[..n].as_chunks::<2>();
     let mut out = Out::new(extra2);
     for c in c2 {
