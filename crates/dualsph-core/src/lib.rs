@@ -12,10 +12,6 @@ pub mod chunks;
 pub mod columns;
 pub mod components;
 pub mod integrate;
-pub mod kernels;
-pub mod lanes;
-pub mod math;
-pub mod neighbours;
 pub mod order;
 pub mod output;
 pub mod pair;
@@ -24,10 +20,14 @@ pub mod population;
 pub mod potentials;
 pub mod profile;
 pub mod restart;
-pub mod sampling;
 pub mod sim;
 pub mod store;
 pub mod sweep;
+
+pub use dualsph_math as math;
+pub use dualsph_math::{kernels, lanes};
+pub use dualsph_neighbours as neighbours;
+pub use dualsph_neighbours::sampling;
 
 pub use bevy_ecs;
 pub use glam;

@@ -26,7 +26,7 @@
 //! points in few cells, so `NeighbourIndex::Auto` uses kiddo once the cell exceeds `r_max`.
 
 use super::{Csr, SEARCH_CHUNK, assemble};
-use crate::math::{Real, Vector};
+use dualsph_math::{Real, Vector};
 use rayon::prelude::*;
 
 /// At most this many cells per point (plus [`CELLS_MIN`]).

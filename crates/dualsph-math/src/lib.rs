@@ -1,3 +1,7 @@
+//! The bottom layer of dualsph: dimension-generic vectors and matrices (this module), one or
+//! two pairs at once ([`lanes`]) and the kernels ([`kernels`]). It depends on no other crate
+//! of the engine.
+//!
 //! Dimension-generic vectors and matrices: one code base for 1, 2 and 3 dimensions.
 //!
 //! `Real = f64`. Two and three dimensions use glam's [`DVec2`]/[`DVec3`] and
@@ -5,9 +9,14 @@
 //! Everything the engine does with positions goes through the [`Vector`] and
 //! [`Matrix`] traits, so a system written once runs in every dimension.
 
+#![warn(missing_docs)]
+
 use glam::{DMat2, DMat3, DVec2, DVec3};
 use std::fmt::Debug;
 use std::ops::{Add, AddAssign, Div, Mul, Neg, Sub, SubAssign};
+
+pub mod kernels;
+pub mod lanes;
 
 /// The floating-point type of every physical quantity.
 pub type Real = f64;
@@ -29,8 +38,6 @@ pub trait Vector:
     + Div<Real, Output = Self>
     + AddAssign
     + SubAssign
-    + crate::neighbours::KdSearch
-    + crate::sampling::PointSearch
 {
     /// Number of spatial dimensions d.
     const DIM: usize;
@@ -77,6 +84,9 @@ pub trait Vector:
     }
     /// Outer product `a ⊗ b`, the matrix with entries `a_k b_l`.
     fn outer(a: Self, b: Self) -> Self::Mat;
+    /// The slice at its concrete type, so that code written once per dimension (the k-d
+    /// tree of `dualsph-neighbours`) serves a generic caller without a trait of its own.
+    fn as_points(points: &[Self]) -> Points<'_>;
     /// `a × b` with both embedded in 3-D (angular momentum, torque).
     #[inline]
     fn cross3(a: Self, b: Self) -> DVec3 {
@@ -87,6 +97,17 @@ pub trait Vector:
     fn is_finite(self) -> bool {
         (0..Self::DIM).all(|k| self.get(k).is_finite())
     }
+}
+
+/// A slice of points at its concrete type (see [`Vector::as_points`]).
+#[derive(Clone, Copy, Debug)]
+pub enum Points<'a> {
+    /// One dimension.
+    One(&'a [Vec1]),
+    /// Two dimensions.
+    Two(&'a [DVec2]),
+    /// Three dimensions.
+    Three(&'a [DVec3]),
 }
 
 /// A d × d matrix (velocity gradients, stresses, kernel-gradient corrections).
@@ -208,6 +229,10 @@ impl Vector for Vec1 {
     fn outer(a: Self, b: Self) -> Mat1 {
         Mat1(a.0 * b.0)
     }
+    #[inline]
+    fn as_points(points: &[Self]) -> Points<'_> {
+        Points::One(points)
+    }
 }
 
 impl Matrix<Vec1> for Mat1 {
@@ -250,7 +275,7 @@ impl Matrix<Vec1> for Mat1 {
 }
 
 macro_rules! glam_vector {
-    ($v:ty, $m:ty, $d:expr) => {
+    ($v:ty, $m:ty, $d:expr, $points:ident) => {
         impl Vector for $v {
             const DIM: usize = $d;
             type Mat = $m;
@@ -278,6 +303,10 @@ macro_rules! glam_vector {
                     *m.col_mut(l) = a * b[l];
                 }
                 m
+            }
+            #[inline]
+            fn as_points(points: &[Self]) -> Points<'_> {
+                Points::$points(points)
             }
         }
 
@@ -327,8 +356,8 @@ macro_rules! glam_vector {
         }
     };
 }
-glam_vector!(DVec2, DMat2, 2);
-glam_vector!(DVec3, DMat3, 3);
+glam_vector!(DVec2, DMat2, 2, Two);
+glam_vector!(DVec3, DMat3, 3, Three);
 
 #[cfg(test)]
 mod tests {

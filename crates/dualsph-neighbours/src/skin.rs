@@ -28,7 +28,7 @@
 //! rebuilds it early once the measured `u` says that the optimal skin, builds included, costs
 //! less per step than the candidates of the current list alone.
 
-use crate::math::Real;
+use dualsph_math::Real;
 
 /// How the skin of each build is chosen.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

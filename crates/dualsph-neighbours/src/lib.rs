@@ -1,4 +1,5 @@
-//! Support and dual-support neighbour lists.
+//! Support and dual-support neighbour lists, and sampling fields at arbitrary points
+//! ([`sampling`]): everything that searches space. Depends on `dualsph-math` only.
 //!
 //! The **support** of particle i is `H_i = { j : |r_ij| <= h_i }` (Eq. 3.1), found by a
 //! fixed-radius search with each particle's *own* radius; it is stored as CSR. The
@@ -18,25 +19,28 @@
 //!
 //! ## Two spatial indexes, one result
 //! [`Neighbours::index`] selects the search ([`NeighbourIndex`]): kiddo's k-d tree
-//! ([`KdSearch`], `kd.rs`), which handles any input, or a uniform cell grid ([`GridPlan`],
+//! ([`KdTree`], `kd.rs`), which handles any input, or a uniform cell grid ([`GridPlan`],
 //! `cells.rs`), several times faster when h varies little and the set is not sparse. Both keep
 //! `j != i` with `(x_i − x_j).length_squared() <= r_i²` evaluated with the same arithmetic, and
 //! sort each row ascending, so their lists are identical bit for bit (tested against each other
 //! and brute force); `Auto` picks by [`auto_uses_grid`].
 
-use crate::math::{Real, Vector};
+#![warn(missing_docs)]
+
 use bevy_ecs::prelude::Resource;
+use dualsph_math::{Real, Vector};
 use rayon::prelude::*;
 
 mod cells;
 mod kd;
 mod periodic;
+pub mod sampling;
 mod skin;
 #[cfg(test)]
 mod tests;
 
 pub use cells::GridPlan;
-pub use kd::KdSearch;
+pub use kd::{KdTree, kd_radius_csr};
 pub use periodic::{Period, periodic_radius_csr, separation};
 pub use skin::{SkinRule, optimal_skin};
 
@@ -196,7 +200,7 @@ pub enum NeighbourIndex {
     /// Always the cell grid ([`GridPlan`]), except for input it cannot handle (non-finite
     /// coordinates or radii, a bounding box of infinite extent), which goes to kiddo.
     CellGrid,
-    /// Always kiddo's k-d tree ([`KdSearch`]).
+    /// Always kiddo's k-d tree ([`KdTree`]).
     KdTree,
 }
 
@@ -229,7 +233,7 @@ pub fn radius_csr<V: Vector>(
         Some(p) if index == NeighbourIndex::CellGrid || auto_uses_grid(&p) => {
             (p.radius_csr(points, radii), NeighbourIndex::CellGrid)
         }
-        _ => (V::radius_csr(points, radii), NeighbourIndex::KdTree),
+        _ => (kd_radius_csr(points, radii), NeighbourIndex::KdTree),
     }
 }
 

@@ -18,7 +18,7 @@
 //! whichever index searched, on any number of threads.
 
 use super::{Csr, NeighbourIndex, radius_csr};
-use crate::math::{Real, Vector};
+use dualsph_math::{Real, Vector};
 use rayon::prelude::*;
 
 /// The periodic axes of a box `[lo, lo + L)`.

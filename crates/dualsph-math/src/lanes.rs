@@ -5,7 +5,7 @@
 //! (`+ − × ÷ √`, negation, comparisons, selects) is correctly rounded per lane in IEEE 754, so both give
 //! bitwise the same numbers; `tests` below check it, and `sweep::check_lanes_2d` for a term.
 
-use crate::math::{Real, Vector};
+use crate::{Real, Vector};
 use std::ops::{Add, Div, Mul, Neg, Sub};
 use wide::f64x2;
 

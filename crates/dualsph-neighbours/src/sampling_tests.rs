@@ -1,8 +1,8 @@
 //! Tests of field sampling against analytic fields in 1, 2 and 3 D.
 
 use super::*;
-use crate::kernels::KernelKind;
-use crate::math::Vec1;
+use dualsph_math::Vec1;
+use dualsph_math::kernels::KernelKind;
 use glam::{DVec2, DVec3};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;

@@ -3,14 +3,14 @@
 //! quarter at Δx/2), without building the whole engine.
 //!
 //! ```sh
-//! cargo run --release -p dualsph-core --example neighbour_index -- [n] [threads] [cells/radius...]
+//! cargo run --release -p dualsph-neighbours --example neighbour_index -- [n] [threads] [cells/radius...]
 //! ```
 //! prints, per case, particles per CPU-second of each search and of the transpose, and the
 //! grid/kiddo ratio measured in the same run (interleaved repetitions).
 
-use dualsph_core::glam::{DVec2, DVec3};
-use dualsph_core::math::{Real, Vector};
-use dualsph_core::neighbours::GridPlan;
+use dualsph_math::{Real, Vector};
+use dualsph_neighbours::{GridPlan, kd_radius_csr};
+use glam::{DVec2, DVec3};
 use std::time::Instant;
 
 /// CPU seconds of the process, all threads (NaN where the platform cannot tell).
@@ -81,7 +81,7 @@ fn case<V: Vector>(name: &str, n: usize, two_level: bool, cprs: &[Real], spread:
         })
         .collect();
     let n = pos.len() as f64;
-    let kd = V::radius_csr(&pos, &radii);
+    let kd = kd_radius_csr(&pos, &radii);
     let mut line = format!(
         "{name:<14} n={:>7} cand/p={:5.1}",
         pos.len(),
@@ -90,7 +90,7 @@ fn case<V: Vector>(name: &str, n: usize, two_level: bool, cprs: &[Real], spread:
     let mut t_kd = 0.0;
     let mut t_grid = vec![0.0; cprs.len()];
     for _ in 0..2 {
-        t_kd += time(&mut || drop(V::radius_csr(&pos, &radii)));
+        t_kd += time(&mut || drop(kd_radius_csr(&pos, &radii)));
         for (t, &cpr) in t_grid.iter_mut().zip(cprs) {
             let plan = GridPlan::new(&pos, &radii, cpr).expect("grid");
             assert_eq!(plan.radius_csr(&pos, &radii), kd);
@@ -155,7 +155,7 @@ fn profile<V: Vector>(n: usize, reps: usize, cpr: Real) {
     let radii: Vec<Real> = h.iter().map(|x| x * 1.15).collect();
     for _ in 0..reps {
         if std::env::var("NB_KD").is_ok() {
-            drop(V::radius_csr(&pos, &radii));
+            drop(kd_radius_csr(&pos, &radii));
         } else {
             let plan = GridPlan::new(&pos, &radii, cpr).expect("grid");
             drop(plan.radius_csr(&pos, &radii));

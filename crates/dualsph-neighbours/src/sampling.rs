@@ -7,7 +7,7 @@
 //! x is "in the support" of j. It is found with a kiddo k-d tree queried with the largest
 //! radius `h_max`, then filtered by each particle's own `h_j`, and summed in ascending j, so a
 //! result never depends on the thread count. With `V_j = m_j/ρ_j` and
-//! `W_j = W(x − x_j, h_j)` (Def. 2.3, normalised over the shell, see [`crate::kernels`]):
+//! `W_j = W(x − x_j, h_j)` (Def. 2.3, normalised over the shell, see [`dualsph_math::kernels`]):
 //!
 //! * plain interpolant (FLUISIM Def. 3.1, Eq. 3): `A(x) = Σ_j A_j V_j W_j`;
 //!   with `A_j = ρ_j` this is the density of Thm. 3.2, `ρ(x) = Σ_j m_j W_j`;
@@ -26,46 +26,10 @@
 //! For a smooth field the consistent forms converge as `O(h²)` (value) and `O(h)` (gradient)
 //! on irregular particle clouds with `h/Δx` fixed; the tests measure these orders.
 
-use crate::kernels::Kernel;
-use crate::math::{Matrix, Real, Vector};
-use kiddo::SquaredEuclidean;
-use kiddo::immutable::float::kdtree::ImmutableKdTree;
+use crate::KdTree;
+use dualsph_math::kernels::Kernel;
+use dualsph_math::{Matrix, Real, Vector};
 use rayon::prelude::*;
-
-/// A k-d tree over particle positions that answers fixed-radius queries at arbitrary points
-/// (implemented for `Vec1`, `DVec2` and `DVec3`).
-pub trait PointSearch: Sized {
-    /// The tree type.
-    type Tree: Send + Sync;
-    /// Builds the tree over `points` (items are the indices `0..n`).
-    fn build_tree(points: &[Self]) -> Self::Tree;
-    /// Indices of the points within distance `r` of `x` (a superset is allowed: callers
-    /// filter with their own arithmetic), in no particular order.
-    fn within(tree: &Self::Tree, x: Self, r: Real) -> Vec<u32>;
-}
-
-macro_rules! point_search {
-    ($v:ty, $k:expr, $arr:expr) => {
-        impl PointSearch for $v {
-            type Tree = ImmutableKdTree<Real, u32, $k, 32>;
-            fn build_tree(points: &[Self]) -> Self::Tree {
-                let to_arr = $arr;
-                let pts: Vec<[Real; $k]> = points.iter().map(|p| to_arr(*p)).collect();
-                ImmutableKdTree::new_from_slice(&pts)
-            }
-            fn within(tree: &Self::Tree, x: Self, r: Real) -> Vec<u32> {
-                let to_arr = $arr;
-                tree.within_unsorted::<SquaredEuclidean>(&to_arr(x), r * r * (1.0 + 1e-12))
-                    .into_iter()
-                    .map(|nn| nn.item)
-                    .collect()
-            }
-        }
-    };
-}
-point_search!(crate::math::Vec1, 1, |p: crate::math::Vec1| [p.0]);
-point_search!(glam::DVec2, 2, |p: glam::DVec2| p.to_array());
-point_search!(glam::DVec3, 3, |p: glam::DVec3| p.to_array());
 
 /// Everything sampled for one quantity at one point (see the module docs for the formulas).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -93,7 +57,7 @@ pub struct SamplingCloud<V: Vector> {
     volume: Vec<Real>,
     h: Vec<Real>,
     h_max: Real,
-    tree: <V as PointSearch>::Tree,
+    tree: KdTree,
 }
 
 impl<V: Vector> std::fmt::Debug for SamplingCloud<V> {
@@ -124,7 +88,7 @@ impl<V: Vector> SamplingCloud<V> {
             .copied()
             .filter(|x| x.is_finite())
             .fold(0.0, Real::max);
-        let tree = V::build_tree(&pos);
+        let tree = KdTree::new(&pos);
         SamplingCloud {
             kernel,
             pos,
@@ -167,13 +131,13 @@ impl<V: Vector> SamplingCloud<V> {
         if self.pos.is_empty() {
             return Vec::new();
         }
-        let mut s: Vec<u32> = V::within(&self.tree, x, self.h_max)
-            .into_iter()
-            .filter(|&j| {
-                let j = j as usize;
-                (x - self.pos[j]).length_squared() < self.h[j] * self.h[j]
-            })
-            .collect();
+        let mut s = Vec::new();
+        self.tree.for_each_within(x, self.h_max, |j| {
+            let k = j as usize;
+            if (x - self.pos[k]).length_squared() < self.h[k] * self.h[k] {
+                s.push(j);
+            }
+        });
         s.sort_unstable();
         s
     }

@@ -28,7 +28,7 @@
 //! `W(0) = ∞` it must not be used with summation density.
 
 use crate::lanes::Lanes;
-use crate::math::{Real, Vector};
+use crate::{Real, Vector};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 

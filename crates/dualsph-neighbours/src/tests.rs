@@ -1,7 +1,7 @@
 //! Tests of the neighbour lists: both indexes against brute force and each other.
 
 use super::*;
-use crate::math::Vec1;
+use dualsph_math::Vec1;
 use glam::{DVec2, DVec3};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -147,7 +147,7 @@ fn lattice_with_many_equal_coordinates() {
 /// The three searches on one input: kiddo, the grid forced, brute force; returns the grid's.
 fn all_agree<V: Vector>(pos: &[V], radii: &[Real], what: &str) -> Csr {
     let exact = brute_force_support(pos, radii);
-    let kd = V::radius_csr(pos, radii);
+    let kd = kd_radius_csr(pos, radii);
     assert_eq!(
         kd,
         exact,
