@@ -29,9 +29,9 @@
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use dualsph::core::neighbours::{NeighbourIndex, Neighbours};
-use dualsph::core::sweep::SweepBuffers;
 use dualsph::perf::{Case, Layout, cpu_seconds, run_sweep, support_pairs};
 use dualsph::prelude::*;
+use dualsph::sweep::SweepBuffers;
 use std::time::{Duration, Instant};
 
 fn pool(threads: usize) -> rayon::ThreadPool {

@@ -87,7 +87,7 @@ fn fmt_ratio<V: Vector>(sim: &Sim<V>) -> String {
 /// final state: pair interactions per CPU-second.
 #[inline(never)]
 fn sweep_only<V: Vector>(sim: &Sim<V>, steps: usize) {
-    use dualsph::core::sweep::SweepBuffers;
+    use dualsph::sweep::SweepBuffers;
     let mut buf = SweepBuffers::default();
     let pairs = support_pairs(sim);
     let (c0, mut best) = (cpu_seconds(), f64::INFINITY);

@@ -231,7 +231,7 @@ pub fn main(registry: Registry) -> ExitCode {
             Ok(())
         }),
         Command::Plan { scene } => load(&scene, &registry).and_then(|s| {
-            let plan = runner::plan(&s)
+            let (plan, pair_terms) = runner::plan(&s)
                 .map_err(|e| Failure::new(exit::of_sim(&e), format!("{}: {e}", scene.display())))?;
             say!(
                 "scene {} ({}-D, formulation {:?}, kernel {:?})",
@@ -250,10 +250,10 @@ pub fn main(registry: Registry) -> ExitCode {
                 );
             }
             say!("\npair terms (sweep: terms; terms joined by + run as one compiled loop):");
-            if plan.pair_terms.is_empty() {
+            if pair_terms.is_empty() {
                 say!("  (none)");
             }
-            for t in &plan.pair_terms {
+            for t in &pair_terms {
                 say!("  - {t}");
             }
             say!("\nparticle components:");

@@ -18,9 +18,9 @@
 //! ```
 
 use crate::probes::Quantity;
-use dualsph_core::prelude::*;
 use dualsph_core::sampling::SamplingCloud;
 use dualsph_io::{ArrayValues, ImageGrid, ParticleRecord, VtkArray, VtkEncoding};
+use dualsph_sweep::prelude::*;
 use std::path::{Path, PathBuf};
 
 /// Points with a Shepard sum below this are outside the fluid.

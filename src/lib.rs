@@ -24,13 +24,14 @@ pub use dualsph_io as io;
 pub use dualsph_plot as plot;
 pub use dualsph_probes as probes;
 pub use dualsph_scene as scene;
+pub use dualsph_sweep as sweep;
 
-pub use dualsph_core::prelude::*;
+pub use dualsph_sweep::prelude::*;
 
 /// The most used items of the engine.
 pub mod prelude {
-    pub use dualsph_core::prelude::*;
     pub use dualsph_diagnostics::{Diagnostics, SimDiagnostics};
+    pub use dualsph_sweep::prelude::*;
 }
 
 pub use dualsph_diagnostics::{Diagnostics, SimDiagnostics};
@@ -90,15 +91,15 @@ pub fn default_registry() -> Registry {
 }
 
 /// Declares the fusions of the built-in terms in the orders the scenes list them (see
-/// [`dualsph_core::sweep::Fused`]): continuity, pressure, then artificial viscosity or the
+/// [`dualsph_sweep::Fused`]): continuity, pressure, then artificial viscosity or the
 /// viscous stress, then the density diffusion or the cohesion — each fused chain runs as one
 /// compiled row loop. The results do not depend on it.
 pub fn fuse_builtin_terms<V: Vector>(sim: &mut Sim<V>) {
-    use dualsph_core::sweep::Fused;
     use dualsph_density::ContinuityTerm as C;
     use dualsph_density::diffusion::DiffusionTerm as D;
     use dualsph_pressure::PressureTerm as P;
     use dualsph_surface_tension::CohesionTerm as S;
+    use dualsph_sweep::Fused;
     use dualsph_viscosity::{ArtificialViscosityTerm as Av, ViscousStressTerm as Nv};
     type Cp = Fused<C, P>;
     sim.fuse::<C, P>()

@@ -14,8 +14,8 @@
 //! particles, Δx = 0.0125.
 
 use crate::{build_sim, default_registry};
-use dualsph_core::prelude::*;
 use dualsph_scene::Scene;
+use dualsph_sweep::prelude::*;
 use std::path::Path;
 
 /// The resolution layout of a case.
@@ -209,8 +209,8 @@ pub fn peak_rss_bytes() -> Option<u64> {
 /// The force sweep of the simulation's current state, as the Forces set runs it
 /// (`sweep::sweep_into` over the terms of the sweep `FORCES`: the momentum, energy and
 /// density rates), into `buf` — what the benches and the `perf` example time on their own.
-pub fn run_sweep<V: Vector>(sim: &Sim<V>, buf: &mut dualsph_core::sweep::SweepBuffers) {
-    use dualsph_core::sweep::{FORCES, PairSweeps, sweep_into};
+pub fn run_sweep<V: Vector>(sim: &Sim<V>, buf: &mut dualsph_sweep::SweepBuffers) {
+    use dualsph_sweep::{FORCES, PairSweeps, sweep_into};
     let sweeps = sim.world.resource::<PairSweeps<V>>();
     let terms = sweeps.get(FORCES).map_or(&[][..], |s| &s.terms[..]);
     sweep_into(&sim.world, terms, buf);

@@ -17,11 +17,11 @@ use dualsph_core::bodies::Bodies;
 use dualsph_core::columns::Column;
 use dualsph_core::neighbours::Neighbours;
 use dualsph_core::population::Population;
-use dualsph_core::prelude::*;
 use dualsph_diagnostics::{Diagnostics, Health, HealthBounds, SimDiagnostics};
 use dualsph_integrator::time_step::{CFL_LIMIT, TimeStepCheck};
 use dualsph_io::{OutputDir, ParticleRecord, ParticleTable, TableColumn};
 use dualsph_scene::Scene;
+use dualsph_sweep::prelude::*;
 use keeper::Keeper;
 use rows::DiagnosticsOutput;
 use std::path::{Path, PathBuf};
@@ -449,8 +449,9 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunSummary, RunError> {
     with_dimension!(scene.dimension, V => run_dim::<V>(scene, opts))
 }
 
-/// The plan of a scene in its own dimension.
-pub fn plan(scene: &Scene) -> Result<dualsph_core::sim::Plan, SimError> {
+/// What a scene will run: the schedule and the particle columns ([`Plan`](dualsph_core::sim::Plan)), and the
+/// pair terms as `sweep: term`.
+pub fn plan(scene: &Scene) -> Result<(dualsph_core::sim::Plan, Vec<String>), SimError> {
     memory::check_memory(
         scene.dimension,
         scene.generate().len(),
@@ -459,7 +460,7 @@ pub fn plan(scene: &Scene) -> Result<dualsph_core::sim::Plan, SimError> {
     with_dimension!(scene.dimension, V => {
         let mut sim = build_sim::<V>(scene)?;
         sim.finish()?;
-        Ok(sim.plan())
+        Ok((sim.plan(), sim.pair_terms()))
     })
 }
 

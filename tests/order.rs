@@ -4,6 +4,7 @@
 
 use dualsph::core::glam::DVec2;
 use dualsph::scene::Scene;
+use dualsph::sweep::SimSweeps;
 use dualsph::{SimDiagnostics, build_sim};
 use std::path::Path;
 
@@ -28,8 +29,8 @@ fn run(plugins: &[&str]) -> (Vec<String>, Vec<u64>) {
     let mut sim = build_sim::<DVec2>(&with_plugins(plugins)).unwrap();
     let p = sim.plan();
     // each term by name (terms that run fused are listed joined by " + ")
-    let mut terms: Vec<String> = p
-        .pair_terms
+    let mut terms: Vec<String> = sim
+        .pair_terms()
         .iter()
         .flat_map(|t| {
             let (sweep, names) = t.split_once(": ").unwrap();

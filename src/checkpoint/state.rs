@@ -5,10 +5,10 @@ use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::columns::{Column, Columns, ids_by_row, put_vector, take_vector};
 use dualsph_core::neighbours::{Csr, Neighbours};
 use dualsph_core::population::{NextId, Seed, replace_particles};
-use dualsph_core::prelude::*;
 use dualsph_core::restart::KeptResources;
 use dualsph_diagnostics::{BodyLoad, BodyTotals, Diagnostics};
 use dualsph_probes::ProbeState;
+use dualsph_sweep::prelude::*;
 
 /// The registered columns kept in checkpoints, in registration order.
 fn restart_columns(world: &World) -> Vec<Column> {

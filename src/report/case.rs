@@ -3,10 +3,10 @@
 
 use crate::runner::particle_records;
 use crate::{build_sim, with_dimension};
-use dualsph_core::prelude::*;
 use dualsph_diagnostics::{Diagnostics, SimDiagnostics};
 use dualsph_io::ParticleRecord;
 use dualsph_scene::{Formulation as SceneFormulation, Generator, Scene};
+use dualsph_sweep::prelude::*;
 use std::time::Instant;
 
 /// What to record while a case runs.

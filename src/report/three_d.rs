@@ -14,12 +14,12 @@ use super::case::process_cpu_seconds;
 use super::{ReportError, ReportOptions, Section, Table, image};
 use crate::build_sim;
 use dualsph_core::glam::DVec3;
-use dualsph_core::prelude::*;
 use dualsph_diagnostics::{Diagnostics, PairBalance, SimDiagnostics, track_pair_balance};
 use dualsph_plot::{LinePlot, Series, SeriesStyle};
 use dualsph_reference::dam_break::KOSHIZUKA_OKA_FRONT;
 use dualsph_reference::drop::linear_drop_axes;
 use dualsph_scene::Scene;
+use dualsph_sweep::prelude::*;
 
 /// Initial strain rate of the 3-D drop, `v = A₀(−x, y, 0)` (1/s).
 pub const STRAIN_RATE: f64 = 100.0;

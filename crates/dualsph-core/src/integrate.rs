@@ -328,7 +328,7 @@ pub const DISSIPATED: &str = "dissipated";
 /// the start; written to snapshots as `dissipated` and kept in checkpoints) and
 /// [`DissipationRate`] on every particle, and declares `dd/dt` integrated by the scene's
 /// scheme with the same rule as the internal energy's rates. A dissipative pair term sums its
-/// heat into `DissipationRate` as well as into the power ([`Binder::dissipation`](crate::accum::Binder::dissipation)).
+/// heat into `DissipationRate` as well as into the power (`Binder::dissipation` of `dualsph-sweep`).
 pub fn ensure_dissipation<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimError> {
     ensure_energy_equation(sim)?;
     if !sim.enable_feature("dissipation") {

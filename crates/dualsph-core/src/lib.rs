@@ -1,12 +1,13 @@
-//! dualsph core: dimensions, kernels, neighbour lists, the support/dual-support pair sweep,
-//! the registry of integrated quantities, and the `Sim`/`SimPlugin` machinery. The
-//! integrator and the diagnostics are plugins (`dualsph-integrator`, `dualsph-diagnostics`).
+//! dualsph core, the ECS layer: the `Sim` (world, step schedule, finish hooks), the store of
+//! particle columns, population, bodies as data, restart, the registry of integrated
+//! quantities and the `SimPlugin` machinery. It builds on `dualsph-math` and
+//! `dualsph-neighbours` (re-exported under their old paths); the pair sweep
+//! (`dualsph-sweep`), the integrator and the diagnostics are layers and plugins above it.
 //!
 //! Notation follows Ren, Dai, Zhuang & Rabczuk, *Dual-support Smoothed Particle
 //! Hydrodynamics* (RenDSSPH in the project's `docs/references.md`): `h_i` is the support radius
 //! of particle i, `H_i` its support and `H'_i` its dual-support.
 #![warn(missing_docs)]
-pub mod accum;
 pub mod bodies;
 pub mod chunks;
 pub mod columns;
@@ -14,7 +15,6 @@ pub mod components;
 pub mod integrate;
 pub mod order;
 pub mod output;
-pub mod pair;
 pub mod plugin;
 pub mod population;
 pub mod potentials;
@@ -22,7 +22,6 @@ pub mod profile;
 pub mod restart;
 pub mod sim;
 pub mod store;
-pub mod sweep;
 
 pub use dualsph_math as math;
 pub use dualsph_math::{kernels, lanes};
@@ -34,7 +33,6 @@ pub use glam;
 
 /// The most used items.
 pub mod prelude {
-    pub use crate::accum::{Acc, Binder, Reaction};
     pub use crate::bodies::{BodyId, BodyKind};
     pub use crate::columns::{ColumnSpec, ColumnValue, Shape};
     pub use crate::components::*;
@@ -44,11 +42,10 @@ pub mod prelude {
     pub use crate::math::{Mat1, Matrix, Real, Vec1, Vector};
     pub use crate::neighbours::SkinRule;
     pub use crate::output::{RunOutputDir, StepLimit};
-    pub use crate::pair::{BoundTerm, Out, OwnerSums, PairLanes, PairTerm, Specialised};
     pub use crate::plugin::{PluginConfig, Registry, Role, SceneInfo, SimPlugin};
     pub use crate::sim::{
-        Domain, KernelRes, ParticleInit, Sim, SimClock, SimConfig, SimError, StepSet, TimeStepping,
+        Domain, Formulation, KernelRes, ParticleInit, Sim, SimClock, SimConfig, SimError, StepSet,
+        TimeStepping,
     };
     pub use crate::store::ParticleData;
-    pub use crate::sweep::{FORCES, Formulation, OwnerKernel, SweepCtx};
 }

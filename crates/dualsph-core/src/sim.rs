@@ -10,7 +10,7 @@ use crate::math::{Real, Vector};
 use crate::neighbours::Neighbours;
 use crate::order::Placement;
 use crate::plugin::PluginConfig;
-use crate::sweep::{PairSweeps, ParticleData};
+use crate::store::ParticleData;
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::{ScheduleLabel, SingleThreadedExecutor};
 use bevy_ecs::system::ScheduleSystem;
@@ -21,8 +21,8 @@ mod plan;
 mod state;
 pub use plan::Plan;
 pub use state::{
-    Domain, InitialInternalEnergy, KernelRes, MaxViscosity, ParticleInit, SimClock, SimConfig,
-    TimeStepping,
+    Domain, Formulation, InitialInternalEnergy, KernelRes, MaxViscosity, ParticleInit, SimClock,
+    SimConfig, TimeStepping,
 };
 use std::marker::PhantomData;
 
@@ -176,8 +176,21 @@ pub struct Sim<V: Vector> {
     late: Vec<(Option<usize>, usize)>,
     /// The threads that run the steps (see [`Sim::step`]); made at the first step.
     pool: Option<rayon::ThreadPool>,
+    /// What crates above the core check and add when the simulation is finished, by name
+    /// (see [`Sim::add_finish_hook`]).
+    finish_hooks: Vec<(&'static str, FinishHook<V>)>,
     _v: PhantomData<V>,
 }
+
+/// A check or addition run by [`Sim::finish`] (see [`Sim::add_finish_hook`]).
+pub type FinishHook<V> = fn(&mut Sim<V>) -> Result<(), SimError>;
+
+/// Present when every particle's acceleration is set afresh each step by some system (the
+/// force sweep writes it, or a system zeroes it); without it, [`Sim::finish`] adds a system
+/// that zeroes the accelerations at the end of [`StepSet::Forces`], so that body forces
+/// added later in the step do not accumulate.
+#[derive(Resource, Debug, Default)]
+pub struct AccelerationsSet;
 
 /// Gives bevy's `ComputeTaskPool` (which runs any system's `Query::par_iter_mut` loop) as many
 /// threads as the current rayon pool (which runs the neighbour loops), so a run on N threads
@@ -215,7 +228,6 @@ impl<V: Vector> Sim<V> {
         world.insert_resource(
             Neighbours::<V>::with_rule(config.skin, config.skin_rule).with_period(period),
         );
-        world.insert_resource(PairSweeps::<V>::default());
         world.insert_resource(MaxViscosity::default());
         world.insert_resource(InitialInternalEnergy::default());
         world.insert_resource(crate::potentials::ExternalPotentials::default());
@@ -236,6 +248,7 @@ impl<V: Vector> Sim<V> {
             built_order: Vec::new(),
             late: Vec::new(),
             pool: None,
+            finish_hooks: Vec::new(),
             _v: PhantomData,
         };
         crate::integrate::add_core_systems(&mut sim);
@@ -332,8 +345,9 @@ impl<V: Vector> Sim<V> {
         self.as_plugin(plugin.name(), |sim| plugin.build_into(sim))
     }
 
-    /// Runs `f` with the systems it adds attributed to the plugin `name`.
-    pub(crate) fn as_plugin<T>(&mut self, name: &'static str, f: impl FnOnce(&mut Self) -> T) -> T {
+    /// Runs `f` with the systems it adds attributed to the plugin `name` (`core` for systems
+    /// that belong to the engine whichever plugin causes them, such as a pair sweep).
+    pub fn as_plugin<T>(&mut self, name: &'static str, f: impl FnOnce(&mut Self) -> T) -> T {
         let outer = std::mem::replace(&mut self.building, name);
         let out = f(self);
         self.building = outer;
@@ -376,12 +390,29 @@ impl<V: Vector> Sim<V> {
             }
         }
         self.insert_pending_columns();
-        self.apply_fusions();
         self.check_store()?;
+        let hooks = std::mem::take(&mut self.finish_hooks);
+        let done = hooks.iter().try_for_each(|(_, hook)| hook(self));
+        self.finish_hooks = hooks;
+        done?;
         self.build_schedule()
     }
 
-    /// The store holds every particle in one table and every pair term binds to it.
+    /// Registers `hook` to run at every [`Sim::finish`], after the core's own checks of the
+    /// store and before the schedule is built; a second hook of the same `name` is ignored.
+    /// Crates above the core use it for what they own (the pair sweeps bind their terms).
+    pub fn add_finish_hook(&mut self, name: &'static str, hook: FinishHook<V>) {
+        if self.finish_hooks.iter().all(|(n, _)| *n != name) {
+            self.finish_hooks.push((name, hook));
+        }
+    }
+
+    /// True once the step's schedule is built (by the first [`Sim::finish`]).
+    pub fn is_built(&self) -> bool {
+        self.schedule.is_some()
+    }
+
+    /// The store holds every registered column of every particle in one table.
     fn check_store(&self) -> Result<(), SimError> {
         let unregistered = self.world.resource::<Columns>().unregistered(&self.world);
         if !unregistered.is_empty() {
@@ -401,33 +432,28 @@ impl<V: Vector> Sim<V> {
         if tables == 0 {
             return Ok(());
         }
-        let data = ParticleData::<V>::of(&self.world)
-            .ok_or_else(|| SimError::Build("the particles lack a core component".into()))?;
-        let kernel = &self.world.resource::<KernelRes>().0;
-        for sweep in &self.world.resource::<PairSweeps<V>>().sweeps {
-            crate::sweep::bind(&sweep.terms, data, kernel).map_err(SimError::Build)?;
-        }
-        Ok(())
+        ParticleData::<V>::of(&self.world)
+            .map(|_| ())
+            .ok_or_else(|| SimError::Build("the particles lack a core component".into()))
     }
 
-    /// True when some pair sweep writes the accelerations.
-    fn sweeps_write_accelerations(&self) -> bool {
-        ParticleData::<V>::of(&self.world).is_some_and(|data| {
-            self.world
-                .resource::<PairSweeps<V>>()
-                .writes::<crate::components::Acceleration<V>>(
-                    data,
-                    &self.world.resource::<KernelRes>().0,
-                )
-        })
+    /// Adds a system that zeroes every acceleration in [`StepSet::Forces`] and marks the
+    /// accelerations as set ([`AccelerationsSet`]); the caller places it.
+    pub fn add_zero_accelerations(&mut self) -> SystemOrder<'_> {
+        self.world.insert_resource(AccelerationsSet);
+        self.add_system(
+            StepSet::Forces,
+            "zero_accelerations",
+            zero_accelerations::<V>,
+        )
     }
 
     fn build_schedule(&mut self) -> Result<(), SimError> {
         if self.schedule.is_some() {
             return Ok(());
         }
-        if !self.sweeps_write_accelerations() && self.enable_feature("no_pair_sweep") {
-            crate::sweep::add_zero_acceleration_system(self);
+        if !self.world.contains_resource::<AccelerationsSet>() {
+            self.add_zero_accelerations();
         }
         if self.has_feature("population") {
             // added last, so it runs after every plugin's requests of the set
@@ -550,6 +576,12 @@ impl<V: Vector> Sim<V> {
     /// The clock.
     pub fn clock(&self) -> SimClock {
         *self.world.resource::<SimClock>()
+    }
+}
+
+fn zero_accelerations<V: Vector>(mut q: Query<&mut crate::components::Acceleration<V>>) {
+    for mut a in &mut q {
+        a.0 = V::zero();
     }
 }
 

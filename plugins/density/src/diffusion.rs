@@ -48,9 +48,9 @@
 
 use dualsph_core::bodies::{Bodies, BodyKind};
 use dualsph_core::lanes::LaneVec;
-use dualsph_core::prelude::*;
 use dualsph_eos::{Eos, Materials};
 use dualsph_gravity::GravityAccel;
+use dualsph_sweep::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// δ-SPH density diffusion settings.
@@ -249,7 +249,7 @@ mod tests {
     use dualsph_core::glam::DVec2;
     use dualsph_core::neighbours::Neighbours;
     use dualsph_core::store::{Cloud, insert_column};
-    use dualsph_core::sweep::{DynPairTerm, SweepBuffers, evaluate};
+    use dualsph_sweep::{DynPairTerm, SweepBuffers, evaluate};
     use std::sync::Arc;
 
     /// A square lattice of `n × n` particles, spacing dx, h = 2.6 dx (support radius), with
@@ -304,7 +304,7 @@ mod tests {
 
     #[test]
     fn two_lanes_equal_one_lane_bitwise() {
-        dualsph_core::sweep::check_lanes_2d(&DiffusionTerm {
+        dualsph_sweep::check_lanes_2d(&DiffusionTerm {
             delta: 0.1,
             fluid: None,
             hydrostatic: None,

@@ -9,7 +9,7 @@
 pub mod diffusion;
 pub use diffusion::DensityDiffusion;
 
-use dualsph_core::prelude::*;
+use dualsph_sweep::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// `ρ_i = Σ_{j ∈ H_i ∪ {i}} m_j W(r_ij, h_i)` every step.
@@ -214,7 +214,7 @@ mod tests {
 
     #[test]
     fn two_lanes_equal_one_lane_bitwise() {
-        use dualsph_core::sweep::check_lanes_2d;
+        use dualsph_sweep::check_lanes_2d;
         check_lanes_2d(&SummationTerm).unwrap();
         check_lanes_2d(&ContinuityTerm).unwrap();
         check_lanes_2d(&DivergenceTerm).unwrap();

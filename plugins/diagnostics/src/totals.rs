@@ -330,8 +330,8 @@ mod tests {
     use super::*;
     use dualsph_core::bevy_ecs::system::RunSystemOnce;
     use dualsph_core::bodies::{BodyKind, install_bodies};
-    use dualsph_core::prelude::*;
     use dualsph_core::sim::{Domain, ParticleInit, SimConfig};
+    use dualsph_sweep::prelude::*;
     use glam::DVec2;
 
     #[test]

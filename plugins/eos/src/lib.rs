@@ -11,7 +11,7 @@ use dualsph_core::bodies::Bodies;
 use dualsph_core::chunks::DENSE;
 use dualsph_core::integrate::ensure_energy_equation;
 use dualsph_core::plugin::positive;
-use dualsph_core::prelude::*;
+use dualsph_sweep::prelude::*;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 

@@ -7,7 +7,7 @@
 
 use dualsph_core::integrate::ensure_energy_equation;
 use dualsph_core::plugin::positive;
-use dualsph_core::prelude::*;
+use dualsph_sweep::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// Heat conduction.
@@ -113,6 +113,6 @@ mod tests {
 
     #[test]
     fn two_lanes_equal_one_lane_bitwise() {
-        dualsph_core::sweep::check_lanes_2d(&HeatTerm { inv_cv: 0.25 }).unwrap();
+        dualsph_sweep::check_lanes_2d(&HeatTerm { inv_cv: 0.25 }).unwrap();
     }
 }

@@ -39,7 +39,7 @@ use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::bevy_ecs::system::ScheduleSystem;
 use dualsph_core::chunks::{DENSE, MIN_LEN};
 use dualsph_core::columns::{ColumnValue, Shape, put_vector, take_vector};
-use dualsph_core::prelude::*;
+use dualsph_sweep::prelude::*;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -137,7 +137,7 @@ pub(crate) fn install<V: Vector, M: 'static>(
         "record_evaluation (work-consistent energy)",
         record_evaluation::<V>,
     )
-    .after(dualsph_core::sweep::FORCES);
+    .after(dualsph_sweep::FORCES);
     sim.add_system(StepSet::Correct, CORRECT_LABEL, system)
         .after(kinematics)
         .after(scalar)

@@ -22,7 +22,7 @@ pub mod time_step;
 pub mod verlet;
 
 use dualsph_core::integrate::{ScalarEquation, ScalarKernel};
-use dualsph_core::prelude::*;
+use dualsph_sweep::prelude::*;
 pub use energy::EnergyUpdate;
 use serde::{Deserialize, Serialize};
 

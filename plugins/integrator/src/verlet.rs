@@ -37,7 +37,7 @@ use crate::time_step::add_time_step_systems;
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::chunks::{DENSE, MIN_LEN};
 use dualsph_core::integrate::{INTERNAL_ENERGY, ScalarEquation, ScalarRows, Scheme};
-use dualsph_core::prelude::*;
+use dualsph_sweep::prelude::*;
 use rayon::prelude::*;
 use std::sync::Arc;
 

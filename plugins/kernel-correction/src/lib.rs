@@ -10,7 +10,7 @@
 #![warn(missing_docs)]
 
 use dualsph_core::columns::take_matrix;
-use dualsph_core::prelude::*;
+use dualsph_sweep::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// Kernel-gradient correction.
@@ -151,7 +151,7 @@ mod tests {
 
     #[test]
     fn two_lanes_equal_one_lane_bitwise() {
-        dualsph_core::sweep::check_lanes_2d(&CorrectionTerm).unwrap();
-        dualsph_core::sweep::check_lanes_2d(&VelocityGradientTerm).unwrap();
+        dualsph_sweep::check_lanes_2d(&CorrectionTerm).unwrap();
+        dualsph_sweep::check_lanes_2d(&VelocityGradientTerm).unwrap();
     }
 }

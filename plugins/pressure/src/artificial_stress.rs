@@ -20,7 +20,7 @@
 
 use crate::{add_pressure_like, is_corrected, neighbour_lanes, owner_factor};
 use dualsph_core::integrate::ensure_energy_equation;
-use dualsph_core::prelude::*;
+use dualsph_sweep::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// Artificial stress settings.
@@ -159,6 +159,6 @@ mod tests {
             epsilon: 0.2,
             exponent: 4,
         };
-        dualsph_core::sweep::check_lanes_2d(&term).unwrap();
+        dualsph_sweep::check_lanes_2d(&term).unwrap();
     }
 }

@@ -13,7 +13,7 @@ mod artificial_stress;
 pub use artificial_stress::{ArtificialStress, ArtificialStressTerm};
 
 use dualsph_core::integrate::ensure_energy_equation;
-use dualsph_core::prelude::*;
+use dualsph_sweep::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// Pressure force.
@@ -144,7 +144,7 @@ mod tests {
 
     #[test]
     fn two_lanes_equal_one_lane_bitwise() {
-        dualsph_core::sweep::check_lanes_2d(&PressureTerm).unwrap();
-        dualsph_core::sweep::check_specialised_2d(std::sync::Arc::new(PressureTerm)).unwrap();
+        dualsph_sweep::check_lanes_2d(&PressureTerm).unwrap();
+        dualsph_sweep::check_specialised_2d(std::sync::Arc::new(PressureTerm)).unwrap();
     }
 }

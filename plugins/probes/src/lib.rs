@@ -45,8 +45,8 @@ mod plot;
 pub use plot::{ProbeTable, plot_probes, read_probes};
 
 use dualsph_core::bevy_ecs::prelude::*;
-use dualsph_core::prelude::*;
 use dualsph_core::sampling::SamplingCloud;
+use dualsph_sweep::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
 use std::path::PathBuf;

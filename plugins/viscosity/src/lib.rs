@@ -26,9 +26,9 @@
 use dualsph_core::bodies::WallVelocityOffset;
 use dualsph_core::integrate::{ensure_dissipation, ensure_energy_equation};
 use dualsph_core::lanes::LaneVec;
-use dualsph_core::prelude::*;
 use dualsph_core::sim::MaxViscosity;
 use dualsph_kernel_correction::ensure_velocity_gradient;
+use dualsph_sweep::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// Monaghan artificial viscosity.

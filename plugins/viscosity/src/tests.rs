@@ -2,7 +2,7 @@ use super::*;
 
 #[test]
 fn two_lanes_equal_one_lane_bitwise() {
-    use dualsph_core::sweep::check_lanes_2d;
+    use dualsph_sweep::check_lanes_2d;
     let av = ArtificialViscosityTerm {
         alpha: 1.0,
         beta: 2.0,
@@ -29,7 +29,7 @@ fn two_lanes_equal_one_lane_bitwise() {
 /// term with its switches tested per pair; with the channel, the term itself.
 #[test]
 fn the_specialised_viscosity_gives_the_same_sums() {
-    use dualsph_core::sweep::check_specialised_2d;
+    use dualsph_sweep::check_specialised_2d;
     for dissipation in [false, true] {
         let av = ArtificialViscosityTerm {
             alpha: 1.0,

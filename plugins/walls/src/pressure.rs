@@ -32,10 +32,10 @@ use dualsph_core::bodies::{Bodies, BodyKind, DrivenBodies, WallVelocityOffset};
 use dualsph_core::chunks::DENSE;
 use dualsph_core::columns::ColumnSpec;
 use dualsph_core::neighbours::Neighbours;
-use dualsph_core::prelude::*;
-use dualsph_core::sweep::Support;
 use dualsph_eos::{Eos, Materials};
 use dualsph_gravity::GravityAccel;
+use dualsph_sweep::Support;
+use dualsph_sweep::prelude::*;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 

@@ -1,11 +1,10 @@
-//! What a scene will run ([`Plan`]): the systems in order with the plugin that added each,
-//! the particle columns and the pair terms.
+//! What a scene will run ([`Plan`]): the systems in order with the plugin that added each and
+//! the particle columns (the pair sweeps list their terms themselves).
 
 use super::Sim;
 use super::StepSet;
 use crate::columns::Columns;
 use crate::math::Vector;
-use crate::sweep::PairSweeps;
 
 /// What a scene will run: the systems in order and the particle components.
 #[derive(Clone, Debug, PartialEq)]
@@ -16,12 +15,10 @@ pub struct Plan {
     /// The particles' columns in registration order: type, name, output labels, whether
     /// checkpointed.
     pub components: Vec<String>,
-    /// Pair terms as `sweep: term`, sweep by sweep, in order.
-    pub pair_terms: Vec<String>,
 }
 
 impl<V: Vector> Sim<V> {
-    /// The systems in execution order, the particle components and the pair terms.
+    /// The systems in execution order and the particle components.
     pub fn plan(&mut self) -> Plan {
         let order = self
             .ordered()
@@ -52,17 +49,9 @@ impl<V: Vector> Sim<V> {
                 format!("{} ({}: {output}; {restart})", c.type_name, c.spec.name)
             }))
             .collect();
-        let pair_terms = self
-            .world
-            .resource::<PairSweeps<V>>()
-            .sweeps
-            .iter()
-            .flat_map(|s| s.terms.iter().map(|t| format!("{}: {}", s.name, t.name())))
-            .collect();
         Plan {
             systems,
             components,
-            pair_terms,
         }
     }
 }

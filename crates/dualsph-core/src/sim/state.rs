@@ -4,7 +4,6 @@
 use crate::kernels::{Kernel, KernelKind};
 use crate::math::{Real, Vector};
 use crate::neighbours::SkinRule;
-use crate::sweep::Formulation;
 use bevy_ecs::prelude::*;
 
 /// Time, step counter and dt.
@@ -131,4 +130,23 @@ pub struct SimConfig<V: Vector> {
     pub skin_rule: SkinRule,
     /// dt rule.
     pub time_stepping: TimeStepping,
+}
+
+/// How pair interactions are summed: the method and the paper's comparison cases (the pair
+/// sweep of `dualsph-sweep` describes each).
+#[derive(Resource, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Formulation {
+    /// Support + dual-support, pair once with reaction (the DS-SPH method).
+    DualSupport,
+    /// Variable h, own support only, no reaction (not conservative).
+    SingleSupport,
+    /// One h for all particles.
+    ConstantH,
+    /// Averaged kernel over the union of support and dual-support (Eq. 2.13).
+    AveragedKernel,
+    /// Grad-h SPH (Springel & Hernquist 2002; Price 2012): h tied to the summation density at
+    /// every step, with the Ω correction. Its pair forces are support/dual-support pairs (the
+    /// owner's pressure with the owner's kernel, the reaction to the neighbour), so it runs on
+    /// the dual-support sweep; the h solve and Ω come from the smoothing-length plugin.
+    GradH,
 }

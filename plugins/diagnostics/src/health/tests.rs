@@ -2,7 +2,7 @@ use super::*;
 use dualsph_core::kernels::KernelKind;
 use dualsph_core::neighbours::SkinRule;
 use dualsph_core::sim::{ParticleInit, Sim, SimConfig, TimeStepping};
-use dualsph_core::sweep::Formulation;
+use dualsph_sweep::Formulation;
 use glam::DVec2;
 
 /// Two particles at rest, densities 1000 and 1200, h 0.1 and 0.2; no forces.

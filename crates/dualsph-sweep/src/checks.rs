@@ -1,14 +1,14 @@
-//! Test helpers for pair terms: a term written over [`crate::lanes::Lanes`] must give, two
+//! Test helpers for pair terms: a term written over [`dualsph_core::lanes::Lanes`] must give, two
 //! pairs at a time, bitwise what it gives one pair at a time.
 
 use super::*;
-use crate::components::{
+use crate::pair::{Extra, Out, OwnerKernel};
+use dualsph_core::components::{
     Acceleration, Conductivity, DensityRate, DissipationRate, EnergyRate, GradientCorrection,
     InternalEnergy, Pressure, SoundSpeed, VelocityGradient,
 };
-use crate::lanes::{LaneVec, Lanes};
-use crate::pair::{Extra, Out, OwnerKernel};
-use crate::store::{Cloud, insert_column};
+use dualsph_core::lanes::{LaneVec, Lanes};
+use dualsph_core::store::{Cloud, insert_column};
 use wide::f64x2;
 
 /// A jittered 20 × 20 lattice with varying h, velocities, masses, densities, pressures,
@@ -68,7 +68,7 @@ fn on_lattice(
         let h: Vec<_> = data.h.iter().map(|h| h.0).collect();
         nb.rebuild(&pos, &h);
     }
-    let kernel = Kernel::new(crate::kernels::KernelKind::CubicSpline, 2);
+    let kernel = Kernel::new(dualsph_core::kernels::KernelKind::CubicSpline, 2);
     for corrected in [false, true] {
         let data = ParticleData::of(&world).ok_or("no particles")?;
         let mut ctx = SweepCtx::new(data, &nb, &kernel, Formulation::DualSupport);

@@ -1,4 +1,9 @@
-//! The support / dual-support pair sweep (Ren et al., Dual-support SPH, §6).
+//! The pair layer of dualsph: the pair-term contract ([`pair`]), the sums a sweep writes
+//! into columns ([`accum`]) and the support / dual-support pair sweep (Ren et al.,
+//! Dual-support SPH, §6). It builds on `dualsph-core` (the ECS layer) and extends [`Sim`](dualsph_core::sim::Sim) with
+//! [`SimSweeps`]; a plugin that adds pair terms imports [`prelude`].
+//!
+//! # The sweep
 //!
 //! For every `j ∈ H_i` a pair quantity is evaluated **once** with i's kernel
 //! (`W_ij = w(r_ij/h_i)`, `∇_i W_ij`); i receives it and j receives the reaction through its
@@ -12,7 +17,7 @@
 //! What a sweep sums is open: every term declares its sums when it is bound
 //! ([`crate::accum`]), and the sweep stores per support slot only the channels that reach j
 //! ([`Reaction`]). A plugin can add terms to the force sweep of the step ([`FORCES`]) or to a
-//! sweep of its own at its own place ([`crate::sim::Sim::add_pair_term_to`]).
+//! sweep of its own at its own place ([`SimSweeps::add_pair_term_to`]).
 //!
 //! Every particle's sums are formed in a fixed order that does not depend on the number of
 //! threads, so results are bitwise identical on 1 or N threads, and because each pair's
@@ -33,17 +38,21 @@
 //!   reaction on i), so it runs on the dual-support sweep with `P/(Ωρ²)` as the owner's factor.
 
 use crate::accum::Layout;
-use crate::components::{GradientCorrection, Position, SmoothingLength};
-use crate::kernels::Kernel;
-use crate::math::{Matrix, Real, Vector};
-use crate::neighbours::Neighbours;
 pub use crate::pair::{
     Acc, Binder, BoundTerm, DynPairTerm, Out, OwnerKernel, PairLanes, PairTerm, ParticleData,
     Reaction, RowTerm, Specialised,
 };
 use bevy_ecs::prelude::*;
+use dualsph_core::components::{GradientCorrection, Position, SmoothingLength};
+use dualsph_core::kernels::Kernel;
+use dualsph_core::math::{Matrix, Real, Vector};
+use dualsph_core::neighbours::Neighbours;
+pub use dualsph_core::sim::Formulation;
 use rayon::prelude::*;
 use std::sync::Arc;
+
+pub mod accum;
+pub mod pair;
 
 #[doc(hidden)]
 pub mod block;
@@ -58,26 +67,7 @@ use block::{Block, Sweep, block_of, dual_sum};
 pub use checks::{check_lanes_2d, check_specialised_2d, lattice_2d};
 pub use fuse::{Fused, FusedBound, Fusions};
 use row::{RowPlan, RowScratch, Terms};
-pub(crate) use system::add_zero_acceleration_system;
-pub use system::{FORCES, PairSweep, PairSweeps, sweep_into};
-
-/// How pair interactions are summed (see module docs).
-#[derive(Resource, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Formulation {
-    /// Support + dual-support, pair once with reaction (the DS-SPH method).
-    DualSupport,
-    /// Variable h, own support only, no reaction (not conservative).
-    SingleSupport,
-    /// One h for all particles.
-    ConstantH,
-    /// Averaged kernel over the union of support and dual-support (Eq. 2.13).
-    AveragedKernel,
-    /// Grad-h SPH (Springel & Hernquist 2002; Price 2012): h tied to the summation density at
-    /// every step, with the Ω correction. Its pair forces are support/dual-support pairs (the
-    /// owner's pressure with the owner's kernel, the reaction to the neighbour), so it runs on
-    /// the dual-support sweep; the h solve and Ω come from the smoothing-length plugin.
-    GradH,
-}
+pub use system::{FORCES, PairSweep, PairSweeps, SimSweeps, sweep_into};
 
 /// Everything a pass over neighbours needs.
 #[derive(Clone, Copy)]
@@ -541,3 +531,12 @@ fn split_at_counts<'a, T>(mut buf: &'a mut [T], first: &[usize], width: usize) -
 
 #[cfg(test)]
 mod tests;
+
+/// The most used items of the pair layer and of the core below it: what a plugin that adds
+/// pair terms imports.
+pub mod prelude {
+    pub use crate::accum::{Acc, Binder, Reaction};
+    pub use crate::pair::{BoundTerm, Out, OwnerSums, PairLanes, PairTerm, Specialised};
+    pub use crate::{FORCES, OwnerKernel, SimSweeps, SweepCtx};
+    pub use dualsph_core::prelude::*;
+}

@@ -8,14 +8,14 @@
 //! [`Reaction::Separate`], one for the neighbour. After the sweep every particle's column is
 //! set to `finish(Σ)`: the sweep owns the column for the step.
 
-use crate::columns::{ColumnValue, Shape, take_vector};
-use crate::components::{Acceleration, DensityRate, DissipationRate, EnergyRate, Mass};
-use crate::kernels::Kernel;
-use crate::math::{Real, Vector};
 use crate::pair::{MAX_NEIGHBOUR_CHANNELS, MAX_OWNER_CHANNELS};
-use crate::store::{ParticleData, single_table};
 use bevy_ecs::component::Mutable;
 use bevy_ecs::prelude::*;
+use dualsph_core::columns::{ColumnValue, Shape, take_vector};
+use dualsph_core::components::{Acceleration, DensityRate, DissipationRate, EnergyRate, Mass};
+use dualsph_core::kernels::Kernel;
+use dualsph_core::math::{Real, Vector};
+use dualsph_core::store::{ParticleData, single_table};
 use rayon::prelude::*;
 use std::any::TypeId;
 
@@ -138,7 +138,7 @@ impl Layout {
     /// The reaction channels stored per support slot: the standard ones first (the force's
     /// components, the power, the density rate), then the others in layout order — so that
     /// a sweep of standard sums has its channels at fixed places (see
-    /// [`crate::sweep::row::RowPlan`]).
+    /// [`crate::row::RowPlan`]).
     pub fn reactions<V: Vector>(&self) -> Vec<ReactionChannel> {
         let mut out = self.reactions_in_slot_order::<V>();
         let rank = |r: &ReactionChannel| match r.source {
@@ -210,7 +210,7 @@ impl Layout {
         finish: impl Finish<C>,
         optional: bool,
     ) -> Result<Acc, String> {
-        let name = crate::sim::short_type_name(std::any::type_name::<C>()).to_string();
+        let name = dualsph_core::sim::short_type_name(std::any::type_name::<C>()).to_string();
         if !(1..=9).contains(&width) {
             return Err(format!(
                 "{name}: a sum has 1 to 9 reals per particle, not {width}"
@@ -306,7 +306,7 @@ fn write_column<C: Component<Mutability = Mutable>>(
     };
     // pieces of MIN_LEN particles, each a plain loop (rayon's per-item calls cost more than
     // the finish itself)
-    let piece = crate::chunks::MIN_LEN;
+    let piece = dualsph_core::chunks::MIN_LEN;
     let (lo, hi) = (at, at + width);
     // checked once here, so that the loop cuts each particle's sums with no test
     assert!(
@@ -395,7 +395,7 @@ impl<'l, 'w, V: Vector> Binder<'l, 'w, V> {
             return Err(format!(
                 "{}: {} is a record column; declare its sum with accumulate",
                 self.term,
-                crate::sim::short_type_name(std::any::type_name::<C>())
+                dualsph_core::sim::short_type_name(std::any::type_name::<C>())
             ));
         }
         self.accumulate::<C>(reaction, C::width(), |c: &mut C, s: &[Real], _| c.take(s))
@@ -433,7 +433,7 @@ impl<'l, 'w, V: Vector> Binder<'l, 'w, V> {
     /// [`Reaction::Separate`], with [`crate::pair::Out::add`] and [`crate::pair::Out::react`]
     /// on the handle returned), which goes into its [`DissipationRate`] (divided by `m_i`):
     /// the part of its power that is heat, for the energy budget
-    /// ([`crate::integrate::ensure_dissipation`]).
+    /// ([`dualsph_core::integrate::ensure_dissipation`]).
     pub fn dissipation(&mut self) -> Result<Acc, String> {
         let finish = |d: &mut DissipationRate, s: &[Real], m: Real| d.rate = s[0] / m;
         self.accumulate::<DissipationRate>(Reaction::Separate, 1, finish)
@@ -455,7 +455,7 @@ impl<'l, 'w, V: Vector> Binder<'l, 'w, V> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::components::{GradientCorrection, VelocityGradient};
+    use dualsph_core::components::{GradientCorrection, VelocityGradient};
     use glam::DVec2;
 
     #[test]

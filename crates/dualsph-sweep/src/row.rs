@@ -10,12 +10,12 @@ use super::SweepCtx;
 use super::route::{Cand, compact_row, flush, flush_standard};
 pub(crate) use super::route::{INSIDE, RowDest};
 use crate::accum::{Layout, ReactionChannel, Source, Standard};
-use crate::kernels::KernelKind;
-use crate::lanes::{LaneVec, Lanes};
-use crate::math::{Matrix, Real, Vector};
 use crate::pair::{
     BoundTerm, Extra, Out, OwnerKernel, OwnerSums, PairLanes, ParticleData, RowTerm,
 };
+use dualsph_core::kernels::KernelKind;
+use dualsph_core::lanes::{LaneVec, Lanes};
+use dualsph_core::math::{Matrix, Real, Vector};
 use wide::f64x2;
 
 /// Bound terms, as a sweep runs them.
@@ -427,9 +427,9 @@ fn row_of<V: Vector, E: GroupEval<V>, const STD: bool, const RATE_J: bool, const
         }
     } else {
         RowSums {
-            force: plan
-                .force
-                .map_or(V::zero(), |(i, _)| crate::columns::take_vector(&sums[i..])),
+            force: plan.force.map_or(V::zero(), |(i, _)| {
+                dualsph_core::columns::take_vector(&sums[i..])
+            }),
             power: plan.power.map_or(0.0, |(i, _)| sums[i]),
             rate: plan.rate.map_or(0.0, |(i, _)| sums[i]),
         }

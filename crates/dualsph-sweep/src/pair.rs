@@ -3,13 +3,13 @@
 //! ([`crate::accum`]); its [`BoundTerm`] then adds, for one pair or two side by side
 //! ([`Lanes`]), its contributions to the owner i and to the neighbour j ([`Out`]), from what
 //! the sweep has formed for the pair ([`PairLanes`]). The sweep itself is in
-//! [`crate::sweep`], which runs every term of one place over each owner's support in one pass
+//! [the sweep](crate), which runs every term of one place over each owner's support in one pass
 //! and delivers each contribution to j through j's dual-support.
 
 pub use crate::accum::{Acc, Binder, Reaction};
-use crate::lanes::{LaneVec, Lanes};
-use crate::math::{Matrix, Real, Vector};
-pub use crate::store::ParticleData;
+use dualsph_core::lanes::{LaneVec, Lanes};
+use dualsph_core::math::{Matrix, Real, Vector};
+pub use dualsph_core::store::ParticleData;
 use wide::f64x2;
 
 /// The value of an [`Out`] channel before any term adds to it: `−0`, not `+0`, because
@@ -418,7 +418,7 @@ pub trait PairTerm<V: Vector>: Send + Sync + 'static {
 /// [`BoundTerm::interact`] is written once over [`Lanes`]: the sweep calls it two pairs at a
 /// time (`f64x2`) and for an odd last pair alone (`f64`), with the same operations lane by
 /// lane, so a term written this way is vectorised and bitwise the same on either path
-/// ([`crate::sweep::check_lanes_2d`] tests a term for it).
+/// ([`crate::check_lanes_2d`] tests a term for it).
 pub trait BoundTerm<V: Vector>: Sync {
     /// What the term computes once per owner i for all of i's pairs (i's factors); `()`
     /// for a term with none.
@@ -451,7 +451,7 @@ pub trait BoundTerm<V: Vector>: Sync {
     /// sweep (an optional channel, an optional column) can hand over, for its common case, a
     /// version with those switches fixed when it is compiled, so that the row loop tests
     /// nothing per pair for them and keeps its registers for the pair's values. Fused terms
-    /// ([`crate::sweep::Fused`]) hand over the fusion of their parts' versions.
+    /// ([`crate::Fused`]) hand over the fusion of their parts' versions.
     #[inline(always)]
     fn specialise<K: Specialised<V>>(&self, k: K) -> K::Out
     where
@@ -475,14 +475,14 @@ pub trait RowTerm<V: Vector>: Sync {
     fn has_pairs(&self) -> bool;
     /// Pass 1 and the in-block part of pass 2 over one block of rows with this term alone, the
     /// block loop compiled for the term (the sweep's fast path: see
-    /// [`crate::sweep::Fused`] for several terms); returns the block's particles that gather
+    /// [`crate::Fused`] for several terms); returns the block's particles that gather
     /// after every block is done.
     #[doc(hidden)]
     fn run_block(
         &self,
-        sweep: &crate::sweep::block::Sweep<'_, '_, V>,
-        block: crate::sweep::block::Block<'_>,
-        s: &mut crate::sweep::row::RowScratch<V>,
+        sweep: &crate::block::Sweep<'_, '_, V>,
+        block: crate::block::Block<'_>,
+        s: &mut crate::row::RowScratch<V>,
     ) -> Vec<u32>;
 }
 
@@ -497,9 +497,9 @@ impl<V: Vector, B: BoundTerm<V>> RowTerm<V> for B {
 
     fn run_block(
         &self,
-        sweep: &crate::sweep::block::Sweep<'_, '_, V>,
-        block: crate::sweep::block::Block<'_>,
-        s: &mut crate::sweep::row::RowScratch<V>,
+        sweep: &crate::block::Sweep<'_, '_, V>,
+        block: crate::block::Block<'_>,
+        s: &mut crate::row::RowScratch<V>,
     ) -> Vec<u32> {
         self.specialise(RunBlock { sweep, block, s })
     }
@@ -523,7 +523,7 @@ pub trait DynPairTerm<V: Vector>: Send + Sync {
     fn name(&self) -> &str;
     /// The term's type.
     fn term_type(&self) -> std::any::TypeId;
-    /// The term as `Any` (to be fused with another, see [`crate::sweep::Fused`]).
+    /// The term as `Any` (to be fused with another, see [`crate::Fused`]).
     fn into_any(self: std::sync::Arc<Self>) -> std::sync::Arc<dyn std::any::Any + Send + Sync>;
     /// See [`PairTerm::bind`].
     fn bind_dyn<'w>(

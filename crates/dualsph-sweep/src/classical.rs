@@ -9,9 +9,9 @@
 use super::SweepCtx;
 use super::row::{Terms, initialize};
 use crate::accum::{AccumulatorSlot, Layout, Reaction};
-use crate::lanes::LaneVec;
-use crate::math::{Real, Vector};
 use crate::pair::{EMPTY, Extra, Out, OwnerKernel, PairLanes};
+use dualsph_core::lanes::LaneVec;
+use dualsph_core::math::{Real, Vector};
 use rayon::prelude::*;
 
 /// Adds one pair to i's sums for every accumulator (see the module docs): `own` and `mirror`

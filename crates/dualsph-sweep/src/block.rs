@@ -12,8 +12,8 @@
 use super::SweepCtx;
 use super::row::{DynTerms, OneTerm, RowDest, RowPlan, RowScratch, Terms, initialize, row_apart};
 use crate::accum::ReactionChannel;
-use crate::math::{Real, Vector};
 use crate::pair::BoundTerm;
+use dualsph_core::math::{Real, Vector};
 
 /// What every block of one sweep shares.
 pub struct Sweep<'a, 'w, V: Vector> {

@@ -6,15 +6,15 @@
 //! in the same order.
 //!
 //! A fusion is declared for two term types that follow each other in a sweep
-//! ([`crate::sim::Sim::fuse`]); chains fuse left to right (`Fused<Fused<A, B>, C>`). Any
+//! ([`crate::SimSweeps::fuse`]); chains fuse left to right (`Fused<Fused<A, B>, C>`). Any
 //! term written against the contract can be fused, a user's as well as the built-in ones.
 
 use super::{Binder, BoundTerm, DynPairTerm, Out, PairLanes, PairSweeps, PairTerm};
-use crate::lanes::Lanes;
-use crate::math::Vector;
 use crate::pair::{OwnerSums, Specialised};
-use crate::sim::Sim;
 use bevy_ecs::prelude::*;
+use dualsph_core::lanes::Lanes;
+use dualsph_core::math::Vector;
+use dualsph_core::sim::Sim;
 use std::any::{Any, TypeId};
 use std::sync::Arc;
 
@@ -130,44 +130,40 @@ fn make<V: Vector, A: PairTerm<V>, B: PairTerm<V>>(
     Arc::new(Fused { a, b, name })
 }
 
-impl<V: Vector> Sim<V> {
-    /// Declares that a term `A` followed by a term `B` in a sweep run as one
-    /// ([`Fused<A, B>`]); chains fuse left to right, so `A, B, C` needs this for `(A, B)` and
-    /// for `(Fused<A, B>, C)`.
-    pub fn fuse<A: PairTerm<V>, B: PairTerm<V>>(&mut self) -> &mut Self {
-        self.world.init_resource::<Fusions<V>>();
+impl<V: Vector> Fusions<V> {
+    /// Declares the fusion of `A` followed by `B`.
+    pub(crate) fn declare<A: PairTerm<V>, B: PairTerm<V>>(&mut self) {
         let rule = (
             TypeId::of::<A>(),
             TypeId::of::<B>(),
             make::<V, A, B> as Make<V>,
         );
-        self.world.resource_mut::<Fusions<V>>().rules.push(rule);
-        self
+        self.rules.push(rule);
     }
+}
 
-    /// Applies the declared fusions to every sweep (at [`Sim::finish`]).
-    pub(crate) fn apply_fusions(&mut self) {
-        let Some(fusions) = self.world.remove_resource::<Fusions<V>>() else {
-            return;
-        };
-        let mut sweeps = self.world.resource_mut::<PairSweeps<V>>();
-        for sweep in &mut sweeps.sweeps {
-            let mut out: Vec<Arc<dyn DynPairTerm<V>>> = Vec::new();
-            for t in sweep.terms.drain(..) {
-                let rule = out.last().and_then(|last| {
-                    let pair = (last.term_type(), t.term_type());
-                    fusions.rules.iter().find(|r| (r.0, r.1) == pair)
-                });
-                match rule {
-                    Some(&(_, _, make)) => {
-                        let last = out.pop().expect("matched the last term");
-                        out.push(make(last.into_any(), t.into_any()));
-                    }
-                    None => out.push(t),
+/// Applies the declared fusions to every sweep (at [`Sim::finish`]).
+pub(crate) fn apply_fusions<V: Vector>(sim: &mut Sim<V>) {
+    let Some(fusions) = sim.world.remove_resource::<Fusions<V>>() else {
+        return;
+    };
+    let mut sweeps = sim.world.resource_mut::<PairSweeps<V>>();
+    for sweep in &mut sweeps.sweeps {
+        let mut out: Vec<Arc<dyn DynPairTerm<V>>> = Vec::new();
+        for t in sweep.terms.drain(..) {
+            let rule = out.last().and_then(|last| {
+                let pair = (last.term_type(), t.term_type());
+                fusions.rules.iter().find(|r| (r.0, r.1) == pair)
+            });
+            match rule {
+                Some(&(_, _, make)) => {
+                    let last = out.pop().expect("matched the last term");
+                    out.push(make(last.into_any(), t.into_any()));
                 }
+                None => out.push(t),
             }
-            sweep.terms = out;
         }
-        self.world.insert_resource(fusions);
+        sweep.terms = out;
     }
+    sim.world.insert_resource(fusions);
 }

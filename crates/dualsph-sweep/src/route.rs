@@ -5,11 +5,11 @@
 
 use super::row::{RowPlan, RowSums};
 use crate::accum::Source;
-use crate::components::Position;
-use crate::lanes::{LaneVec, Lanes};
-use crate::math::{Real, Vector};
-use crate::neighbours::Period;
 use crate::pair::{EMPTY, Out};
+use dualsph_core::components::Position;
+use dualsph_core::lanes::{LaneVec, Lanes};
+use dualsph_core::math::{Real, Vector};
+use dualsph_core::neighbours::Period;
 
 /// One candidate of a row, compacted: `r_ij`, `|r_ij|²`, j and where its reactions go (a
 /// route of `RowDest`, with the record's index counted from the block's first).

@@ -1,5 +1,5 @@
 use super::*;
-use crate::kernels::{Kernel, KernelKind};
+use dualsph_core::kernels::{Kernel, KernelKind};
 use glam::{DVec2, DVec3};
 
 #[test]

@@ -2,11 +2,11 @@
 //! evaluation in the documented order, bitwise.
 
 use super::*;
-use crate::components::{Acceleration, DensityRate, EnergyRate, Pressure};
-use crate::kernels::KernelKind;
-use crate::lanes::Lanes;
 use crate::pair::Out;
-use crate::store::{Cloud, insert_column};
+use dualsph_core::components::{Acceleration, DensityRate, EnergyRate, Pressure};
+use dualsph_core::kernels::KernelKind;
+use dualsph_core::lanes::Lanes;
+use dualsph_core::store::{Cloud, insert_column};
 use glam::DVec2;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -20,7 +20,7 @@ struct Probe {
 
 struct BoundProbe<'w> {
     pressure: &'w [Pressure],
-    rho: &'w [crate::components::Density],
+    rho: &'w [dualsph_core::components::Density],
     rate_to_j: bool,
 }
 

@@ -1,8 +1,8 @@
 //! The kernel of one owner row, its normalisations computed once per row.
 
-use crate::kernels::{Kernel, KernelKind};
-use crate::lanes::Lanes;
-use crate::math::{Real, Vector};
+use dualsph_core::kernels::{Kernel, KernelKind};
+use dualsph_core::lanes::Lanes;
+use dualsph_core::math::{Real, Vector};
 
 /// The kernel of one owner i with its normalisations computed once:
 /// `W(r, h_i) = C_d h_i^{-d} f(r/h_i)` (Eq. 2.1) and `∇_iW = C_d h_i^{-d-1} f'(r/h_i) r_ij/r`

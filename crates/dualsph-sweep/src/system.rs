@@ -5,13 +5,14 @@
 //! summation density) at its own place.
 
 use super::{Formulation, SweepBuffers, SweepCtx, evaluate};
-use crate::components::Acceleration;
-use crate::kernels::Kernel;
-use crate::math::Vector;
-use crate::neighbours::Neighbours;
+use crate::fuse::{Fusions, apply_fusions};
 use crate::pair::{DynPairTerm, PairTerm, ParticleData};
-use crate::sim::{KernelRes, Sim, SimError, StepSet};
 use bevy_ecs::prelude::*;
+use dualsph_core::components::Acceleration;
+use dualsph_core::kernels::Kernel;
+use dualsph_core::math::Vector;
+use dualsph_core::neighbours::Neighbours;
+use dualsph_core::sim::{AccelerationsSet, KernelRes, Sim, SimError, StepSet};
 use std::sync::Arc;
 
 /// The name of the step's force sweep (in [`StepSet::Forces`]).
@@ -84,21 +85,43 @@ pub fn sweep_into<V: Vector>(
     }
 }
 
-impl<V: Vector> Sim<V> {
+/// What the pair layer adds to a [`Sim`]: pair terms in sweeps, and their fusions.
+pub trait SimSweeps<V: Vector> {
     /// Adds a term to the step's force sweep ([`FORCES`], in [`StepSet::Forces`]).
-    pub fn add_pair_term(&mut self, term: impl PairTerm<V>) {
+    fn add_pair_term(&mut self, term: impl PairTerm<V>);
+
+    /// Adds a term to the sweep `name` at `set`, which is created (as a system named `name`)
+    /// by its first term; the error names a sweep of that name at another place.
+    fn add_pair_term_to(
+        &mut self,
+        name: &'static str,
+        set: StepSet,
+        term: impl PairTerm<V>,
+    ) -> Result<(), SimError>;
+
+    /// Declares that a term `A` followed by a term `B` in a sweep run as one
+    /// ([`crate::Fused<A, B>`]); chains fuse left to right, so `A, B, C` needs this for
+    /// `(A, B)` and for `(Fused<A, B>, C)`.
+    fn fuse<A: PairTerm<V>, B: PairTerm<V>>(&mut self) -> &mut Self;
+
+    /// The pair terms as `sweep: term`, sweep by sweep, in order (fused terms are joined by
+    /// `+` once the simulation is finished).
+    fn pair_terms(&self) -> Vec<String>;
+}
+
+impl<V: Vector> SimSweeps<V> for Sim<V> {
+    fn add_pair_term(&mut self, term: impl PairTerm<V>) {
         self.add_pair_term_to(FORCES, StepSet::Forces, term)
             .expect("the force sweep is in the Forces set");
     }
 
-    /// Adds a term to the sweep `name` at `set`, which is created (as a system named `name`)
-    /// by its first term; the error names a sweep of that name at another place.
-    pub fn add_pair_term_to(
+    fn add_pair_term_to(
         &mut self,
         name: &'static str,
         set: StepSet,
         term: impl PairTerm<V>,
     ) -> Result<(), SimError> {
+        install::<V>(self);
         let mut sweeps = self.world.resource_mut::<PairSweeps<V>>();
         if let Some(s) = sweeps.sweeps.iter_mut().find(|s| s.name == name) {
             if s.set != set {
@@ -130,21 +153,53 @@ impl<V: Vector> Sim<V> {
         });
         Ok(())
     }
-}
 
-fn zero_accelerations<V: Vector>(mut q: Query<&mut Acceleration<V>>) {
-    for mut a in &mut q {
-        a.0 = V::zero();
+    fn fuse<A: PairTerm<V>, B: PairTerm<V>>(&mut self) -> &mut Self {
+        install::<V>(self);
+        self.world.init_resource::<Fusions<V>>();
+        self.world.resource_mut::<Fusions<V>>().declare::<A, B>();
+        self
+    }
+
+    fn pair_terms(&self) -> Vec<String> {
+        let Some(sweeps) = self.world.get_resource::<PairSweeps<V>>() else {
+            return Vec::new();
+        };
+        sweeps
+            .sweeps
+            .iter()
+            .flat_map(|s| s.terms.iter().map(|t| format!("{}: {}", s.name, t.name())))
+            .collect()
     }
 }
 
-/// Adds a system that zeroes every acceleration at the start of the force stage, for scenes
-/// whose sweeps write none.
-pub(crate) fn add_zero_acceleration_system<V: Vector>(sim: &mut Sim<V>) {
-    sim.add_system(
-        StepSet::Forces,
-        "zero_accelerations",
-        zero_accelerations::<V>,
-    )
-    .before(FORCES);
+/// The sweeps' resource and their finish hook, once per simulation.
+fn install<V: Vector>(sim: &mut Sim<V>) {
+    sim.world.init_resource::<PairSweeps<V>>();
+    sim.add_finish_hook("pair sweeps", finish_sweeps::<V>);
+}
+
+/// At [`Sim::finish`]: applies the declared fusions, binds every sweep's terms to the
+/// particles (the error names what a term lacks) and, before the schedule is built, marks the
+/// accelerations as set when a sweep writes them, or else zeroes them before the force sweep.
+fn finish_sweeps<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimError> {
+    apply_fusions(sim);
+    let kernel = &sim.world.resource::<KernelRes>().0;
+    let sweeps = sim.world.resource::<PairSweeps<V>>();
+    let data = ParticleData::<V>::of(&sim.world);
+    if let Some(data) = data {
+        for sweep in &sweeps.sweeps {
+            super::bind(&sweep.terms, data, kernel).map_err(SimError::Build)?;
+        }
+    }
+    if sim.is_built() || sim.world.contains_resource::<AccelerationsSet>() {
+        return Ok(());
+    }
+    let writes = data.is_some_and(|d| sweeps.writes::<Acceleration<V>>(d, kernel));
+    if writes {
+        sim.world.insert_resource(AccelerationsSet);
+    } else {
+        sim.add_zero_accelerations().before(FORCES);
+    }
+    Ok(())
 }

@@ -3,8 +3,8 @@
 //! block loop run with a version.
 
 use super::{BoundTerm, Out, OwnerSums, PairLanes};
-use crate::lanes::Lanes;
-use crate::math::Vector;
+use dualsph_core::lanes::Lanes;
+use dualsph_core::math::Vector;
 
 /// What runs with the version of a term that [`BoundTerm::specialise`] hands over.
 pub trait Specialised<V: Vector> {
@@ -41,9 +41,9 @@ impl<V: Vector, B: BoundTerm<V>> BoundTerm<V> for &B {
 
 /// Runs one block of a sweep with the term [`BoundTerm::specialise`] hands over.
 pub(super) struct RunBlock<'r, 'a, 'w, 'b, V: Vector> {
-    pub(super) sweep: &'r crate::sweep::block::Sweep<'a, 'w, V>,
-    pub(super) block: crate::sweep::block::Block<'b>,
-    pub(super) s: &'r mut crate::sweep::row::RowScratch<V>,
+    pub(super) sweep: &'r crate::block::Sweep<'a, 'w, V>,
+    pub(super) block: crate::block::Block<'b>,
+    pub(super) s: &'r mut crate::row::RowScratch<V>,
 }
 
 impl<V: Vector> Specialised<V> for RunBlock<'_, '_, '_, '_, V> {
@@ -51,7 +51,7 @@ impl<V: Vector> Specialised<V> for RunBlock<'_, '_, '_, '_, V> {
 
     #[inline(always)]
     fn with<B: BoundTerm<V>>(self, term: &B) -> Vec<u32> {
-        let rows = crate::sweep::block::OneTermRows(term);
-        crate::sweep::block::run_block(self.sweep, &rows, self.block, self.s)
+        let rows = crate::block::OneTermRows(term);
+        crate::block::run_block(self.sweep, &rows, self.block, self.s)
     }
 }
