@@ -266,7 +266,7 @@ pub fn ids_by_row(world: &mut World) -> Vec<u32> {
 
 impl Column {
     fn of<V: Vector, C: ColumnValue<V>>(spec: ColumnSpec) -> Self {
-        let full = crate::sim::short_type_name(std::any::type_name::<C>());
+        let full = crate::names::short_type_name(std::any::type_name::<C>());
         // the name without the dimension (`Position<DVec2>` → `Position`), other type
         // arguments kept (`Registers<Density>`, `Registers<InternalEnergy>`)
         let key = ["<Vec1>", "<DVec2>", "<DVec3>"]
@@ -409,7 +409,7 @@ impl Columns {
             .iter()
             .filter(|id| Some(**id) != id_component && !known.contains(&Some(**id)))
             .filter_map(|id| world.components().get_info(*id))
-            .map(|info| crate::sim::short_type_name(&info.name().to_string()))
+            .map(|info| crate::names::short_type_name(&info.name().to_string()))
             .collect()
     }
 }
@@ -469,8 +469,22 @@ mod tests {
             cols.register::<DVec2, Density>(ColumnSpec::state("position", "rho"))
                 .is_err()
         );
+        /// A record of two reals, like a scheme's registers.
+        #[derive(Component)]
+        struct Record([Real; 2]);
+        impl ColumnValue<DVec2> for Record {
+            const SHAPE: Shape = Shape::Record;
+            fn width() -> usize {
+                2
+            }
+            fn put(&self, out: &mut Vec<Real>) {
+                out.extend(self.0);
+            }
+            fn take(&mut self, values: &[Real]) {
+                self.0 = [values[0], values[1]];
+            }
+        }
         let record = ColumnSpec::restart_only("registers").with_output("k");
-        type Record = crate::integrate::Registers<Density>;
         assert!(cols.register::<DVec2, Record>(record).is_err());
     }
 }

@@ -227,6 +227,7 @@ pub trait Scheme<V: Vector>: Send + Sync + 'static {
 }
 
 /// The integrated scalars and the scheme of a simulation.
+#[derive(Resource)]
 pub(crate) struct Integration<V: Vector> {
     /// The declared scalars, in declaration order, with the type of their column.
     equations: Vec<(TypeId, Arc<dyn ScalarEquation<V>>)>,
@@ -252,7 +253,8 @@ impl<V: Vector> Sim<V> {
         name: &'static str,
     ) -> Result<bool, SimError> {
         let id = TypeId::of::<S>();
-        if self.integration.equations.iter().any(|(t, _)| *t == id) {
+        let integration = self.world.resource::<Integration<V>>();
+        if integration.equations.iter().any(|(t, _)| *t == id) {
             return Ok(false);
         }
         let equation: Arc<dyn ScalarEquation<V>> = Arc::new(Equation::<S, R> {
@@ -260,8 +262,9 @@ impl<V: Vector> Sim<V> {
             registers: intern(format!("{name}_registers")),
             _types: PhantomData,
         });
-        self.integration.equations.push((id, equation.clone()));
-        if let Some(scheme) = self.integration.scheme.clone() {
+        let mut integration = self.world.resource_mut::<Integration<V>>();
+        integration.equations.push((id, equation.clone()));
+        if let Some(scheme) = integration.scheme.clone() {
             self.as_plugin(scheme.name(), |sim| {
                 scheme.integrate_scalar(sim, &*equation)
             })?;
@@ -271,7 +274,7 @@ impl<V: Vector> Sim<V> {
 
     /// The names of the declared scalars, in declaration order.
     pub fn integrated_scalars(&self) -> Vec<&'static str> {
-        let eqs = &self.integration.equations;
+        let eqs = &self.world.resource::<Integration<V>>().equations;
         eqs.iter().map(|(_, e)| e.name()).collect()
     }
 
@@ -279,7 +282,8 @@ impl<V: Vector> Sim<V> {
     /// systems for the scalars declared so far. A simulation has one scheme: a second is an
     /// error that names both.
     pub fn set_integrator(&mut self, scheme: impl Scheme<V>) -> Result<(), SimError> {
-        if let Some(first) = &self.integration.scheme {
+        let integration = self.world.resource::<Integration<V>>();
+        if let Some(first) = &integration.scheme {
             return Err(SimError::Build(format!(
                 "two integrators, {} and {}: a simulation is advanced by one (remove one of them)",
                 first.name(),
@@ -287,8 +291,9 @@ impl<V: Vector> Sim<V> {
             )));
         }
         let scheme: Arc<dyn Scheme<V>> = Arc::new(scheme);
-        self.integration.scheme = Some(scheme.clone());
-        let equations: Vec<_> = self.integration.equations.to_vec();
+        let mut integration = self.world.resource_mut::<Integration<V>>();
+        integration.scheme = Some(scheme.clone());
+        let equations: Vec<_> = integration.equations.to_vec();
         self.as_plugin(scheme.name(), |sim| {
             for (_, equation) in &equations {
                 scheme.integrate_scalar(sim, &**equation)?;
@@ -299,7 +304,20 @@ impl<V: Vector> Sim<V> {
 
     /// The name of the scheme, once set.
     pub fn integrator(&self) -> Option<&'static str> {
-        self.integration.scheme.as_ref().map(|s| s.name())
+        let integration = self.world.resource::<Integration<V>>();
+        integration.scheme.as_ref().map(|s| s.name())
+    }
+}
+
+/// At [`Sim::finish`]: an integrator is set ([`Sim::set_integrator`]).
+pub(crate) fn check_integrator<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimError> {
+    match sim.integrator() {
+        Some(_) => Ok(()),
+        None => Err(SimError::Build(
+            "no integrator: the state would not advance; add a time-integration plugin \
+             (e.g. `dualsph_integrator::LeapfrogPC`, which a scene gets by default)"
+                .into(),
+        )),
     }
 }
 

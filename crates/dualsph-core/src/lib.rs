@@ -13,13 +13,16 @@ pub mod chunks;
 pub mod columns;
 pub mod components;
 pub mod integrate;
+pub mod names;
 pub mod order;
 pub mod output;
+mod particles;
 pub mod plugin;
 pub mod population;
 pub mod potentials;
 pub mod profile;
 pub mod restart;
+mod setup;
 pub mod sim;
 pub mod store;
 

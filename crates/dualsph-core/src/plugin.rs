@@ -228,3 +228,11 @@ impl Registry {
         &self.entries
     }
 }
+
+impl<V: Vector> Sim<V> {
+    /// Builds `plugin` into the simulation, its systems marked as its own (for the order
+    /// constraints' names and messages).
+    pub fn build_plugin(&mut self, plugin: &dyn PluginConfig) -> Result<(), SimError> {
+        self.as_plugin(plugin.name(), |sim| plugin.build_into(sim))
+    }
+}

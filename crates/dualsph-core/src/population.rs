@@ -24,7 +24,7 @@ use crate::bodies::BodyId;
 use crate::components::*;
 use crate::math::Vector;
 use crate::neighbours::Neighbours;
-use crate::sim::ParticleInit;
+use crate::sim::{ParticleInit, StepFailure};
 use bevy_ecs::prelude::*;
 
 /// A particle's id and initial state: what a column's initial value is computed from.
@@ -42,11 +42,19 @@ pub type Initialiser<V> = Box<dyn Fn(&mut EntityWorldMut<'_>, &Seed<V>) + Send +
 /// The column initialisers of the scene, in the order they were added (a later one for the
 /// same column overrides an earlier one).
 #[derive(Resource)]
-pub struct ColumnInits<V: Vector>(pub Vec<Initialiser<V>>);
+pub struct ColumnInits<V: Vector> {
+    /// The initialisers.
+    pub list: Vec<Initialiser<V>>,
+    /// How many of them are on the scene's particles (see `Sim::add_column`).
+    pub(crate) applied: usize,
+}
 
 impl<V: Vector> Default for ColumnInits<V> {
     fn default() -> Self {
-        ColumnInits(Vec::new())
+        ColumnInits {
+            list: Vec::new(),
+            applied: 0,
+        }
     }
 }
 
@@ -84,8 +92,6 @@ pub struct Population<V: Vector> {
     pub spawned: u64,
     /// Particles removed since the start of the run (of this process).
     pub removed: u64,
-    /// Why the last requests could not be applied (the run stops with it).
-    pub error: Option<String>,
 }
 
 impl<V: Vector> Default for Population<V> {
@@ -95,7 +101,6 @@ impl<V: Vector> Default for Population<V> {
             removals: Vec::new(),
             spawned: 0,
             removed: 0,
-            error: None,
         }
     }
 }
@@ -174,7 +179,7 @@ pub(crate) fn spawn_complete<V: Vector>(
         .map(|((e, id), &init)| (e, Seed { id, init }))
         .collect();
     world.resource_scope(|world, inits: Mut<ColumnInits<V>>| {
-        seed_columns(world, &inits.0, &seeded);
+        seed_columns(world, &inits.list, &seeded);
     });
     world.resource_mut::<Neighbours<V>>().invalidate();
 }
@@ -204,7 +209,8 @@ pub fn apply_population<V: Vector>(world: &mut World) {
     let first = match world.resource_mut::<NextId>().take(spawns.len()) {
         Ok(first) => first,
         Err(e) => {
-            world.resource_mut::<Population<V>>().error = Some(e);
+            world.resource_mut::<StepFailure>().0 =
+                Some(format!("particles could not be added: {e}"));
             return;
         }
     };
@@ -243,7 +249,7 @@ pub fn replace_particles<V: Vector>(world: &mut World, seeds: &[Seed<V>]) -> Res
         seeded.push((e[0], *s));
     }
     world.resource_scope(|world, inits: Mut<ColumnInits<V>>| {
-        seed_columns(world, &inits.0, &seeded);
+        seed_columns(world, &inits.list, &seeded);
     });
     world.resource_mut::<Neighbours<V>>().invalidate();
     Ok(())
@@ -273,7 +279,7 @@ mod tests {
     fn world() -> World {
         let mut world = World::new();
         let mut inits = ColumnInits::<DVec2>::default();
-        inits.0.push(Box::new(|e, seed| {
+        inits.list.push(Box::new(|e, seed| {
             e.insert(Tag(seed.id + 100));
         }));
         world.insert_resource(inits);

@@ -5,24 +5,22 @@
 //! deterministic and [`Sim::plan`] can print exactly what will execute.
 
 use crate::columns::Columns;
-use crate::kernels::Kernel;
-use crate::math::{Real, Vector};
-use crate::neighbours::Neighbours;
+use crate::math::Vector;
 use crate::order::Placement;
-use crate::plugin::PluginConfig;
 use crate::store::ParticleData;
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::{ScheduleLabel, SingleThreadedExecutor};
 use bevy_ecs::system::ScheduleSystem;
 use std::collections::BTreeSet;
 
-mod particles;
+pub use crate::names::short_type_name;
+
 mod plan;
 mod state;
 pub use plan::Plan;
 pub use state::{
     Domain, Formulation, InitialInternalEnergy, KernelRes, MaxViscosity, ParticleInit, SimClock,
-    SimConfig, TimeStepping,
+    SimConfig, StepFailure, TimeStepping,
 };
 use std::marker::PhantomData;
 
@@ -160,12 +158,8 @@ pub struct Sim<V: Vector> {
     systems: Vec<SystemEntry>,
     features: BTreeSet<&'static str>,
     requirements: Vec<(&'static str, String)>,
-    /// How many column initialisers are on the scene's particles (see [`Sim::add_column`]).
-    applied: usize,
     /// The plugin being built (systems added now are its own), `core` otherwise.
     building: &'static str,
-    /// The integrated scalars and the scheme (see [`crate::integrate`]).
-    pub(crate) integration: crate::integrate::Integration<V>,
     schedule: Option<Schedule>,
     /// The systems' labels in schedule order (set when the schedule is built).
     labels: Vec<String>,
@@ -209,40 +203,14 @@ pub fn init_task_pool() {
 }
 
 impl<V: Vector> Sim<V> {
-    /// A simulation with the core resources and no particles yet.
-    pub fn new(config: SimConfig<V>) -> Self {
-        init_task_pool();
-        let mut world = World::new();
-        world.insert_resource(SimClock {
-            t: 0.0,
-            step: 0,
-            dt: 0.0,
-            initializing: false,
-            t_end: Real::INFINITY,
-        });
-        world.insert_resource(KernelRes(Kernel::new(config.kernel, V::DIM)));
-        world.insert_resource(config.formulation);
-        world.insert_resource(config.domain);
-        world.insert_resource(config.time_stepping);
-        let period = config.domain.period();
-        world.insert_resource(
-            Neighbours::<V>::with_rule(config.skin, config.skin_rule).with_period(period),
-        );
-        world.insert_resource(MaxViscosity::default());
-        world.insert_resource(InitialInternalEnergy::default());
-        world.insert_resource(crate::potentials::ExternalPotentials::default());
-        world.insert_resource(Columns::default());
-        world.insert_resource(crate::population::NextId::default());
-        world.insert_resource(crate::population::ColumnInits::<V>::default());
-        world.insert_resource(crate::bodies::Bodies::default());
-        let mut sim = Sim {
+    /// A simulation of `world` with no systems yet ([`Sim::new`] puts the core's in it).
+    pub(crate) fn bare(world: World) -> Self {
+        Sim {
             world,
             systems: Vec::new(),
             features: BTreeSet::new(),
             requirements: Vec::new(),
-            applied: 0,
             building: "core",
-            integration: Default::default(),
             schedule: None,
             labels: Vec::new(),
             built_order: Vec::new(),
@@ -250,10 +218,7 @@ impl<V: Vector> Sim<V> {
             pool: None,
             finish_hooks: Vec::new(),
             _v: PhantomData,
-        };
-        crate::integrate::add_core_systems(&mut sim);
-        sim.register_core_columns();
-        sim
+        }
     }
 
     /// Records a feature; returns true the first time (so shared systems are added once).
@@ -339,12 +304,6 @@ impl<V: Vector> Sim<V> {
         self.late.push((after, slot.0));
     }
 
-    /// Builds `plugin` into the simulation, its systems marked as its own (for the order
-    /// constraints' names and messages).
-    pub fn build_plugin(&mut self, plugin: &dyn PluginConfig) -> Result<(), SimError> {
-        self.as_plugin(plugin.name(), |sim| plugin.build_into(sim))
-    }
-
     /// Runs `f` with the systems it adds attributed to the plugin `name` (`core` for systems
     /// that belong to the engine whichever plugin causes them, such as a pair sweep).
     pub fn as_plugin<T>(&mut self, name: &'static str, f: impl FnOnce(&mut Self) -> T) -> T {
@@ -373,29 +332,26 @@ impl<V: Vector> Sim<V> {
         Ok(out)
     }
 
-    /// Checks that an integrator is set ([`Sim::set_integrator`]), the plugin requirements,
-    /// that the particles are one table of the store (see [`crate::store`]) and that every
-    /// pair term finds the columns it reads, and builds the schedule (idempotent).
+    /// Runs the finish hooks — the core's (an integrator is set, the plugins' requirements
+    /// are met, every column is on the particles, which are one table of the store: see
+    /// [`crate::store`]) and then those of the crates above, such as the pair sweeps binding
+    /// their terms — and builds the schedule (idempotent).
     pub fn finish(&mut self) -> Result<(), SimError> {
-        if self.integrator().is_none() {
-            return Err(SimError::Build(
-                "no integrator: the state would not advance; add a time-integration plugin \
-                 (e.g. `dualsph_integrator::LeapfrogPC`, which a scene gets by default)"
-                    .into(),
-            ));
-        }
-        for (feature, message) in &self.requirements {
-            if !self.features.contains(feature) {
-                return Err(SimError::Build(message.clone()));
-            }
-        }
-        self.insert_pending_columns();
-        self.check_store()?;
         let hooks = std::mem::take(&mut self.finish_hooks);
         let done = hooks.iter().try_for_each(|(_, hook)| hook(self));
         self.finish_hooks = hooks;
         done?;
         self.build_schedule()
+    }
+
+    /// The requirements declared with [`Sim::require_feature`] are met.
+    pub(crate) fn check_requirements(&self) -> Result<(), SimError> {
+        for (feature, message) in &self.requirements {
+            if !self.features.contains(feature) {
+                return Err(SimError::Build(message.clone()));
+            }
+        }
+        Ok(())
     }
 
     /// Registers `hook` to run at every [`Sim::finish`], after the core's own checks of the
@@ -413,7 +369,7 @@ impl<V: Vector> Sim<V> {
     }
 
     /// The store holds every registered column of every particle in one table.
-    fn check_store(&self) -> Result<(), SimError> {
+    pub(crate) fn check_store(&self) -> Result<(), SimError> {
         let unregistered = self.world.resource::<Columns>().unregistered(&self.world);
         if !unregistered.is_empty() {
             return Err(SimError::Build(format!(
@@ -454,14 +410,6 @@ impl<V: Vector> Sim<V> {
         }
         if !self.world.contains_resource::<AccelerationsSet>() {
             self.add_zero_accelerations();
-        }
-        if self.has_feature("population") {
-            // added last, so it runs after every plugin's requests of the set
-            self.add_system(
-                StepSet::Population,
-                "apply_population (add and remove particles)",
-                crate::population::apply_population::<V>,
-            );
         }
         let mut schedule = Schedule::new(Step);
         schedule.set_executor(SingleThreadedExecutor::new());
@@ -536,11 +484,8 @@ impl<V: Vector> Sim<V> {
             self.initialize()?;
         }
         self.run_schedule();
-        match self.population_error() {
-            Some(e) => Err(SimError::BlowUp(format!(
-                "step {}: particles could not be added: {e}",
-                self.clock().step
-            ))),
+        match &self.world.resource::<StepFailure>().0 {
+            Some(e) => Err(SimError::BlowUp(format!("step {}: {e}", self.clock().step))),
             None => Ok(()),
         }
     }
@@ -583,21 +528,4 @@ fn zero_accelerations<V: Vector>(mut q: Query<&mut crate::components::Accelerati
     for mut a in &mut q {
         a.0 = V::zero();
     }
-}
-
-/// `dualsph_core::components::Position<glam::DVec2>` → `Position<DVec2>`.
-pub fn short_type_name(full: &str) -> String {
-    let mut out = String::new();
-    let mut token = String::new();
-    for ch in full.chars() {
-        if ch.is_alphanumeric() || ch == '_' || ch == ':' {
-            token.push(ch);
-        } else {
-            out.push_str(token.rsplit("::").next().unwrap_or(""));
-            token.clear();
-            out.push(ch);
-        }
-    }
-    out.push_str(token.rsplit("::").next().unwrap_or(""));
-    out
 }

@@ -159,7 +159,7 @@ impl<'w, V: Vector> ParticleData<'w, V> {
         self.column::<C>().ok_or_else(|| {
             format!(
                 "{who} reads {}, which no plugin of the scene adds",
-                crate::sim::short_type_name(std::any::type_name::<C>())
+                crate::names::short_type_name(std::any::type_name::<C>())
             )
         })
     }

@@ -150,3 +150,9 @@ pub enum Formulation {
     /// the dual-support sweep; the h solve and Ω come from the smoothing-length plugin.
     GradH,
 }
+
+/// Why the last step failed, as reported by one of its systems (the population when the id
+/// space is exhausted): [`Sim::step`](crate::sim::Sim::step) returns it as a blow-up that
+/// names the step.
+#[derive(Resource, Debug, Default)]
+pub struct StepFailure(pub Option<String>);

@@ -1,20 +1,21 @@
 //! The particles of a [`Sim`]: spawning them with the core columns, and the columns plugins
 //! add (see [`crate::columns`]).
 
-use super::{InitialInternalEnergy, ParticleInit, Sim, SimError};
 use crate::bodies::BodyId;
 use crate::columns::{ColumnSpec, ColumnValue, Columns};
 use crate::components::*;
 use crate::math::Vector;
 use crate::population::{
-    ColumnInits, NextId, Population, Seed, seed_columns, spawn_complete, spawn_core,
+    ColumnInits, NextId, Population, Seed, apply_population, seed_columns, spawn_complete,
+    spawn_core,
 };
+use crate::sim::{InitialInternalEnergy, ParticleInit, Sim, SimError, StepSet};
 use crate::store::CoreColumns;
 use bevy_ecs::prelude::*;
 
 impl<V: Vector> Sim<V> {
     /// The columns every particle carries (see [`Sim::spawn_particles`]).
-    pub(super) fn register_core_columns(&mut self) {
+    pub(crate) fn register_core_columns(&mut self) {
         use crate::columns::ColumnSpec as S;
         let cols = &mut *self.world.resource_mut::<Columns>();
         let core = [
@@ -41,7 +42,7 @@ impl<V: Vector> Sim<V> {
             .resource_mut::<NextId>()
             .take(particles.len())
             .map_err(SimError::Build)?;
-        if self.schedule.is_some() {
+        if self.is_built() {
             spawn_complete(&mut self.world, first, particles);
             return Ok(());
         }
@@ -81,7 +82,7 @@ impl<V: Vector> Sim<V> {
             .map_err(SimError::Build)?;
         self.world
             .resource_mut::<ColumnInits<V>>()
-            .0
+            .list
             .push(Box::new(move |e, seed| {
                 e.insert(init(seed));
             }));
@@ -91,10 +92,10 @@ impl<V: Vector> Sim<V> {
     /// Puts the values of the columns added since the last call on the particles, particle
     /// by particle, from each particle's seed: its core columns and its initial internal
     /// energy (see [`Sim::add_column`]). The initial internal energies are dropped after.
-    pub(super) fn insert_pending_columns(&mut self) {
+    pub(crate) fn insert_pending_columns(&mut self) {
         let eps = std::mem::take(&mut *self.world.resource_mut::<InitialInternalEnergy>());
-        let inits = std::mem::take(&mut self.world.resource_mut::<ColumnInits<V>>().0);
-        if self.applied < inits.len() {
+        let mut inits = std::mem::take(&mut *self.world.resource_mut::<ColumnInits<V>>());
+        if inits.applied < inits.list.len() {
             let seeded: Vec<(Entity, Seed<V>)> = self
                 .world
                 .query::<(Entity, &ParticleId, CoreColumns<V>, &BodyId)>()
@@ -112,10 +113,10 @@ impl<V: Vector> Sim<V> {
                     (e, Seed { id: id.0, init })
                 })
                 .collect();
-            seed_columns(&mut self.world, &inits[self.applied..], &seeded);
-            self.applied = inits.len();
+            seed_columns(&mut self.world, &inits.list[inits.applied..], &seeded);
+            inits.applied = inits.list.len();
         }
-        self.world.resource_mut::<ColumnInits<V>>().0 = inits;
+        *self.world.resource_mut::<ColumnInits<V>>() = inits;
     }
 
     /// Lets plugins add and remove particles during the run ([`crate::population`]): puts
@@ -125,13 +126,20 @@ impl<V: Vector> Sim<V> {
     pub fn enable_population(&mut self) {
         if self.enable_feature("population") {
             self.world.insert_resource(Population::<V>::default());
+            self.add_finish_hook("population", add_population_system::<V>);
         }
     }
+}
 
-    /// The error of the last population change, if it failed.
-    pub(super) fn population_error(&self) -> Option<String> {
-        self.world
-            .get_resource::<Population<V>>()
-            .and_then(|p| p.error.clone())
+/// Adds the system that applies the plugins' requests to add and remove particles, once, when
+/// the schedule is built: added last, it runs after every plugin's requests of the set.
+fn add_population_system<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimError> {
+    if !sim.is_built() {
+        sim.add_system(
+            StepSet::Population,
+            "apply_population (add and remove particles)",
+            apply_population::<V>,
+        );
     }
+    Ok(())
 }
