@@ -8,7 +8,6 @@
 //! [`Reaction::Separate`], one for the neighbour. After the sweep every particle's column is
 //! set to `finish(Σ)`: the sweep owns the column for the step.
 
-use crate::pair::{MAX_NEIGHBOUR_CHANNELS, MAX_OWNER_CHANNELS};
 use bevy_ecs::component::Mutable;
 use bevy_ecs::prelude::*;
 use dualsph_core::columns::{ColumnValue, Shape, take_vector};
@@ -18,6 +17,11 @@ use dualsph_core::math::{Real, Vector};
 use dualsph_core::store::{ParticleData, single_table};
 use rayon::prelude::*;
 use std::any::TypeId;
+
+/// Owner channels a sweep can sum (the per-particle sums of all its accumulators).
+pub const MAX_OWNER_CHANNELS: usize = 16;
+/// Neighbour channels a sweep can carry ([`Reaction::Separate`] accumulators).
+pub const MAX_NEIGHBOUR_CHANNELS: usize = 8;
 
 /// How a pair's contribution to the owner i reaches the neighbour j.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -138,7 +142,7 @@ impl Layout {
     /// The reaction channels stored per support slot: the standard ones first (the force's
     /// components, the power, the density rate), then the others in layout order — so that
     /// a sweep of standard sums has its channels at fixed places (see
-    /// [`crate::row::RowPlan`]).
+    /// [`crate::block::row::RowPlan`]).
     pub fn reactions<V: Vector>(&self) -> Vec<ReactionChannel> {
         let mut out = self.reactions_in_slot_order::<V>();
         let rank = |r: &ReactionChannel| match r.source {

@@ -4,16 +4,20 @@
 //!
 //! The block loop is compiled once per way of evaluating a row (`RowEval`): a sweep whose
 //! pair terms are one term (or one fused chain) runs the term's own instance of the loop
-//! ([`crate::pair::RowTerm::run_block`]) — one dynamic call per block and a direct call per
+//! ([`RowTerm::run_block`]) — one dynamic call per block and a direct call per
 //! row. The row is a function of its own (`row::row_apart`): inlined into the block
 //! loop, its compaction and pair loops lost registers to the block's state (callgrind: 30 →
 //! 33 instructions per candidate, 170 → 173 per two pairs, more than the call costs).
 
-use super::SweepCtx;
-use super::row::{DynTerms, OneTerm, RowDest, RowPlan, RowScratch, Terms, initialize, row_apart};
 use crate::accum::ReactionChannel;
-use crate::pair::BoundTerm;
+use crate::ctx::SweepCtx;
+use crate::pair::{BoundTerm, Out, OwnerSums, PairLanes};
 use dualsph_core::math::{Real, Vector};
+use row::{DynTerms, OneTerm, RowDest, RowPlan, RowScratch, Terms, initialize, row_apart};
+use wide::f64x2;
+
+#[doc(hidden)]
+pub mod row;
 
 /// What every block of one sweep shares.
 pub struct Sweep<'a, 'w, V: Vector> {
@@ -77,7 +81,7 @@ impl<V: Vector, B: BoundTerm<V>> RowEval<V> for OneTermRows<'_, B> {
 
 /// Pass 1 over one block, then pass 2 for the block's particles whose dual support lies in
 /// it (see [`super::dual_support`]); returns the block's other particles, which gather later.
-pub(super) fn block_of<V: Vector>(
+pub(crate) fn block_of<V: Vector>(
     sw: &Sweep<'_, '_, V>,
     blk: Block<'_>,
     s: &mut RowScratch<V>,
@@ -230,7 +234,7 @@ fn dual_sum_fixed<const R: usize>(
 
 /// [`dual_sum_fixed`] for any number of reaction channels.
 #[inline(always)]
-pub(super) fn dual_sum(
+pub(crate) fn dual_sum(
     (slots, routes): (&[u32], &[u32]),
     reactions: &[Real],
     react: &[ReactionChannel],
@@ -255,5 +259,61 @@ pub(super) fn dual_sum(
                 sums[rc.target] += a;
             }
         }
+    }
+}
+
+/// A [`BoundTerm`] with its type erased, as a sweep holds it.
+pub trait RowTerm<V: Vector>: Sync {
+    /// [`BoundTerm::interact`] for two pairs.
+    fn pairs2(&self, p: &PairLanes<'_, f64x2, V>, out: &mut Out<'_, f64x2>);
+    /// [`BoundTerm::interact`] for one pair.
+    fn pair1(&self, p: &PairLanes<'_, Real, V>, out: &mut Out<'_, Real>);
+    /// See [`BoundTerm::initialize`].
+    fn initialize(&self, i: usize, sums: &mut OwnerSums<'_>);
+    /// See [`BoundTerm::INITIALIZES`].
+    fn initializes(&self) -> bool;
+    /// See [`BoundTerm::has_pairs`].
+    fn has_pairs(&self) -> bool;
+    /// Pass 1 and the in-block part of pass 2 over one block of rows with this term alone, the
+    /// block loop compiled for the term (the sweep's fast path: see
+    /// [`crate::Fused`] for several terms); returns the block's particles that gather
+    /// after every block is done.
+    #[doc(hidden)]
+    fn run_block(
+        &self,
+        sweep: &Sweep<'_, '_, V>,
+        block: Block<'_>,
+        s: &mut RowScratch<V>,
+    ) -> Vec<u32>;
+}
+
+impl<V: Vector, B: BoundTerm<V>> RowTerm<V> for B {
+    fn pairs2(&self, p: &PairLanes<'_, f64x2, V>, out: &mut Out<'_, f64x2>) {
+        self.interact(&self.owner(p.i()), p, out)
+    }
+
+    fn pair1(&self, p: &PairLanes<'_, Real, V>, out: &mut Out<'_, Real>) {
+        self.interact(&self.owner(p.i()), p, out)
+    }
+
+    fn run_block(
+        &self,
+        sweep: &Sweep<'_, '_, V>,
+        block: Block<'_>,
+        s: &mut RowScratch<V>,
+    ) -> Vec<u32> {
+        run_block(sweep, &OneTermRows(self), block, s)
+    }
+
+    fn initialize(&self, i: usize, sums: &mut OwnerSums<'_>) {
+        BoundTerm::initialize(self, i, sums)
+    }
+
+    fn initializes(&self) -> bool {
+        B::INITIALIZES
+    }
+
+    fn has_pairs(&self) -> bool {
+        BoundTerm::has_pairs(self)
     }
 }

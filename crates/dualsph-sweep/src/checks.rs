@@ -1,14 +1,24 @@
 //! Test helpers for pair terms: a term written over [`dualsph_core::lanes::Lanes`] must give, two
 //! pairs at a time, bitwise what it gives one pair at a time.
 
-use super::*;
+use crate::block::RowTerm;
+use crate::pair::ParticleData;
 use crate::pair::{Extra, Out, OwnerKernel};
+use crate::{
+    Binder, BoundTerm, DynPairTerm, PairLanes, PairTerm, SweepBuffers, SweepCtx, evaluate,
+};
+use bevy_ecs::prelude::*;
 use dualsph_core::components::{
     Acceleration, Conductivity, DensityRate, DissipationRate, EnergyRate, GradientCorrection,
     InternalEnergy, Pressure, SoundSpeed, VelocityGradient,
 };
+use dualsph_core::kernels::Kernel;
 use dualsph_core::lanes::{LaneVec, Lanes};
+use dualsph_core::math::{Real, Vector};
+use dualsph_core::neighbours::Neighbours;
+use dualsph_core::sim::Formulation;
 use dualsph_core::store::{Cloud, insert_column};
+use std::sync::Arc;
 use wide::f64x2;
 
 /// A jittered 20 × 20 lattice with varying h, velocities, masses, densities, pressures,
@@ -94,11 +104,9 @@ pub fn check_lanes_2d(term: &dyn DynPairTerm<glam::DVec2>) -> Result<(), String>
 }
 
 /// Checks a 2-D term on [`lattice_2d`], without and with the kernel-gradient correction: as a
-/// sweep's only term — its block loop compiled for the version
-/// [`crate::pair::BoundTerm::specialise`] hands over — it gives bitwise the sums it gives
-/// through a dynamic call per two pairs beside a term with no sums (the term itself, every
-/// switch tested at run time).
-pub fn check_specialised_2d(term: Arc<dyn DynPairTerm<glam::DVec2>>) -> Result<(), String> {
+/// sweep's only term — its block loop compiled for the term — it gives bitwise the sums it
+/// gives through a dynamic call per two pairs beside a term with no sums.
+pub fn check_block_loop_2d(term: Arc<dyn DynPairTerm<glam::DVec2>>) -> Result<(), String> {
     on_lattice(|ctx| {
         let (mut alone, mut beside) = (SweepBuffers::default(), SweepBuffers::default());
         evaluate(ctx, std::slice::from_ref(&term), &mut alone)?;
@@ -112,14 +120,14 @@ pub fn check_specialised_2d(term: Arc<dyn DynPairTerm<glam::DVec2>>) -> Result<(
         match same {
             true => Ok(()),
             false => Err(format!(
-                "{}: its specialised version gives other sums",
+                "{}: its block loop gives other sums than its dynamic calls",
                 term.name()
             )),
         }
     })
 }
 
-/// A term with a pair part and no sums (see [`check_specialised_2d`]).
+/// A term with a pair part and no sums (see [`check_block_loop_2d`]).
 struct NoSums;
 
 impl<V: Vector> PairTerm<V> for NoSums {

@@ -6,9 +6,9 @@
 //! (`T(i←j) − T(j←i)`); [`Reaction::Separate`] — its own owner value plus the mirror's
 //! neighbour value; [`Reaction::OneSided`] — its own owner value.
 
-use super::SweepCtx;
-use super::row::{Terms, initialize};
 use crate::accum::{AccumulatorSlot, Layout, Reaction};
+use crate::block::row::{Terms, initialize};
+use crate::ctx::SweepCtx;
 use crate::pair::{EMPTY, Extra, Out, OwnerKernel, PairLanes};
 use dualsph_core::lanes::LaneVec;
 use dualsph_core::math::{Real, Vector};

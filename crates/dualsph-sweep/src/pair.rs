@@ -6,11 +6,10 @@
 //! [the sweep](crate), which runs every term of one place over each owner's support in one pass
 //! and delivers each contribution to j through j's dual-support.
 
-pub use crate::accum::{Acc, Binder, Reaction};
+pub use crate::accum::{Acc, Binder, MAX_NEIGHBOUR_CHANNELS, MAX_OWNER_CHANNELS, Reaction};
 use dualsph_core::lanes::{LaneVec, Lanes};
 use dualsph_core::math::{Matrix, Real, Vector};
 pub use dualsph_core::store::ParticleData;
-use wide::f64x2;
 
 /// The value of an [`Out`] channel before any term adds to it: `−0`, not `+0`, because
 /// `−0 + x` is `x` for every `x` (`+0 + x` turns a `−0` into `+0`), so the compiler drops the
@@ -18,11 +17,6 @@ use wide::f64x2;
 /// goes into start at `+0` and only ever add, and a sum that starts at `+0` is never `−0`, so
 /// adding `−0` or `+0` to it gives the same bits.
 pub const EMPTY: Real = -0.0;
-
-/// Owner channels a sweep can sum (the per-particle sums of all its accumulators).
-pub const MAX_OWNER_CHANNELS: usize = 16;
-/// Neighbour channels a sweep can carry ([`Reaction::Separate`] accumulators).
-pub const MAX_NEIGHBOUR_CHANNELS: usize = 8;
 
 /// `T::N` pairs of one owner i (one per lane), as a term's [`BoundTerm::interact`] reads them:
 /// the pair geometry the sweep formed once for all terms, and gathers of any column at the
@@ -445,116 +439,10 @@ pub trait BoundTerm<V: Vector>: Sync {
     fn has_pairs(&self) -> bool {
         true
     }
-
-    /// Hands `k` the term the sweep's row loop is compiled for: the term itself by default.
-    /// A term whose settings switch parts of [`BoundTerm::interact`] on or off for a whole
-    /// sweep (an optional channel, an optional column) can hand over, for its common case, a
-    /// version with those switches fixed when it is compiled, so that the row loop tests
-    /// nothing per pair for them and keeps its registers for the pair's values. Fused terms
-    /// ([`crate::Fused`]) hand over the fusion of their parts' versions.
-    #[inline(always)]
-    fn specialise<K: Specialised<V>>(&self, k: K) -> K::Out
-    where
-        Self: Sized,
-    {
-        k.with(self)
-    }
-}
-
-/// A [`BoundTerm`] with its type erased, as a sweep holds it.
-pub trait RowTerm<V: Vector>: Sync {
-    /// [`BoundTerm::interact`] for two pairs.
-    fn pairs2(&self, p: &PairLanes<'_, f64x2, V>, out: &mut Out<'_, f64x2>);
-    /// [`BoundTerm::interact`] for one pair.
-    fn pair1(&self, p: &PairLanes<'_, Real, V>, out: &mut Out<'_, Real>);
-    /// See [`BoundTerm::initialize`].
-    fn initialize(&self, i: usize, sums: &mut OwnerSums<'_>);
-    /// See [`BoundTerm::INITIALIZES`].
-    fn initializes(&self) -> bool;
-    /// See [`BoundTerm::has_pairs`].
-    fn has_pairs(&self) -> bool;
-    /// Pass 1 and the in-block part of pass 2 over one block of rows with this term alone, the
-    /// block loop compiled for the term (the sweep's fast path: see
-    /// [`crate::Fused`] for several terms); returns the block's particles that gather
-    /// after every block is done.
-    #[doc(hidden)]
-    fn run_block(
-        &self,
-        sweep: &crate::block::Sweep<'_, '_, V>,
-        block: crate::block::Block<'_>,
-        s: &mut crate::row::RowScratch<V>,
-    ) -> Vec<u32>;
-}
-
-impl<V: Vector, B: BoundTerm<V>> RowTerm<V> for B {
-    fn pairs2(&self, p: &PairLanes<'_, f64x2, V>, out: &mut Out<'_, f64x2>) {
-        self.interact(&self.owner(p.i()), p, out)
-    }
-
-    fn pair1(&self, p: &PairLanes<'_, Real, V>, out: &mut Out<'_, Real>) {
-        self.interact(&self.owner(p.i()), p, out)
-    }
-
-    fn run_block(
-        &self,
-        sweep: &crate::block::Sweep<'_, '_, V>,
-        block: crate::block::Block<'_>,
-        s: &mut crate::row::RowScratch<V>,
-    ) -> Vec<u32> {
-        self.specialise(RunBlock { sweep, block, s })
-    }
-
-    fn initialize(&self, i: usize, sums: &mut OwnerSums<'_>) {
-        BoundTerm::initialize(self, i, sums)
-    }
-
-    fn initializes(&self) -> bool {
-        B::INITIALIZES
-    }
-
-    fn has_pairs(&self) -> bool {
-        BoundTerm::has_pairs(self)
-    }
-}
-
-/// A [`PairTerm`] with its type erased, as a sweep's list holds it.
-pub trait DynPairTerm<V: Vector>: Send + Sync {
-    /// See [`PairTerm::name`].
-    fn name(&self) -> &str;
-    /// The term's type.
-    fn term_type(&self) -> std::any::TypeId;
-    /// The term as `Any` (to be fused with another, see [`crate::Fused`]).
-    fn into_any(self: std::sync::Arc<Self>) -> std::sync::Arc<dyn std::any::Any + Send + Sync>;
-    /// See [`PairTerm::bind`].
-    fn bind_dyn<'w>(
-        &'w self,
-        b: &mut Binder<'_, 'w, V>,
-    ) -> Result<Box<dyn RowTerm<V> + 'w>, String>;
-}
-
-impl<V: Vector, T: PairTerm<V>> DynPairTerm<V> for T {
-    fn name(&self) -> &str {
-        PairTerm::name(self)
-    }
-    fn term_type(&self) -> std::any::TypeId {
-        std::any::TypeId::of::<T>()
-    }
-    fn into_any(self: std::sync::Arc<Self>) -> std::sync::Arc<dyn std::any::Any + Send + Sync> {
-        self
-    }
-    fn bind_dyn<'w>(
-        &'w self,
-        b: &mut Binder<'_, 'w, V>,
-    ) -> Result<Box<dyn RowTerm<V> + 'w>, String> {
-        Ok(Box::new(self.bind(b)?))
-    }
 }
 
 mod owner_kernel;
 pub use owner_kernel::OwnerKernel;
-mod specialise;
-use specialise::RunBlock;
-pub use specialise::Specialised;
 
 #[cfg(test)]
 mod tests;

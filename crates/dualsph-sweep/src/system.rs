@@ -4,9 +4,10 @@
 //! terms go; a plugin can add a sweep of its own (a correction matrix, a gradient, a
 //! summation density) at its own place.
 
-use super::{Formulation, SweepBuffers, SweepCtx, evaluate};
+use crate::erased::DynPairTerm;
 use crate::fuse::{Fusions, apply_fusions};
-use crate::pair::{DynPairTerm, PairTerm, ParticleData};
+use crate::pair::{PairTerm, ParticleData};
+use crate::{Formulation, SweepBuffers, SweepCtx, evaluate};
 use bevy_ecs::prelude::*;
 use dualsph_core::components::Acceleration;
 use dualsph_core::kernels::Kernel;
@@ -51,7 +52,7 @@ impl<V: Vector> PairSweeps<V> {
     /// True when some sweep's terms write column `C` (bound to `data`).
     pub fn writes<C: 'static>(&self, data: ParticleData<'_, V>, kernel: &Kernel) -> bool {
         self.sweeps.iter().any(|s| {
-            super::bind(&s.terms, data, kernel).is_ok_and(|(_, layout)| layout.writes::<C>())
+            crate::bind(&s.terms, data, kernel).is_ok_and(|(_, layout)| layout.writes::<C>())
         })
     }
 }
@@ -189,7 +190,7 @@ fn finish_sweeps<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimError> {
     let data = ParticleData::<V>::of(&sim.world);
     if let Some(data) = data {
         for sweep in &sweeps.sweeps {
-            super::bind(&sweep.terms, data, kernel).map_err(SimError::Build)?;
+            crate::bind(&sweep.terms, data, kernel).map_err(SimError::Build)?;
         }
     }
     if sim.is_built() || sim.world.contains_resource::<AccelerationsSet>() {

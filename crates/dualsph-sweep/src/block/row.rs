@@ -6,17 +6,18 @@
 //! Per pair the terms' contributions add up in the order of the sweep's terms, i's sums in
 //! the order of `H_i`, so the sums do not depend on how the pairs are grouped in lanes.
 
-use super::SweepCtx;
-use super::route::{Cand, compact_row, flush, flush_standard};
-pub(crate) use super::route::{INSIDE, RowDest};
+use super::RowTerm;
 use crate::accum::{Layout, ReactionChannel, Source, Standard};
-use crate::pair::{
-    BoundTerm, Extra, Out, OwnerKernel, OwnerSums, PairLanes, ParticleData, RowTerm,
-};
+use crate::ctx::SweepCtx;
+use crate::pair::{BoundTerm, Extra, Out, OwnerKernel, OwnerSums, PairLanes, ParticleData};
 use dualsph_core::kernels::KernelKind;
 use dualsph_core::lanes::{LaneVec, Lanes};
 use dualsph_core::math::{Matrix, Real, Vector};
+use route::{Cand, compact_row, flush, flush_standard};
+pub(crate) use route::{INSIDE, RowDest};
 use wide::f64x2;
+
+mod route;
 
 /// Bound terms, as a sweep runs them.
 pub type Terms<'a, 'w, V> = [&'a (dyn RowTerm<V> + 'w)];
@@ -25,24 +26,24 @@ pub type Terms<'a, 'w, V> = [&'a (dyn RowTerm<V> + 'w)];
 /// each particle's sums (and, with a reaction, in each slot's reaction record) of the
 /// standard sums, the other accumulators' channels, and the terms with a pair part.
 pub struct RowPlan<'a, 'w, V: Vector> {
-    pub(super) layout: &'a Layout,
-    pub(super) owner: usize,
-    pub(super) rw: usize,
-    pub(super) force: Option<(usize, usize)>,
-    pub(super) power: Option<(usize, Option<usize>)>,
-    pub(super) rate: Option<(usize, Option<usize>)>,
-    pub(super) extra_own: Vec<(usize, usize)>,
-    pub(super) extra_react: Vec<(Source, usize)>,
-    pub(super) extra: (usize, usize),
+    pub(crate) layout: &'a Layout,
+    pub(crate) owner: usize,
+    pub(crate) rw: usize,
+    pub(crate) force: Option<(usize, usize)>,
+    pub(crate) power: Option<(usize, Option<usize>)>,
+    pub(crate) rate: Option<(usize, Option<usize>)>,
+    pub(crate) extra_own: Vec<(usize, usize)>,
+    pub(crate) extra_react: Vec<(Source, usize)>,
+    pub(crate) extra: (usize, usize),
     records: Records,
-    pub(super) pair_terms: &'a Terms<'a, 'w, V>,
+    pub(crate) pair_terms: &'a Terms<'a, 'w, V>,
     /// True when a row's sums are all written by its pairs with nothing added before them
     /// (pair terms, no per-particle part, standard sums only): the rows then start from zero
     /// in registers, and the sweep's sums need no zeroing beforehand.
-    pub(super) fresh: bool,
+    pub(crate) fresh: bool,
     /// Per particle: its dual support lies in its block, so pass 1 adds its reactions to the
     /// block's accumulator instead of storing them (see `sweep::dual_support`).
-    pub(super) inside: &'a [bool],
+    pub(crate) inside: &'a [bool],
 }
 
 /// How a sweep's reaction records are laid out: the standard ones only — the force's `d`
@@ -58,7 +59,7 @@ enum Records {
 impl<'a, 'w, V: Vector> RowPlan<'a, 'w, V> {
     /// The plan of a sweep with `layout`, its reaction channels `react` and its terms with a
     /// pair part; `initializes` when some term has a per-particle part.
-    pub(super) fn new(
+    pub(crate) fn new(
         layout: &'a Layout,
         react: &[ReactionChannel],
         (pair_terms, initializes): (&'a Terms<'a, 'w, V>, bool),
@@ -119,17 +120,17 @@ impl<'a, 'w, V: Vector> RowPlan<'a, 'w, V> {
 impl<V: Vector> RowPlan<'_, '_, V> {
     /// True when the rows zero the stored records they use (the standard layouts, with pair
     /// terms); otherwise a block's records are zeroed before its rows.
-    pub(super) fn rows_zero_records(&self) -> bool {
+    pub(crate) fn rows_zero_records(&self) -> bool {
         !self.pair_terms.is_empty() && matches!(self.records, Records::Standard { .. })
     }
 }
 
 /// i's standard sums while its row runs (in registers; the others in an array apart).
 #[derive(Clone, Copy)]
-pub(super) struct RowSums<V: Vector> {
-    pub(super) force: V,
-    pub(super) power: Real,
-    pub(super) rate: Real,
+pub(crate) struct RowSums<V: Vector> {
+    pub(crate) force: V,
+    pub(crate) power: Real,
+    pub(crate) rate: Real,
 }
 
 /// Per-thread scratch of pass 1: one row's candidates inside `h_i`, compacted.
@@ -150,13 +151,13 @@ pub struct RowScratch<V: Vector> {
 
 impl<V: Vector> RowScratch<V> {
     /// Starts a block with `len` reals of reactions, zeroed.
-    pub(super) fn start_block(&mut self, len: usize) {
+    pub(crate) fn start_block(&mut self, len: usize) {
         self.block.clear();
         self.block.resize(len, 0.0);
     }
 
     /// The block's reactions summed so far (see [`RowScratch::start_block`]).
-    pub(super) fn block_reactions(&self) -> &[Real] {
+    pub(crate) fn block_reactions(&self) -> &[Real] {
         &self.block
     }
 
@@ -177,7 +178,7 @@ impl<V: Vector> RowScratch<V> {
 
 /// i's sums before any pair: every term's [`crate::pair::BoundTerm::initialize`] added to `sums`, which
 /// arrive zeroed (when some term has such a part: see [`RowPlan::fresh`]).
-pub(super) fn initialize<V: Vector>(
+pub(crate) fn initialize<V: Vector>(
     (terms, layout): (&Terms<'_, '_, V>, &Layout),
     i: usize,
     sums: &mut [Real],

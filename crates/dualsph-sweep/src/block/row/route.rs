@@ -3,7 +3,7 @@
 //! lane group's pairs to i's sums and of their reactions along those routes (see
 //! `sweep::dual_support`).
 
-use super::row::{RowPlan, RowSums};
+use super::{RowPlan, RowSums};
 use crate::accum::Source;
 use crate::pair::{EMPTY, Out};
 use dualsph_core::components::Position;
@@ -15,10 +15,10 @@ use dualsph_core::neighbours::Period;
 /// route of `RowDest`, with the record's index counted from the block's first).
 #[derive(Clone, Copy)]
 pub(crate) struct Cand<V: Vector> {
-    pub(super) rij: V,
-    pub(super) r2: Real,
-    pub(super) j: u32,
-    pub(super) dest: u32,
+    pub(crate) rij: V,
+    pub(crate) r2: Real,
+    pub(crate) j: u32,
+    pub(crate) dest: u32,
 }
 
 /// The flag of a route into the block's sums (see [`RowDest`]).
@@ -52,7 +52,7 @@ impl<V: Vector> Default for Cand<V> {
 /// Branch-free: every candidate is written at the next free place and the place is kept only
 /// if it is inside. On a periodic domain `r_ij` is the minimum image ([`Period::image`]).
 #[inline(always)]
-pub(super) fn compact_row<V: Vector>(
+pub(crate) fn compact_row<V: Vector>(
     cand: &[u32],
     (pos, period): (&[Position<V>], Option<&Period<V>>),
     (xi, h2): (V, Real),
@@ -133,7 +133,7 @@ impl<V: Vector> Compacted<'_, V> {
 /// in `rec`) where its route says — the block's stored `records` or the block's sums `acc` —
 /// and clears `out` for the next lanes.
 #[inline(always)]
-pub(super) fn flush<T: Lanes, V: Vector>(
+pub(crate) fn flush<T: Lanes, V: Vector>(
     out: &mut Out<'_, T>,
     pairs: &[Cand<V>],
     plan: &RowPlan<'_, '_, V>,
@@ -194,7 +194,7 @@ pub(super) fn flush<T: Lanes, V: Vector>(
 /// [`flush`] for the standard records (`Records::Standard` of `row.rs`): the records have
 /// `d + 1 + RATE_J` channels at fixed places, so nothing is tested per pair but the route.
 #[inline(always)]
-pub(super) fn flush_standard<T: Lanes, V: Vector, const RATE_J: bool>(
+pub(crate) fn flush_standard<T: Lanes, V: Vector, const RATE_J: bool>(
     out: &mut Out<'_, T>,
     pairs: &[Cand<V>],
     sums: &mut RowSums<V>,

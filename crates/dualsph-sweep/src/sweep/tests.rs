@@ -2,7 +2,8 @@
 //! evaluation in the documented order, bitwise.
 
 use super::*;
-use crate::pair::Out;
+use crate::pair::{BoundTerm, Out, PairLanes, PairTerm, Reaction};
+use bevy_ecs::prelude::World;
 use dualsph_core::components::{Acceleration, DensityRate, EnergyRate, Pressure};
 use dualsph_core::kernels::KernelKind;
 use dualsph_core::lanes::Lanes;
