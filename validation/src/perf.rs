@@ -13,7 +13,9 @@
 //! benches report. `dam_column_2d()` is the reference case of docs/performance.md: 12,800
 //! particles, Δx = 0.0125.
 
-use crate::{build_sim, default_registry};
+pub use dualsph::runner::cpu_seconds;
+
+use dualsph::{build_sim, default_registry};
 use dualsph_core::prelude::*;
 use dualsph_scene::Scene;
 use std::path::Path;
@@ -189,13 +191,6 @@ pub fn support_pairs<V: Vector>(sim: &Sim<V>) -> usize {
                 .count()
         })
         .sum()
-}
-
-/// User + system CPU seconds of this process (all threads), from the `cpu-time` crate
-/// (`clock_gettime(CLOCK_PROCESS_CPUTIME_ID)` on Unix, `GetProcessTimes` on Windows). NaN
-/// where the platform cannot tell, so a throughput computed from it is NaN, not nonsense.
-pub fn cpu_seconds() -> f64 {
-    cpu_time::ProcessTime::try_now().map_or(f64::NAN, |t| t.as_duration().as_secs_f64())
 }
 
 /// Peak resident set size of this process in bytes (`VmHWM` of `/proc/self/status`).

@@ -12,7 +12,7 @@
 
 use super::case::process_cpu_seconds;
 use super::{ReportError, ReportOptions, Section, Table, image};
-use crate::build_sim;
+use dualsph::build_sim;
 use dualsph_core::glam::DVec3;
 use dualsph_core::prelude::*;
 use dualsph_diagnostics::{Diagnostics, PairBalance, SimDiagnostics, track_pair_balance};
@@ -143,7 +143,7 @@ pub fn run_scene(scene: &Scene, every: u64) -> Result<ThreeDRun, SimError> {
     let cpu0 = process_cpu_seconds();
     while sim.clock().t < scene.end_time * (1.0 - 1e-12) && sim.clock().step < max_steps {
         sim.step()?;
-        crate::runner::check(&sim)?;
+        dualsph::runner::check(&sim)?;
         let step = sim.clock().step;
         if step.is_multiple_of(every.max(1)) {
             run.diagnostics.push(sim.diagnostics());
