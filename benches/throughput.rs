@@ -1,7 +1,7 @@
 //! Criterion benches of the three costs of a step — neighbour rebuild (with kiddo's k-d tree and
 //! with the cell grid), the support/dual-support
-//! pair sweep, one whole `Sim::step` — on the dam-break physics (`dualsph::perf`), for 2-D and
-//! 3-D columns of ~10^4 and ~10^5 particles, uniform and two-level h, on 1 and 2 threads (a
+//! pair sweep, one whole `Sim::step` — on the dam-break physics (`dualsph_validation::perf`, a
+//! dev-dependency), for 2-D and 3-D columns of ~10^4 and ~10^5 particles, uniform and two-level h, on 1 and 2 threads (a
 //! local rayon pool). `DUALSPH_BENCH_LARGE=1` adds ~10^6 particles.
 //!
 //! Besides criterion's wall-clock statistics each case prints CPU-time throughput (user +
@@ -29,9 +29,9 @@
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use dualsph::core::neighbours::{NeighbourIndex, Neighbours};
-use dualsph::perf::{Case, Layout, cpu_seconds, run_sweep, support_pairs};
 use dualsph::prelude::*;
 use dualsph::sweep::SweepBuffers;
+use dualsph_validation::perf::{Case, Layout, cpu_seconds, run_sweep, support_pairs};
 use std::time::{Duration, Instant};
 
 fn pool(threads: usize) -> rayon::ThreadPool {

@@ -10,7 +10,6 @@
 //! }
 //! ```
 
-use crate::report::{Benchmark, ReportOptions};
 use crate::runner;
 use crate::scene::{Formulation, Scene};
 use clap::{Parser, Subcommand};
@@ -25,6 +24,7 @@ use exit::Failure;
 /// `println!` that ends the process quietly when standard output is a closed pipe
 /// (`dualsph plan scene.ron | head`) instead of panicking; output files are written
 /// atomically, so nothing is left half written.
+#[macro_export]
 macro_rules! say {
     ($($t:tt)*) => {{
         use std::io::Write as _;
@@ -76,24 +76,6 @@ impl From<FormulationArg> for Formulation {
 enum Command {
     /// Run a scene headless and write diagnostics, snapshots and run.json.
     Run(run::RunArgs),
-    /// Run benchmarks (the paper's, walls, viscous flows), grade them, write report.md + PNGs.
-    Report {
-        /// Benchmarks to run (default: the paper's four and the Sedov blast).
-        #[arg(value_enum)]
-        benchmarks: Vec<Benchmark>,
-        /// Folder holding the scene files.
-        #[arg(long, default_value = "scenes")]
-        scenes: PathBuf,
-        /// Output folder for report.md and the plots.
-        #[arg(long, default_value = "out/report")]
-        out: PathBuf,
-        /// Multiply every particle spacing by this factor (1 = the paper's resolution).
-        #[arg(long, default_value_t = 1.0)]
-        coarsen: f64,
-        /// Replace the dam break's end time (s).
-        #[arg(long)]
-        end_time: Option<f64>,
-    },
     /// Parse and validate a scene and build its simulation (plugin requirements), without running it.
     Check {
         /// The scene file (.ron).
@@ -191,31 +173,6 @@ fn load_with_text(path: &std::path::Path, registry: &Registry) -> Result<(Scene,
 pub fn main(registry: Registry) -> ExitCode {
     let cli = Cli::parse();
     let result: Result<(), Failure> = match cli.command {
-        Command::Report {
-            benchmarks,
-            scenes,
-            out,
-            coarsen,
-            end_time,
-        } => {
-            let list = if benchmarks.is_empty() {
-                Benchmark::ALL.to_vec()
-            } else {
-                benchmarks
-            };
-            let opts = ReportOptions {
-                scenes,
-                out,
-                coarsen,
-                end_time,
-                log: true,
-            };
-            let command: Vec<String> = std::env::args().skip(1).collect();
-            let command = format!("cargo run --release -- {}", command.join(" "));
-            crate::report::write_report(&list, &opts, &command)
-                .map(|path| say!("report written: {}", path.display()))
-                .map_err(|e| Failure::from(e.to_string()))
-        }
         Command::Run(args) => run::run(args, &registry),
         Command::Check { scene } => load(&scene, &registry).and_then(|s| {
             // building the simulation also checks what plugins require of each other

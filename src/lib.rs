@@ -13,8 +13,6 @@ pub mod checkpoint;
 pub mod cli;
 mod file_columns;
 pub mod gridded;
-pub mod perf;
-pub mod report;
 pub mod runner;
 
 pub use dualsph_core as core;

@@ -128,6 +128,13 @@ pub enum RunError {
     },
 }
 
+/// User + system CPU seconds of this process (all threads), from the `cpu-time` crate
+/// (`clock_gettime(CLOCK_PROCESS_CPUTIME_ID)` on Unix, `GetProcessTimes` on Windows). NaN
+/// where the platform cannot tell, so a throughput computed from it is NaN, not nonsense.
+pub fn cpu_seconds() -> f64 {
+    cpu_time::ProcessTime::try_now().map_or(f64::NAN, |t| t.as_duration().as_secs_f64())
+}
+
 /// Set by [`interrupt`]: running loops stop after their current step.
 static INTERRUPTED: AtomicBool = AtomicBool::new(false);
 
@@ -238,7 +245,7 @@ pub fn likely_cause(quantity: &str) -> &'static str {
 /// step, time, particle, quantity and the usual cause. A simulation without the health check
 /// (no diagnostics plugin) or without the fixed-dt check (a scheme with its own dt rule) is
 /// not checked for what it lacks.
-pub(crate) fn check<V: Vector>(sim: &Sim<V>) -> Result<(), SimError> {
+pub fn check<V: Vector>(sim: &Sim<V>) -> Result<(), SimError> {
     let problem = sim.world.get_resource::<Health>().and_then(|h| h.problem);
     if let Some((id, what, value)) = problem {
         let c = sim.clock();
@@ -340,7 +347,7 @@ pub fn run_dim_with<V: Vector>(
         b
     });
     let started = Instant::now();
-    let cpu_started = crate::perf::cpu_seconds();
+    let cpu_started = cpu_seconds();
     let mut last_log = Instant::now();
     while sim.clock().t < end * (1.0 - 1e-12) && sim.clock().step < max_steps {
         sim.step()?;
@@ -401,7 +408,7 @@ pub fn run_dim_with<V: Vector>(
         b.finish_and_clear();
     }
     let wall = started.elapsed().as_secs_f64();
-    let cpu = crate::perf::cpu_seconds() - cpu_started;
+    let cpu = cpu_seconds() - cpu_started;
     let last = sim.diagnostics();
     if last.step != last_written {
         rows.push(&mut out, &last)?;

@@ -8,7 +8,7 @@ use dualsph_core::sim::SimError;
 
 /// The command succeeded.
 pub const SUCCESS: u8 = 0;
-/// Any other failure (e.g. a benchmark of `report` out of its grade).
+/// Any other failure (e.g. a field that cannot be gridded, a probes file that cannot be plotted).
 pub const OTHER: u8 = 1;
 /// Invalid input: a scene that does not parse or validate, an option out of range, a
 /// simulation that cannot be built, a checkpoint that is damaged or of another scene.

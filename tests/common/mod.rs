@@ -197,18 +197,6 @@ pub fn ron_files(dir: &str) -> Vec<std::path::PathBuf> {
     files
 }
 
-/// The report's options for the repository's scenes folder, writing to the temporary
-/// directory without a log: spacing × `coarsen`, to `end_time` (the scene's when `None`).
-pub fn report_options(coarsen: Real, end_time: Option<Real>) -> dualsph::report::ReportOptions {
-    dualsph::report::ReportOptions {
-        scenes: std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes"),
-        out: std::env::temp_dir(),
-        coarsen,
-        end_time,
-        log: false,
-    }
-}
-
 /// The rows of a particle CSV as maps from column name to value.
 pub fn particle_rows(path: &std::path::Path) -> Vec<std::collections::HashMap<String, f64>> {
     let text = String::from_utf8(read(path)).unwrap();

@@ -19,7 +19,7 @@
 //! of threads; and the state never depends on the skin anyway, see the module docs of
 //! [`super`]).
 //!
-//! `β` was measured with callgrind on the dam-break column (`examples/perf.rs`): a build costs
+//! `β` was measured with callgrind on the dam-break column (`validation/validation/examples/perf.rs`): a build costs
 //! ~173 instructions per candidate in 2-D and ~210 in 3-D, a step ~45 (compaction 33, pass 2
 //! ~12); [`BUILD_OVER_STEP`] rounds the ratio to 4.
 //!

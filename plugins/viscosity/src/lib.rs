@@ -48,7 +48,7 @@ pub struct ArtificialViscosity {
     /// Whether the heat is also integrated apart, as each particle's `Dissipated` energy
     /// (the energy budget's dissipated part; default false). The extra sum takes the force
     /// sweep off its fixed record layout: about half as many instructions again per step on
-    /// the dam break (`examples/perf`, callgrind), so it is on only in the scenes that ask.
+    /// the dam break (the `perf` example of validation/, callgrind), so it is on only in the scenes that ask.
     #[serde(default)]
     pub dissipation: bool,
 }

@@ -1,7 +1,7 @@
-//! `dualsph report`: the paper's benchmarks (§7 of Ren, Dai, Zhuang & Rabczuk, *Dual-support
-//! Smoothed Particle Hydrodynamics*, preprint; RenDSSPH in docs/references.md) run case by
-//! case, graded against their references ([`dualsph_reference`]) and written up as
-//! `report.md` with PNG plots; likewise the flows bounded by walls of particles and the
+//! `dualsph-validation report`: the paper's benchmarks (§7 of Ren, Dai, Zhuang & Rabczuk,
+//! *Dual-support Smoothed Particle Hydrodynamics*, preprint; RenDSSPH in docs/references.md)
+//! run case by case, graded against their references ([`dualsph_reference`]) and written up
+//! as `report.md` with PNG plots; likewise the flows bounded by walls of particles and the
 //! viscous flows ([`walls`]).
 //!
 //! Each benchmark module builds its cases from the scene files, runs them ([`case`]),
@@ -46,7 +46,7 @@ impl ReportOptions {
     /// Loads a scene of the set, applying the resolution option.
     pub fn scene(&self, file: &str) -> Result<Scene, ReportError> {
         let path = self.scenes.join(file);
-        let mut scene = Scene::load(&path, &crate::default_registry())
+        let mut scene = Scene::load(&path, &dualsph::default_registry())
             .map_err(|e| ReportError::Scene(e.to_string()))?;
         if self.coarsen != 1.0 {
             coarsen(&mut scene, self.coarsen);
@@ -82,7 +82,7 @@ impl ReportOptions {
             }
             text = text.replace(from, to.as_ref());
         }
-        let mut scene = Scene::from_str(&text, &path, &crate::default_registry())
+        let mut scene = Scene::from_str(&text, &path, &dualsph::default_registry())
             .map_err(|e| ReportError::Scene(e.to_string()))?;
         if self.coarsen != 1.0 {
             coarsen(&mut scene, self.coarsen);

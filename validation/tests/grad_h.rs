@@ -8,7 +8,7 @@ mod common;
 use common::*;
 use dualsph::plugins::*;
 use dualsph::prelude::*;
-use dualsph::report::{ReportOptions, sod};
+use dualsph_validation::report::{ReportOptions, sod};
 use glam::{DVec2, DVec3};
 
 /// The rates' imbalances of a grad-h cloud with pressure and artificial viscosity.
@@ -114,7 +114,7 @@ fn grad_h_runs_the_sod_tube_with_h_tied_to_its_density_and_conserving() {
 fn grad_h_is_bitwise_the_same_on_one_and_two_threads() {
     let opts = report_options(1.0, None);
     let spec = &sod::cases(&opts).unwrap()[2];
-    let rec = dualsph::report::Recording::default();
+    let rec = dualsph_validation::report::Recording::default();
     let on = |threads: usize| {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
@@ -124,7 +124,7 @@ fn grad_h_is_bitwise_the_same_on_one_and_two_threads() {
     };
     let (one, two) = (on(1), on(2));
     assert!(one.steps > 1000 && one.steps == two.steps);
-    let bits = |r: &dualsph::report::CaseRun| {
+    let bits = |r: &dualsph_validation::report::CaseRun| {
         r.last
             .iter()
             .flat_map(|p| [p.pos[0], p.vel[0], p.rho, p.h, p.e])

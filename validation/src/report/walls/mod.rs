@@ -12,8 +12,8 @@
 //! boundary) in the tanks and the dam break onto obstacles, the walls' own velocity in the
 //! viscous terms in the channel, the cavity and the dam breaks.
 //!
-//! Each module holds the measures its test in `tests/` asserts on, so the report and the
-//! test compute them once.
+//! Each module holds the measures its test in `validation/tests/` asserts on, so the report
+//! and the test compute them once.
 
 pub mod cavity;
 pub mod dam_break_fronts;

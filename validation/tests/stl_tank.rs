@@ -3,14 +3,14 @@
 //!
 //! The displaced volume `V = N Δx³`, the load and why it equals `ρ0 |g| V` with the wall
 //! pressure of Adami, Hu & Adams (2012) are derived in the report's section, whose measure
-//! this test asserts on (`dualsph::report::walls::stl_tank`). Measured at t = 0: 0.015 %
+//! this test asserts on (`dualsph_validation::report::walls::stl_tank`). Measured at t = 0: 0.015 %
 //! under `ρ0 g V` (0.20 % under the weight at the hydrostatic density); bound 0.05 %. With
 //! the obstacle left out of `WallPressure` its particles keep `ρ0`, zero pressure (the
 //! dynamic boundary of Crespo et al. 2007 at t = 0), and the same check fails: 21 % under.
 
 mod common;
 
-use dualsph::report::walls::stl_tank::{
+use dualsph_validation::report::walls::stl_tank::{
     DYNAMIC_OFF, LOAD_BOUND, OBSTACLE, SIDEWAYS, cases, dynamic_is_off, run_cases,
 };
 

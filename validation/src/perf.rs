@@ -13,9 +13,11 @@
 //! benches report. `dam_column_2d()` is the reference case of docs/performance.md: 12,800
 //! particles, Δx = 0.0125.
 
-use crate::{build_sim, default_registry};
+pub use dualsph::runner::cpu_seconds;
+
+use dualsph::prelude::*;
+use dualsph::{build_sim, default_registry};
 use dualsph_scene::Scene;
-use dualsph_sweep::prelude::*;
 use std::path::Path;
 
 /// The resolution layout of a case.
@@ -191,13 +193,6 @@ pub fn support_pairs<V: Vector>(sim: &Sim<V>) -> usize {
         .sum()
 }
 
-/// User + system CPU seconds of this process (all threads), from the `cpu-time` crate
-/// (`clock_gettime(CLOCK_PROCESS_CPUTIME_ID)` on Unix, `GetProcessTimes` on Windows). NaN
-/// where the platform cannot tell, so a throughput computed from it is NaN, not nonsense.
-pub fn cpu_seconds() -> f64 {
-    cpu_time::ProcessTime::try_now().map_or(f64::NAN, |t| t.as_duration().as_secs_f64())
-}
-
 /// Peak resident set size of this process in bytes (`VmHWM` of `/proc/self/status`).
 pub fn peak_rss_bytes() -> Option<u64> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
@@ -209,8 +204,8 @@ pub fn peak_rss_bytes() -> Option<u64> {
 /// The force sweep of the simulation's current state, as the Forces set runs it
 /// (`sweep::sweep_into` over the terms of the sweep `FORCES`: the momentum, energy and
 /// density rates), into `buf` — what the benches and the `perf` example time on their own.
-pub fn run_sweep<V: Vector>(sim: &Sim<V>, buf: &mut dualsph_sweep::SweepBuffers) {
-    use dualsph_sweep::{FORCES, PairSweeps, sweep_into};
+pub fn run_sweep<V: Vector>(sim: &Sim<V>, buf: &mut dualsph::sweep::SweepBuffers) {
+    use dualsph::sweep::{FORCES, PairSweeps, sweep_into};
     let sweeps = sim.world.resource::<PairSweeps<V>>();
     let terms = sweeps.get(FORCES).map_or(&[][..], |s| &s.terms[..]);
     sweep_into(&sim.world, terms, buf);

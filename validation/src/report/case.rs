@@ -1,12 +1,12 @@
 //! One case of a benchmark: a scene (possibly with its formulation overridden and its
 //! resolution coarsened), run in-process while time series and snapshots are recorded.
 
-use crate::runner::particle_records;
-use crate::{build_sim, with_dimension};
+use dualsph::prelude::*;
+use dualsph::runner::particle_records;
+use dualsph::{build_sim, with_dimension};
 use dualsph_diagnostics::{Diagnostics, SimDiagnostics};
 use dualsph_io::ParticleRecord;
 use dualsph_scene::{Formulation as SceneFormulation, Generator, Scene};
-use dualsph_sweep::prelude::*;
 use std::time::Instant;
 
 /// What to record while a case runs.
@@ -158,7 +158,7 @@ fn largest_x<V: Vector>(sim: &mut Sim<V>) -> Real {
 }
 
 fn health<V: Vector>(sim: &Sim<V>, label: &str) -> Result<(), SimError> {
-    crate::runner::check(sim).map_err(|e| SimError::BlowUp(format!("case {label}: {e}")))
+    dualsph::runner::check(sim).map_err(|e| SimError::BlowUp(format!("case {label}: {e}")))
 }
 
 fn run_dim<V: Vector>(spec: &CaseSpec, rec: &Recording) -> Result<CaseRun, SimError> {

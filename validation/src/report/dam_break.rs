@@ -68,7 +68,7 @@ pub fn cases(opts: &ReportOptions) -> Result<Vec<CaseSpec>, ReportError> {
 /// Turns on the artificial viscosity's dissipated channel (`dissipation: true`) for the
 /// energy budget: the shipped scenes leave it off, for speed.
 fn track_dissipation(scene: &mut dualsph_scene::Scene) -> Result<(), ReportError> {
-    use crate::plugins::ArtificialViscosity;
+    use dualsph::plugins::ArtificialViscosity;
     for p in scene
         .plugins
         .iter_mut()
@@ -314,7 +314,7 @@ fn measurements(
         if !dir.join("probes.csv").exists() {
             continue;
         }
-        let pngs = crate::probes::plot_probes(&dir).map_err(ReportError::Output)?;
+        let pngs = dualsph::probes::plot_probes(&dir).map_err(ReportError::Output)?;
         md += &format!(
             "**{}** (`{}`):\n\n",
             c.run.label,
@@ -330,7 +330,7 @@ fn measurements(
     let case2 = &graded[1].run;
     if let Some((_, t, particles)) = case2.snapshots.iter().find(|s| s.0 == CONTOUR_TIME) {
         let dir = opts.file("dam_break_density");
-        let (vti, png) = crate::gridded::write_density_grid(
+        let (vti, png) = dualsph::gridded::write_density_grid(
             particles,
             2,
             dualsph_core::kernels::KernelKind::CubicSpline,

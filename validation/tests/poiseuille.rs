@@ -6,13 +6,13 @@
 
 mod common;
 
-use dualsph::report::walls::poiseuille::{L2_BOUND, profile_error};
 use dualsph::scene::Scene;
+use dualsph_validation::report::walls::poiseuille::{L2_BOUND, profile_error};
 use std::path::Path;
 
 /// The scene with its `WallPressure(viscous: NoSlip)` set to `viscous`.
 fn channel(viscous: &str) -> Scene {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/poiseuille_2d.ron");
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/poiseuille_2d.ron");
     let text = std::fs::read_to_string(&path).unwrap();
     let text = text.replace("viscous: NoSlip", &format!("viscous: {viscous}"));
     Scene::from_str(&text, &path, &dualsph::default_registry()).unwrap()

@@ -171,7 +171,7 @@ pub fn run(opts: &ReportOptions) -> Result<(Section, SensorGrade), ReportError> 
          over the first impact, where Marrone et al.'s δ-SPH is {:.3} at the same H/Δx and \
          {:.3} at H/80: this model is {:.1}× their error at the same resolution there. The \
          sensor first wets at t* {:.3}, the experiment's at {:.3}. The figures are {} the \
-         bounds of `tests/dam_break_pressure.rs` ({:.2}, {:.2}, {:.2}).\n\n",
+         bounds of `validation/tests/dam_break_pressure.rs` ({:.2}, {:.2}, {:.2}).\n\n",
         g.whole.0,
         g.first.0,
         g.marrone.0,

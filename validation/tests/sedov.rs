@@ -5,7 +5,7 @@
 mod common;
 
 use common::report_options;
-use dualsph::report::sedov;
+use dualsph_validation::report::sedov;
 
 fn show(c: &sedov::SedovCase) {
     println!(

@@ -12,12 +12,12 @@
 mod common;
 
 use dualsph::probes::read_probes;
-use dualsph::report::walls::cavity::{BOUND, CentreLines};
 use dualsph::scene::Scene;
+use dualsph_validation::report::walls::cavity::{BOUND, CentreLines};
 use std::path::Path;
 
 fn cavity(viscous: &str) -> Scene {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/cavity_2d.ron");
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/cavity_2d.ron");
     let text = std::fs::read_to_string(&path).unwrap();
     let text = text.replace("viscous: NoSlip", &format!("viscous: {viscous}"));
     Scene::from_str(&text, &path, &dualsph::default_registry()).unwrap()

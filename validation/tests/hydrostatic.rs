@@ -3,17 +3,17 @@
 //! rest, with the hydrostatic pressure, for 2 s.
 //!
 //! The reference and the measures (the floor pressure, the worst particle, the largest
-//! speed) are those of the report's section, `dualsph::report::walls::hydrostatic`: a
+//! speed) are those of the report's section, `dualsph_validation::report::walls::hydrostatic`: a
 //! weakly compressible liquid at rest under gravity has the pressure `p(s)` at depth `s`
 //! given there, which is `ρ0 g s` to within `g s / (2 c0²)` (0.39 % at the bottom here).
 
 mod common;
 
-use dualsph::report::walls::hydrostatic::{
+use dualsph::scene::Scene;
+use dualsph_validation::report::walls::hydrostatic::{
     Bounds, G, GRADED, GRADED_SCENE, H, Measures, RHO0, SHARP_JUMP, UNIFORM, fine_walls,
     floor_pressure, p_exact,
 };
-use dualsph::scene::Scene;
 use std::collections::HashMap;
 use std::path::Path;
 
@@ -24,7 +24,7 @@ fn tank(plugins: impl Fn(&str) -> String) -> Scene {
 /// A scene of the set with its text edited by `edit`.
 fn scene(file: &str, edit: impl Fn(&str) -> String) -> Scene {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("scenes")
+        .join("../scenes")
         .join(file);
     let text = edit(&std::fs::read_to_string(&path).unwrap());
     Scene::from_str(&text, &path, &dualsph::default_registry()).unwrap()
@@ -148,7 +148,7 @@ fn the_dynamic_boundary_fails_them() {
 /// ρ0 and zero pressure at the start) the same load is 883.8 N/m, half of it.
 #[test]
 fn the_thrust_on_the_wall_is_the_hydrostatic_one() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/tank_obstacle_2d.ron");
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/tank_obstacle_2d.ron");
     let text = std::fs::read_to_string(&path)
         .unwrap()
         .replace("end_time: 1.0", "end_time: 0.001")

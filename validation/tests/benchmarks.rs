@@ -3,13 +3,13 @@
 //! references (`dualsph-reference`): the erf solution, the exact Riemann solution, the drop ODE
 //! and Koshizuka & Oka's experiment. Heat, Sod and the drop run at the paper's resolution in the
 //! quick tier; the dam break runs at half of it (spacing × 2) in the second tier
-//! (`cargo test --release -- --ignored`). `dualsph report` runs the same cases at full
-//! resolution and writes the validation report.
+//! (`cargo test --release -p dualsph-validation -- --ignored`). `dualsph-validation report`
+//! runs the same cases at full resolution and writes the validation report.
 
 mod common;
 
 use common::report_options;
-use dualsph::report::{ReportOptions, dam_break, drop, heat, sod};
+use dualsph_validation::report::{ReportOptions, dam_break, drop, heat, sod};
 
 #[test]
 fn heat_conduction_matches_erf_and_conserves_energy_only_with_dual_support() {
@@ -145,7 +145,7 @@ fn dam_break_two_level_dual_support_tracks_the_uniform_run_and_the_experiment() 
     // slows the front too much to meet the 0.30 m bound (measured: 0.347 m for Case II).
     let opts = report_options(1.0, Some(0.75));
     let specs = dam_break::cases(&opts).unwrap();
-    let rec = dualsph::report::Recording {
+    let rec = dualsph_validation::report::Recording {
         every: 20,
         front: true,
         ..Default::default()
@@ -184,7 +184,7 @@ fn dam_break_total_energy_holds_to_two_and_a_half_seconds() {
     // wall and the plunging wave, to t = 2.5 s.
     let opts = report_options(2.0, None);
     let specs = dam_break::cases(&opts).unwrap();
-    let rec = dualsph::report::Recording {
+    let rec = dualsph_validation::report::Recording {
         every: 20,
         ..Default::default()
     };

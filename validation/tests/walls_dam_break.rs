@@ -7,10 +7,10 @@
 
 mod common;
 
-use dualsph::report::walls::dam_break_fronts::{
+use dualsph::scene::Scene;
+use dualsph_validation::report::walls::dam_break_fronts::{
     BETWEEN_RMS, END_TIME, EXPERIMENT_RMS, MIN_POINTS, run_pair,
 };
-use dualsph::scene::Scene;
 use std::collections::HashMap;
 use std::path::Path;
 
@@ -18,7 +18,7 @@ const G: f64 = 9.81;
 
 /// The shipped scene at Δx = 0.05 m, to `end` s, with diagnostics every step.
 fn coarse_dam_break(end: f64) -> Scene {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/dam_break_2d_walls.ron");
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/dam_break_2d_walls.ron");
     let text = std::fs::read_to_string(&path)
         .unwrap()
         .replace("spacing: 0.025", "spacing: 0.05")
@@ -74,7 +74,7 @@ fn the_walls_hold_the_surge_and_the_momentum_balances_every_step() {
 
 /// The paper's Case II (two resolutions in the column, dual-support) and Case III (uniform
 /// fine Δx = 0.0125 m) with walls of particles instead of specular walls, run to 0.72 s and
-/// graded as in the report's section (`dualsph::report::walls::dam_break_fronts`): both water
+/// graded as in the report's section (`dualsph_validation::report::walls::dam_break_fronts`): both water
 /// fronts follow Koshizuka & Oka's experiment to 0.70 s within 0.1 m RMS, and Case II's
 /// front stays within 0.04 m RMS of Case III's — the coarse water meets the fine walls
 /// through the dual-support sweep without changing the flow. Measured: front RMS against the

@@ -4,15 +4,15 @@
 
 mod common;
 
-use dualsph::report::walls::taylor_green::{RATE_BOUND, decay_rate, mode_amplitude};
 use dualsph::scene::Scene;
+use dualsph_validation::report::walls::taylor_green::{RATE_BOUND, decay_rate, mode_amplitude};
 use std::f64::consts::PI;
 use std::path::Path;
 
 /// `scenes/taylor_green_2d.ron` at Δx = 0.02 (2,500 particles, a quarter of the scene's)
 /// with its plugins replaced by `plugins`, run to `end` with a snapshot every `every` seconds.
 fn taylor_green(plugins: &str, velocity: &str, end: f64, every: f64) -> Scene {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/taylor_green_2d.ron");
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/taylor_green_2d.ron");
     let text = std::fs::read_to_string(&path).unwrap();
     let start = text.find("    plugins: [").unwrap();
     let stop = start + text[start..].find("    ],\n").unwrap() + 7;
@@ -60,7 +60,7 @@ fn mode_amplitudes(dir: &Path) -> Vec<(f64, f64)> {
 #[test]
 #[ignore = "second tier (cargo test --release -- --ignored): a second of Taylor-Green flow"]
 fn the_taylor_green_vortex_keeps_its_decay_rate_to_one_second() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/taylor_green_2d.ron");
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/taylor_green_2d.ron");
     let text = std::fs::read_to_string(&path).unwrap();
     let text = text.replace("snapshot_dt: 0.1)", "snapshot_dt: 0.1, formats: [Csv])");
     let scene = Scene::from_str(&text, &path, &dualsph::default_registry()).unwrap();

@@ -12,14 +12,14 @@
 
 use super::case::process_cpu_seconds;
 use super::{ReportError, ReportOptions, Section, Table, image};
-use crate::build_sim;
+use dualsph::build_sim;
+use dualsph::prelude::*;
 use dualsph_core::glam::DVec3;
 use dualsph_diagnostics::{Diagnostics, PairBalance, SimDiagnostics, track_pair_balance};
 use dualsph_plot::{LinePlot, Series, SeriesStyle};
 use dualsph_reference::dam_break::KOSHIZUKA_OKA_FRONT;
 use dualsph_reference::drop::linear_drop_axes;
 use dualsph_scene::Scene;
-use dualsph_sweep::prelude::*;
 
 /// Initial strain rate of the 3-D drop, `v = A₀(−x, y, 0)` (1/s).
 pub const STRAIN_RATE: f64 = 100.0;
@@ -143,7 +143,7 @@ pub fn run_scene(scene: &Scene, every: u64) -> Result<ThreeDRun, SimError> {
     let cpu0 = process_cpu_seconds();
     while sim.clock().t < scene.end_time * (1.0 - 1e-12) && sim.clock().step < max_steps {
         sim.step()?;
-        crate::runner::check(&sim)?;
+        dualsph::runner::check(&sim)?;
         let step = sim.clock().step;
         if step.is_multiple_of(every.max(1)) {
             run.diagnostics.push(sim.diagnostics());

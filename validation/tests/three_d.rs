@@ -2,13 +2,13 @@
 //! ODE with its momentum and angular momentum to round-off, and the 3-D dam break with its
 //! pair forces balancing to round-off, its front advancing and its energy bounded.
 
-use dualsph::report::three_d::{drop_stretch, run_scene};
 use dualsph::scene::Scene;
+use dualsph_validation::report::three_d::{drop_stretch, run_scene};
 use std::path::Path;
 
 fn load(name: &str) -> Scene {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("scenes")
+        .join("../scenes")
         .join(name);
     Scene::load(&path, &dualsph::default_registry()).unwrap()
 }

@@ -4,7 +4,7 @@
 //! The displaced area `V = N Δx²`, why the load at rest equals `ρ0 |g| V` per unit depth with
 //! the wall pressure of Adami, Hu & Adams (2012), and what the measure leaves out are in the
 //! report's section, whose measure this test asserts on
-//! (`dualsph::report::walls::dam_break_obstacle`). Measured over t = 5–6 s: −1.01 % from
+//! (`dualsph_validation::report::walls::dam_break_obstacle`). Measured over t = 5–6 s: −1.01 % from
 //! `ρ0 g V` vertically and 7.5 % of it sideways (bounds 2 % and 10 %), the water still (the
 //! vertical load swings by 0.14 % of `ρ0 g V`); with the walls' own velocity in the viscous
 //! term +12.5 % and 17.5 %, as a dynamic boundary (no `WallPressure`) +39.6 % and 43.7 %.
@@ -12,7 +12,7 @@
 
 mod common;
 
-use dualsph::report::walls::dam_break_obstacle::{
+use dualsph_validation::report::walls::dam_break_obstacle::{
     CYLINDER, Displaced, SIDEWAYS, STEP, STEP_FACE, VERTICAL, cases, experiment_arrival,
     ritter_arrival, run_cases,
 };

@@ -1,17 +1,19 @@
 //! Whole-step driver for profiling and throughput: runs `Sim::step` on a benchmark case
-//! (see `dualsph::perf`) and prints particles, pair interactions, CPU time, particle-steps per
-//! CPU-second and peak RSS per particle.
+//! (see `dualsph_validation::perf`) and prints particles, pair interactions, CPU time,
+//! particle-steps per CPU-second and peak RSS per particle.
 //!
 //! ```sh
-//! cargo run --release --example perf -- [dim] [uniform|two-level] [particles|dam] [steps] [threads]
-//! cargo run --release --example perf -- 2 uniform dam 200 1        # the reference 12,800 column
-//! cargo run --release --example perf -- 3 uniform 1000000 3 2      # memory per particle at 1e6
+//! cargo run --release -p dualsph-validation --example perf -- [dim] [uniform|two-level] [particles|dam] [steps] [threads]
+//! cargo run --release -p dualsph-validation --example perf -- 2 uniform dam 200 1     # the reference 12,800 column
+//! cargo run --release -p dualsph-validation --example perf -- 3 uniform 1000000 3 2   # memory per particle at 1e6
 //! valgrind --tool=callgrind target/release/examples/perf 2 uniform dam 20 1
 //! ```
 
 use dualsph::core::neighbours::Neighbours;
-use dualsph::perf::{Case, Layout, cpu_seconds, peak_rss_bytes, run_sweep, support_pairs};
 use dualsph::prelude::*;
+use dualsph_validation::perf::{
+    Case, Layout, cpu_seconds, peak_rss_bytes, run_sweep, support_pairs,
+};
 use std::time::Instant;
 
 /// The measured loop (a frame of its own: `valgrind --tool=callgrind --collect-atstart=no

@@ -1,13 +1,13 @@
 //! The pressure on the far wall in a dam break (`scenes/dam_break_buchner_2d.ron`, H/Δx = 40)
 //! against Buchner's (2002) sensor P1, with the δ-SPH results of Marrone et al. (2011) on the
 //! same sensor and measure for scale; the measure is the report's
-//! (`dualsph::report::walls::wall_pressure`).
+//! (`dualsph_validation::report::walls::wall_pressure`).
 
 mod common;
 
 use dualsph::probes::read_probes;
-use dualsph::report::walls::wall_pressure::{BOUNDS, grade, sensor};
 use dualsph::scene::Scene;
+use dualsph_validation::report::walls::wall_pressure::{BOUNDS, grade, sensor};
 use std::path::Path;
 
 /// Over the whole record (t* 2.6–7.0: the first impact, the run-up's plateau and the second
@@ -19,7 +19,7 @@ use std::path::Path;
 #[test]
 #[ignore = "second tier (cargo test --release -- --ignored): 1.8 s of dam break"]
 fn the_wall_pressure_follows_the_experiment() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/dam_break_buchner_2d.ron");
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/dam_break_buchner_2d.ron");
     let scene = Scene::load(&path, &dualsph::default_registry()).unwrap();
     let (dir, _) = common::run_on_threads(&scene, 2);
     let g = grade(sensor(&read_probes(dir.path()).unwrap()));
