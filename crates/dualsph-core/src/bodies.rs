@@ -273,6 +273,13 @@ crate::vector_column!(WallVelocityOffset);
 #[derive(Resource, Clone, Debug, Default)]
 pub struct DrivenBodies(pub Vec<Option<Motion>>);
 
+/// The systems that set the positions and velocities of fixed and prescribed bodies
+/// ([`drive_bodies`], after the integrator's predictor and corrector): the integrator's
+/// kinematics run before them, what reads the walls' state after.
+pub struct DriveBodies;
+
+impl crate::order::SystemGroup for DriveBodies {}
+
 /// Sets the particles of fixed and prescribed bodies to their law at the end of the step
 /// (`t + Δt`): position from their anchor (initial position), and velocity.
 #[inline(never)] // a frame of its own in profiles
@@ -332,12 +339,14 @@ pub fn install_bodies<V: Vector>(sim: &mut Sim<V>, bodies: Bodies) -> Result<(),
             StepSet::Predict,
             "drive_bodies (fixed and prescribed, after the predictor)",
             drive_bodies::<V>,
-        );
+        )
+        .in_group::<DriveBodies>();
         sim.add_system(
             StepSet::Correct,
             "drive_bodies (fixed and prescribed, after the corrector)",
             drive_bodies::<V>,
-        );
+        )
+        .in_group::<DriveBodies>();
     }
     Ok(())
 }

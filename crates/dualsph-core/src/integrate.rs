@@ -164,9 +164,15 @@ impl<V: Vector, S: ScalarState, R: ScalarRate> ScalarEquation<V> for Equation<S,
         let system = move |clock: Res<SimClock>, q: Query<(&mut S, &R, &mut Registers<S>)>| {
             run_blocks(&clock, q, &*kernel)
         };
-        sim.add_system(set, label, system)
+        sim.add_system(set, label, system).in_group::<Updates<S>>()
     }
 }
+
+/// The systems a scheme adds to update the integrated scalar `S` (see
+/// [`ScalarEquation::add_system`]): what must see `S` updated in a set runs after them.
+pub struct Updates<S>(PhantomData<fn() -> S>);
+
+impl<S: 'static> crate::order::SystemGroup for Updates<S> {}
 
 /// Runs `kernel` over the particles in blocks of [`BLOCK`], in parallel over blocks, on the
 /// columns themselves (their reals: see [`ScalarState`]).
@@ -325,10 +331,23 @@ pub(crate) fn check_integrator<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimErr
 /// [`Scheme`] sees as [`ScalarEquation::name`]).
 pub const INTERNAL_ENERGY: &str = "internal_energy";
 
+/// Present once the energy equation is solved ([`ensure_energy_equation`]).
+#[derive(Resource, Debug, Default)]
+pub struct EnergyEquation;
+
+/// Present once the dissipated energy is tracked apart ([`ensure_dissipation`]).
+#[derive(Resource, Debug, Default)]
+pub struct Dissipation;
+
+/// Present once the density is integrated by the continuity equation
+/// ([`ensure_density_integration`]).
+#[derive(Resource, Debug, Default)]
+pub struct DensityIntegration;
+
 /// Adds the internal-energy equation once: `InternalEnergy` (initial ε from the scene) and
 /// `EnergyRate` on every particle, and declares `dε/dt` integrated.
 pub fn ensure_energy_equation<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimError> {
-    if !sim.enable_feature("energy_equation") {
+    if !sim.enable::<EnergyEquation>() {
         return Ok(());
     }
     let spec = ColumnSpec::state("internal_energy", "e");
@@ -349,7 +368,7 @@ pub const DISSIPATED: &str = "dissipated";
 /// heat into `DissipationRate` as well as into the power (`Binder::dissipation` of `dualsph-sweep`).
 pub fn ensure_dissipation<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimError> {
     ensure_energy_equation(sim)?;
-    if !sim.enable_feature("dissipation") {
+    if !sim.enable::<Dissipation>() {
         return Ok(());
     }
     let spec = ColumnSpec::state(DISSIPATED, "e_diss");
@@ -363,7 +382,7 @@ pub fn ensure_dissipation<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimError> {
 /// Adds the integrated density (continuity) once: `DensityRate` on every particle, and
 /// declares `dρ/dt` integrated.
 pub fn ensure_density_integration<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimError> {
-    if !sim.enable_feature("density_integration") {
+    if !sim.enable::<DensityIntegration>() {
         return Ok(());
     }
     let spec = ColumnSpec::restart_only("density_rate");

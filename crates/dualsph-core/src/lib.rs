@@ -44,6 +44,7 @@ pub mod prelude {
     pub use crate::lanes::{LaneVec, Lanes};
     pub use crate::math::{Mat1, Matrix, Real, Vec1, Vector};
     pub use crate::neighbours::SkinRule;
+    pub use crate::order::SystemGroup;
     pub use crate::output::{RunOutputDir, StepLimit};
     pub use crate::plugin::{PluginConfig, Registry, Role, SceneInfo, SimPlugin};
     pub use crate::sim::{

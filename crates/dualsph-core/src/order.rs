@@ -1,10 +1,20 @@
 //! The order of the systems inside a [`crate::sim::StepSet`]: the order they were added in,
 //! changed only as far as their `after` / `before` constraints require
-//! ([`crate::sim::SystemOrder`]). A constraint names a system by its name — its label up to
-//! the first blank (`density_diffusion`), or a prefix of it that ends at an underscore
-//! (`continuity` names `continuity_pairwise`) — or by the plugin that added it (`TaitEos`);
-//! a name that matches nothing is no constraint (the other plugin is not in the scene). A
-//! cycle is an error that names the systems and the plugins that added them.
+//! ([`crate::sim::SystemOrder`]). A constraint names a *group* of systems by its type (a
+//! [`SystemGroup`]: the equations of state, the driving of bodies, the force sweep), which a
+//! system joins with [`crate::sim::SystemOrder::in_group`]; a group no system of the set
+//! joins is no constraint (its plugin is not in the scene), and a user's system that joins a
+//! group is ordered with the built-in ones without any edit elsewhere. A cycle is an error
+//! that names the systems and the plugins that added them.
+
+use std::any::TypeId;
+
+/// A group of systems that other systems are placed against by type: a plugin declares one as
+/// a unit struct with `impl SystemGroup for MyGroup {}`, its systems join it
+/// ([`crate::sim::SystemOrder::in_group`]) and others run after or before it
+/// ([`crate::sim::SystemOrder::after`]). The same type can be the marker resource that says
+/// the group's provider is in the scene ([`crate::sim::Sim::enable`]).
+pub trait SystemGroup: 'static {}
 
 /// What the sort needs of one system.
 #[derive(Clone, Debug, Default)]
@@ -13,10 +23,12 @@ pub struct Placement {
     pub label: String,
     /// The plugin that added it (`core` for the engine's own).
     pub plugin: String,
-    /// Names it runs after.
-    pub after: Vec<String>,
-    /// Names it runs before.
-    pub before: Vec<String>,
+    /// The groups it belongs to.
+    pub groups: Vec<TypeId>,
+    /// The groups it runs after.
+    pub after: Vec<TypeId>,
+    /// The groups it runs before.
+    pub before: Vec<TypeId>,
 }
 
 impl Placement {
@@ -25,14 +37,8 @@ impl Placement {
         self.label.split_whitespace().next().unwrap_or("")
     }
 
-    /// Whether `name` names this system (see the module docs).
-    pub fn answers_to(&self, name: &str) -> bool {
-        let own = self.name();
-        own == name
-            || self.plugin == name
-            || own
-                .strip_prefix(name)
-                .is_some_and(|rest| rest.starts_with('_'))
+    fn in_any(&self, groups: &[TypeId]) -> bool {
+        groups.iter().any(|g| self.groups.contains(g))
     }
 
     fn describe(&self) -> String {
@@ -51,8 +57,8 @@ pub fn order(systems: &[Placement]) -> Result<Vec<usize>, String> {
             if a == b {
                 continue;
             }
-            let b_after_a = s.after.iter().any(|name| t.answers_to(name));
-            let a_before_b = t.before.iter().any(|name| s.answers_to(name));
+            let b_after_a = t.in_any(&s.after);
+            let a_before_b = s.in_any(&t.before);
             if b_after_a || a_before_b {
                 preds[b].push(a);
             }
@@ -97,33 +103,55 @@ fn cycle(systems: &[Placement], preds: &[Vec<usize>], done: &[bool]) -> String {
 mod tests {
     use super::*;
 
-    fn sys(label: &str, plugin: &str, after: &[&str], before: &[&str]) -> Placement {
+    struct Sweep;
+    struct Continuity;
+    struct Elsewhere;
+
+    fn group<G: 'static>() -> TypeId {
+        TypeId::of::<G>()
+    }
+
+    fn sys(
+        label: &str,
+        plugin: &str,
+        groups: &[TypeId],
+        after: &[TypeId],
+        before: &[TypeId],
+    ) -> Placement {
         Placement {
             label: label.into(),
             plugin: plugin.into(),
-            after: after.iter().map(|s| s.to_string()).collect(),
-            before: before.iter().map(|s| s.to_string()).collect(),
+            groups: groups.to_vec(),
+            after: after.to_vec(),
+            before: before.to_vec(),
         }
     }
 
     #[test]
     fn insertion_order_unless_a_constraint_says_otherwise() {
+        let (sweep, cont, elsewhere) = (
+            group::<Sweep>(),
+            group::<Continuity>(),
+            group::<Elsewhere>(),
+        );
         let s = [
             sys(
                 "density_diffusion (δ-SPH)",
                 "DensityDiffusion",
-                &["pair_sweep", "continuity"],
+                &[],
+                &[sweep, cont],
                 &[],
             ),
-            sys("pair_sweep (support)", "core", &[], &[]),
+            sys("pair_sweep (support)", "core", &[sweep], &[], &[]),
             sys(
                 "continuity_pairwise (Eq. 4.9)",
                 "ContinuityDensity",
+                &[cont],
                 &[],
                 &[],
             ),
-            sys("pair_balance", "core", &[], &["pair_sweep"]),
-            sys("unrelated", "X", &["NotInTheScene"], &[]),
+            sys("pair_balance", "core", &[], &[], &[sweep]),
+            sys("unrelated", "X", &[], &[elsewhere], &[]),
         ];
         let o = order(&s).unwrap();
         let at = |k: usize| o.iter().position(|&x| x == k).unwrap();
@@ -137,16 +165,17 @@ mod tests {
             vec![2, 3, 1, 0, 4],
             "the first system whose predecessors have run"
         );
-        assert!(s[2].answers_to("continuity") && s[2].answers_to("ContinuityDensity"));
-        assert!(!s[2].answers_to("contin"));
     }
 
     #[test]
     fn a_cycle_names_both_plugins() {
+        struct A;
+        struct B;
+        let (a, b) = (group::<A>(), group::<B>());
         let s = [
-            sys("a_sys", "PluginA", &["b_sys"], &[]),
-            sys("b_sys", "PluginB", &["PluginA"], &[]),
-            sys("c_sys", "core", &[], &[]),
+            sys("a_sys", "PluginA", &[a], &[b], &[]),
+            sys("b_sys", "PluginB", &[b], &[a], &[]),
+            sys("c_sys", "core", &[], &[], &[]),
         ];
         let e = order(&s).unwrap_err();
         assert!(

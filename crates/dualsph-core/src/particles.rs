@@ -124,8 +124,7 @@ impl<V: Vector> Sim<V> {
     /// at the end of [`crate::sim::StepSet::Population`] (once, however many plugins call
     /// this).
     pub fn enable_population(&mut self) {
-        if self.enable_feature("population") {
-            self.world.insert_resource(Population::<V>::default());
+        if self.enable::<Population<V>>() {
             self.add_finish_hook("population", add_population_system::<V>);
         }
     }

@@ -6,12 +6,12 @@
 
 use crate::columns::Columns;
 use crate::math::Vector;
-use crate::order::Placement;
+use crate::order::{Placement, SystemGroup};
 use crate::store::ParticleData;
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::{ScheduleLabel, SingleThreadedExecutor};
 use bevy_ecs::system::ScheduleSystem;
-use std::collections::BTreeSet;
+use std::any::TypeId;
 
 pub use crate::names::short_type_name;
 
@@ -130,34 +130,40 @@ struct SystemEntry {
     add: Option<Adder>,
 }
 
-/// The system just added, to constrain its place in its set (see [`crate::order`]):
-/// `sim.add_system(StepSet::Forces, "density_diffusion", f).after("pair_sweep")`.
+/// The system just added, to join groups and constrain its place in its set (see
+/// [`crate::order`]): `sim.add_system(StepSet::Eos, "wall_pressure", f).after::<EquationOfState>()`.
 pub struct SystemOrder<'a> {
     place: &'a mut Placement,
 }
 
 impl SystemOrder<'_> {
-    /// Runs after the systems `name` names (a system name, a prefix of one ending at `_`, or
-    /// a plugin); nothing when none is in the scene.
-    pub fn after(self, name: &str) -> Self {
-        self.place.after.push(name.to_string());
+    /// Joins the group `G`, so that systems placed against `G` are placed against it.
+    pub fn in_group<G: SystemGroup>(self) -> Self {
+        self.place.groups.push(TypeId::of::<G>());
         self
     }
 
-    /// Runs before the systems `name` names (see [`SystemOrder::after`]).
-    pub fn before(self, name: &str) -> Self {
-        self.place.before.push(name.to_string());
+    /// Runs after every system of its set in group `G` (none, when no such system is in the
+    /// scene).
+    pub fn after<G: SystemGroup>(self) -> Self {
+        self.place.after.push(TypeId::of::<G>());
+        self
+    }
+
+    /// Runs before every system of its set in group `G` (see [`SystemOrder::after`]).
+    pub fn before<G: SystemGroup>(self) -> Self {
+        self.place.before.push(TypeId::of::<G>());
         self
     }
 }
 
-/// A simulation: world, schedule under construction or built, and its features.
+/// A simulation: world, schedule under construction or built, and its requirements.
 pub struct Sim<V: Vector> {
     /// The ECS world: particles are entities, shared state is resources.
     pub world: World,
     systems: Vec<SystemEntry>,
-    features: BTreeSet<&'static str>,
-    requirements: Vec<(&'static str, String)>,
+    /// What plugins need present at [`Sim::finish`]: a test of the world and the message.
+    requirements: Vec<(fn(&World) -> bool, String)>,
     /// The plugin being built (systems added now are its own), `core` otherwise.
     building: &'static str,
     schedule: Option<Schedule>,
@@ -208,7 +214,6 @@ impl<V: Vector> Sim<V> {
         Sim {
             world,
             systems: Vec::new(),
-            features: BTreeSet::new(),
             requirements: Vec::new(),
             building: "core",
             schedule: None,
@@ -221,25 +226,32 @@ impl<V: Vector> Sim<V> {
         }
     }
 
-    /// Records a feature; returns true the first time (so shared systems are added once).
-    pub fn enable_feature(&mut self, name: &'static str) -> bool {
-        self.features.insert(name)
+    /// Marks what the marker resource `M` stands for as present (an equation of state,
+    /// gravity, the summation density); returns true the first time, so that what it brings
+    /// is added once.
+    pub fn enable<M: Resource + Default>(&mut self) -> bool {
+        if self.world.contains_resource::<M>() {
+            return false;
+        }
+        self.world.init_resource::<M>();
+        true
     }
 
-    /// True if the feature was enabled.
-    pub fn has_feature(&self, name: &str) -> bool {
-        self.features.contains(name)
+    /// True once [`Sim::enable`]`::<M>` was called.
+    pub fn has<M: Resource>(&self) -> bool {
+        self.world.contains_resource::<M>()
     }
 
-    /// Declares that `feature` must be enabled by some plugin before the run starts;
-    /// `message` explains who needs it (checked by [`Sim::finish`]).
-    pub fn require_feature(&mut self, feature: &'static str, message: impl Into<String>) {
-        self.requirements.push((feature, message.into()));
+    /// Declares that some plugin must enable `M` before the run starts; `message` explains
+    /// who needs it (checked by [`Sim::finish`]).
+    pub fn require<M: Resource>(&mut self, message: impl Into<String>) {
+        self.requirements
+            .push((World::contains_resource::<M>, message.into()));
     }
 
     /// Adds a system to a set, after every system already in that set unless the returned
     /// [`SystemOrder`] constrains it otherwise (see [`crate::order`]). The label's first word
-    /// is the system's name in constraints.
+    /// is the system's name in messages.
     pub fn add_system<M: 'static>(
         &mut self,
         set: StepSet,
@@ -344,10 +356,10 @@ impl<V: Vector> Sim<V> {
         self.build_schedule()
     }
 
-    /// The requirements declared with [`Sim::require_feature`] are met.
+    /// The requirements declared with [`Sim::require`] are met.
     pub(crate) fn check_requirements(&self) -> Result<(), SimError> {
-        for (feature, message) in &self.requirements {
-            if !self.features.contains(feature) {
+        for (present, message) in &self.requirements {
+            if !present(&self.world) {
                 return Err(SimError::Build(message.clone()));
             }
         }

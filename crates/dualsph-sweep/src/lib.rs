@@ -60,7 +60,7 @@ mod sweep;
 mod system;
 pub use checks::{check_block_loop_2d, check_lanes_2d, lattice_2d};
 pub use fuse::{Fused, FusedBound, Fusions};
-pub use system::{FORCES, PairSweep, PairSweeps, SimSweeps, sweep_into};
+pub use system::{FORCES, ForceSweep, PairSweep, PairSweeps, SimSweeps, sweep_into};
 
 /// The most used items of the pair layer and of the core below it: what a plugin that adds
 /// pair terms imports.

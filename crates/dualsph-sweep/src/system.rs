@@ -13,11 +13,18 @@ use dualsph_core::components::Acceleration;
 use dualsph_core::kernels::Kernel;
 use dualsph_core::math::Vector;
 use dualsph_core::neighbours::Neighbours;
+use dualsph_core::order::SystemGroup;
 use dualsph_core::sim::{AccelerationsSet, KernelRes, Sim, SimError, StepSet};
 use std::sync::Arc;
 
 /// The name of the step's force sweep (in [`StepSet::Forces`]).
 pub const FORCES: &str = "pair_sweep";
+
+/// The step's force sweep ([`FORCES`]) as a group of systems: what must see its sums runs
+/// after it, what its sums must not overwrite before it.
+pub struct ForceSweep;
+
+impl SystemGroup for ForceSweep {}
 
 /// One sweep of the step.
 pub struct PairSweep<V: Vector> {
@@ -148,9 +155,12 @@ impl<V: Vector> SimSweeps<V> for Sim<V> {
         };
         // the sweep is the engine's, whichever plugin's term comes first
         self.as_plugin("core", |sim| {
-            sim.add_system(set, label, move |world: &mut World| {
+            let order = sim.add_system(set, label, move |world: &mut World| {
                 run_sweep::<V>(world, index)
             });
+            if name == FORCES {
+                order.in_group::<ForceSweep>();
+            }
         });
         Ok(())
     }
@@ -200,7 +210,7 @@ fn finish_sweeps<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimError> {
     if writes {
         sim.world.insert_resource(AccelerationsSet);
     } else {
-        sim.add_zero_accelerations().before(FORCES);
+        sim.add_zero_accelerations().before::<ForceSweep>();
     }
     Ok(())
 }

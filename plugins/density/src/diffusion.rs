@@ -46,12 +46,19 @@
 //! from the fluid by `WallPressure`, or its own continuity equation), and mass diffused into a
 //! wall would leave the fluid.
 
+use dualsph_core::bevy_ecs::prelude::Resource;
 use dualsph_core::bodies::{Bodies, BodyKind};
+use dualsph_core::integrate::DensityIntegration;
 use dualsph_core::lanes::LaneVec;
 use dualsph_eos::{Eos, Materials};
+use dualsph_fluid::EquationOfState;
 use dualsph_gravity::GravityAccel;
 use dualsph_sweep::prelude::*;
 use serde::{Deserialize, Serialize};
+
+/// Present once the diffusion term is in the force sweep.
+#[derive(Resource, Default)]
+struct DiffusionOn;
 
 /// δ-SPH density diffusion settings.
 #[derive(Debug, Clone, Deserialize, Serialize)]
@@ -178,15 +185,13 @@ impl SimPlugin for DensityDiffusion {
 
     /// Adds the diffusion term to the force sweep, whose density-rate sum it joins.
     fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
-        sim.require_feature(
-            "density_integration",
+        sim.require::<DensityIntegration>(
             "DensityDiffusion diffuses the integrated density: add ContinuityDensity",
         );
-        sim.require_feature(
-            "eos",
+        sim.require::<EquationOfState>(
             "DensityDiffusion needs the sound speed: add an equation of state",
         );
-        if !sim.enable_feature("density_diffusion") {
+        if !sim.enable::<DiffusionOn>() {
             return Err(SimError::Build("DensityDiffusion is listed twice".into()));
         }
         let kinds = &sim.world.resource::<Bodies>().0;

@@ -9,6 +9,8 @@
 pub mod diffusion;
 pub use diffusion::DensityDiffusion;
 
+use dualsph_core::integrate::DensityIntegration;
+use dualsph_fluid::DensitySummation;
 use dualsph_sweep::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -22,7 +24,7 @@ impl SimPlugin for SummationDensity {
     const SUMMARY: &'static str = "density by kernel summation over the own support (Eq. 4.8)";
 
     fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
-        if sim.has_feature("density_integration") {
+        if sim.has::<DensityIntegration>() {
             return Err(SimError::Build(
                 "SummationDensity and ContinuityDensity cannot both set the density".into(),
             ));
@@ -30,7 +32,7 @@ impl SimPlugin for SummationDensity {
         // with grad-h the density is summed by the h solve, at the h it solves for (the
         // smoothing-length plugin's `grad_h`)
         let grad_h = *sim.world.resource::<Formulation>() == Formulation::GradH;
-        if sim.enable_feature("summation_density") && !grad_h {
+        if sim.enable::<DensitySummation>() && !grad_h {
             sim.add_pair_term_to("summation_density", StepSet::Density, SummationTerm)?;
         }
         Ok(())
@@ -113,7 +115,7 @@ impl SimPlugin for ContinuityDensity {
     const SUMMARY: &'static str = "density from the continuity equation (Eq. 4.9 or -rho div v)";
 
     fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
-        if sim.has_feature("summation_density") {
+        if sim.has::<DensitySummation>() {
             return Err(SimError::Build(
                 "SummationDensity and ContinuityDensity cannot both set the density".into(),
             ));

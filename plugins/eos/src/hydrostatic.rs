@@ -27,6 +27,7 @@ use crate::{Eos, Materials};
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::bodies::{Bodies, BodyKind};
 use dualsph_core::chunks::DENSE;
+use dualsph_fluid::{GravityField, Liquid};
 use dualsph_gravity::GravityAccel;
 use dualsph_sweep::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -116,8 +117,8 @@ impl SimPlugin for HydrostaticStart {
     }
 
     fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
-        sim.require_feature("gravity", "HydrostaticStart needs Gravity");
-        sim.require_feature("tait", "HydrostaticStart needs a liquid (TaitEos)");
+        sim.require::<GravityField>("HydrostaticStart needs Gravity");
+        sim.require::<Liquid>("HydrostaticStart needs a liquid (TaitEos)");
         sim.world.insert_resource(SurfaceLevel(self.surface));
         // Before any density pass of the initial evaluation (the Density set follows).
         sim.add_system(

@@ -11,6 +11,7 @@ use dualsph_core::bodies::Bodies;
 use dualsph_core::chunks::DENSE;
 use dualsph_core::integrate::ensure_energy_equation;
 use dualsph_core::plugin::positive;
+use dualsph_fluid::{EquationOfState, Liquid};
 use dualsph_sweep::prelude::*;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -261,7 +262,7 @@ fn install<V: Vector>(
     materials: Vec<Eos>,
     label: &str,
 ) -> Result<(), SimError> {
-    if !sim.enable_feature("eos") {
+    if !sim.enable::<EquationOfState>() {
         return Err(SimError::Build(
             "only one equation of state may be used".into(),
         ));
@@ -270,13 +271,15 @@ fn install<V: Vector>(
     sim.add_column(ColumnSpec::state("pressure", "p"), |_| Pressure(0.0))?;
     sim.add_column(ColumnSpec::restart_only("sound_speed"), |_| SoundSpeed(0.0))?;
     if materials.iter().all(|m| *m == eos) {
-        sim.add_system(StepSet::Eos, label.to_string(), apply_eos);
+        sim.add_system(StepSet::Eos, label.to_string(), apply_eos)
+            .in_group::<EquationOfState>();
     } else {
         sim.add_system(
             StepSet::Eos,
             format!("{label}, per body"),
             apply_eos_by_body,
-        );
+        )
+        .in_group::<EquationOfState>();
     }
     sim.world.insert_resource(Materials(materials));
     Ok(())
@@ -326,7 +329,7 @@ impl SimPlugin for TaitEos {
                 },
             )
             .collect::<Result<Vec<Eos>, SimError>>()?;
-        sim.enable_feature("tait");
+        sim.enable::<Liquid>();
         install(sim, eos, materials, "tait_eos (Eq. 7.5)")
     }
 }

@@ -83,7 +83,7 @@ impl SimPlugin for Gravity {
     fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
         let g = V::from_slice(&self.g)
             .ok_or_else(|| SimError::Build(format!("Gravity.g needs {} components", V::DIM)))?;
-        sim.enable_feature("gravity");
+        sim.enable::<dualsph_fluid::GravityField>();
         sim.world.insert_resource(GravityAccel(g));
         let mut pots = sim.world.resource_mut::<ExternalPotentials>();
         pots.terms.push(potential);

@@ -25,6 +25,14 @@ use serde::{Deserialize, Serialize};
 mod settings;
 pub use settings::{check_box, lattice};
 
+/// Present once the inlets' resources and systems are added.
+#[derive(Resource, Default)]
+struct InletsOn;
+
+/// Present once the outlets' resources and system are added.
+#[derive(Resource, Default)]
+struct OutletsOn;
+
 /// An inlet (see the module docs).
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
@@ -168,7 +176,7 @@ impl SimPlugin for Inlet {
             until: self.until.unwrap_or(Real::INFINITY),
         };
         sim.enable_population();
-        if sim.enable_feature("inlets") {
+        if sim.enable::<InletsOn>() {
             sim.world.insert_resource(Inlets::<V>(Vec::new()));
             sim.world.insert_resource(InletLayers::default());
             sim.keep_resource::<InletLayers>("inlet_layers");
@@ -221,7 +229,7 @@ impl SimPlugin for Outlet {
         };
         let b = (vector(&self.min)?, vector(&self.max)?);
         sim.enable_population();
-        if sim.enable_feature("outlets") {
+        if sim.enable::<OutletsOn>() {
             sim.world.insert_resource(Outlets::<V>(Vec::new()));
             sim.add_system(StepSet::Population, "drain_outlets", drain_outlets::<V>);
         }

@@ -37,8 +37,10 @@
 
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::bevy_ecs::system::ScheduleSystem;
+use dualsph_core::bodies::DriveBodies;
 use dualsph_core::chunks::{DENSE, MIN_LEN};
 use dualsph_core::columns::{ColumnValue, Shape, put_vector, take_vector};
+use dualsph_core::integrate::Updates;
 use dualsph_sweep::prelude::*;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -121,13 +123,10 @@ pub fn correction<V: Vector, const K: usize>(terms: [(Real, V, Real); K], vbar: 
 
 /// Adds the record of the evaluations and the system that keeps it (right after the force
 /// sweep), and the scheme's correction `system` in `Correct`: after the scheme's velocity
-/// update `kinematics` and its update of ε `scalar` (system names), before the bodies are
-/// driven.
+/// update ([`crate::Kinematics`]), its update of ε and the driving of the bodies.
 pub(crate) fn install<V: Vector, M: 'static>(
     sim: &mut Sim<V>,
     system: impl IntoScheduleConfigs<ScheduleSystem, M> + Send + Sync + 'static,
-    kinematics: &str,
-    scalar: &str,
 ) -> Result<(), SimError> {
     sim.add_column(ColumnSpec::restart_only("pair_work_evaluations"), |_| {
         Evaluations::<V>::default()
@@ -137,11 +136,11 @@ pub(crate) fn install<V: Vector, M: 'static>(
         "record_evaluation (work-consistent energy)",
         record_evaluation::<V>,
     )
-    .after(dualsph_sweep::FORCES);
+    .after::<dualsph_sweep::ForceSweep>();
     sim.add_system(StepSet::Correct, CORRECT_LABEL, system)
-        .after(kinematics)
-        .after(scalar)
-        .after("drive_bodies");
+        .after::<crate::Kinematics>()
+        .after::<Updates<InternalEnergy>>()
+        .after::<DriveBodies>();
     Ok(())
 }
 

@@ -21,6 +21,7 @@
 use crate::energy::{EnergyUpdate, Evaluations};
 use crate::time_step::add_time_step_systems;
 use dualsph_core::bevy_ecs::prelude::*;
+use dualsph_core::bodies::DriveBodies;
 use dualsph_core::chunks::{DENSE, MIN_LEN};
 use dualsph_core::integrate::{INTERNAL_ENERGY, ScalarEquation, ScalarRows, Scheme};
 use dualsph_sweep::prelude::*;
@@ -163,9 +164,8 @@ impl<V: Vector> Scheme<V> for Leapfrog {
             ("correct", Arc::new(correct_scalar)),
         )?;
         if equation.name() == INTERNAL_ENERGY && self.0 == EnergyUpdate::Consistent {
-            let scalar = format!("correct_{INTERNAL_ENERGY}");
             let system = correct_energy_work::<V>;
-            crate::energy::install(sim, system, "correct_kinematics", &scalar)?;
+            crate::energy::install(sim, system)?;
         }
         Ok(())
     }
@@ -183,13 +183,15 @@ pub(crate) fn install<V: Vector>(sim: &mut Sim<V>, energy: EnergyUpdate) -> Resu
         "predict_kinematics",
         predict_kinematics::<V>,
     )
-    .before("drive_bodies");
+    .in_group::<crate::Kinematics>()
+    .before::<DriveBodies>();
     sim.add_system(
         StepSet::Correct,
         "correct_kinematics",
         correct_kinematics::<V>,
     )
-    .before("drive_bodies");
+    .in_group::<crate::Kinematics>()
+    .before::<DriveBodies>();
     sim.set_integrator(Leapfrog(energy))
 }
 

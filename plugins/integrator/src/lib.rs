@@ -24,6 +24,13 @@ pub mod verlet;
 use dualsph_core::integrate::{ScalarEquation, ScalarKernel};
 use dualsph_sweep::prelude::*;
 pub use energy::EnergyUpdate;
+
+/// A scheme's systems that advance positions and velocities (the leapfrog's predictor and
+/// corrector, the position Verlet's halves): they run before the bodies are driven, and the
+/// work-consistent energy correction after them.
+pub struct Kinematics;
+
+impl dualsph_core::order::SystemGroup for Kinematics {}
 use serde::{Deserialize, Serialize};
 
 /// The registered name of [`LeapfrogPC`].

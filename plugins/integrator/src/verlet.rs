@@ -35,6 +35,7 @@
 use crate::energy::{EnergyUpdate, Evaluations};
 use crate::time_step::add_time_step_systems;
 use dualsph_core::bevy_ecs::prelude::*;
+use dualsph_core::bodies::DriveBodies;
 use dualsph_core::chunks::{DENSE, MIN_LEN};
 use dualsph_core::integrate::{INTERNAL_ENERGY, ScalarEquation, ScalarRows, Scheme};
 use dualsph_sweep::prelude::*;
@@ -164,9 +165,8 @@ impl<V: Vector> Scheme<V> for Verlet {
             ("kick", Arc::new(kick_scalar)),
         )?;
         if equation.name() == INTERNAL_ENERGY && self.0 == EnergyUpdate::Consistent {
-            let scalar = format!("kick_{INTERNAL_ENERGY}");
             let system = correct_energy_work::<V>;
-            crate::energy::install(sim, system, "kick_and_drift", &scalar)?;
+            crate::energy::install(sim, system)?;
         }
         Ok(())
     }
@@ -184,13 +184,15 @@ pub(crate) fn install<V: Vector>(sim: &mut Sim<V>, energy: EnergyUpdate) -> Resu
         "drift_and_predict (position Verlet, first half)",
         drift_and_predict::<V>,
     )
-    .before("drive_bodies");
+    .in_group::<crate::Kinematics>()
+    .before::<DriveBodies>();
     sim.add_system(
         StepSet::Correct,
         "kick_and_drift (position Verlet, second half)",
         kick_and_drift::<V>,
     )
-    .before("drive_bodies");
+    .in_group::<crate::Kinematics>()
+    .before::<DriveBodies>();
     sim.set_integrator(Verlet(energy))
 }
 

@@ -9,6 +9,7 @@
 //! `docs/references.md`.)
 #![warn(missing_docs)]
 
+use dualsph_core::bevy_ecs::prelude::Resource;
 use dualsph_core::columns::take_matrix;
 use dualsph_sweep::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -78,10 +79,18 @@ impl<V: Vector> BoundTerm<V> for BoundCorrection {
     }
 }
 
+/// Present once the correction's column and sweep are added.
+#[derive(Resource, Default)]
+struct CorrectionSweep;
+
+/// Present once the velocity gradient's column and sweep are added.
+#[derive(Resource, Default)]
+struct VelocityGradientSweep;
+
 /// Adds the kernel-gradient correction once: the `GradientCorrection` column and its sweep
 /// (`kernel_correction`, in [`StepSet::Correction`]).
 pub fn ensure_kernel_correction<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimError> {
-    if sim.enable_feature("kernel_correction") {
+    if sim.enable::<CorrectionSweep>() {
         let spec = ColumnSpec::restart_only("gradient_correction");
         sim.add_column(spec, |_| GradientCorrection::<V>(V::Mat::identity()))?;
         sim.add_pair_term_to("kernel_correction", StepSet::Correction, CorrectionTerm)?;
@@ -133,7 +142,7 @@ impl<V: Vector> BoundTerm<V> for BoundVelocityGradient {
 /// Adds the velocity gradient once: the `VelocityGradient` column and its sweep
 /// (`velocity_gradient`, in [`StepSet::Gradients`]).
 pub fn ensure_velocity_gradient<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimError> {
-    if sim.enable_feature("velocity_gradient") {
+    if sim.enable::<VelocityGradientSweep>() {
         let spec = ColumnSpec::restart_only("velocity_gradient");
         sim.add_column(spec, |_| VelocityGradient::<V>(V::Mat::zero()))?;
         sim.add_pair_term_to(

@@ -136,8 +136,7 @@ impl SimPlugin for ArtificialStress {
     }
 
     fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
-        sim.require_feature(
-            "eos",
+        sim.require::<dualsph_fluid::EquationOfState>(
             "ArtificialStress needs an equation of state (TaitEos or IdealGas)",
         );
         ensure_energy_equation(sim)?;

@@ -128,8 +128,7 @@ impl SimPlugin for PressureForce {
         "dual-support pressure force (Eq. 4.19) with consistent energy (Eq. 4.15)";
 
     fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
-        sim.require_feature(
-            "eos",
+        sim.require::<dualsph_fluid::EquationOfState>(
             "PressureForce needs an equation of state (TaitEos or IdealGas)",
         );
         ensure_energy_equation(sim)?;

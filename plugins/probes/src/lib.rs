@@ -51,6 +51,10 @@ use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
+/// Present once the probes are built (they are listed in one entry).
+#[derive(Resource, Default)]
+struct ProbesOn;
+
 /// File name of the probe table.
 pub const PROBES_FILE: &str = "probes.csv";
 /// File name of the probe positions.
@@ -365,7 +369,7 @@ impl SimPlugin for Probes {
     }
 
     fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
-        if !sim.enable_feature("probes") {
+        if !sim.enable::<ProbesOn>() {
             return Err(SimError::Build(
                 "Probes appears twice: list every probe in one Probes(...) entry".into(),
             ));
@@ -377,14 +381,12 @@ impl SimPlugin for Probes {
             .collect();
         let wants = |q: Quantity| columns.iter().any(|c| c.what == What::Value(q));
         if wants(Quantity::Pressure) {
-            sim.require_feature(
-                "eos",
+            sim.require::<dualsph_fluid::EquationOfState>(
                 "Probes: a Pressure probe needs an equation of state (TaitEos or IdealGas)",
             );
         }
         if wants(Quantity::InternalEnergy) {
-            sim.require_feature(
-                "energy_equation",
+            sim.require::<dualsph_core::integrate::EnergyEquation>(
                 "Probes: an InternalEnergy probe needs a plugin that solves the energy equation",
             );
         }

@@ -185,8 +185,7 @@ impl SmoothingLengthUpdate {
                     .into(),
             ));
         }
-        sim.require_feature(
-            "summation_density",
+        sim.require::<dualsph_fluid::DensitySummation>(
             "the grad-h formulation needs SummationDensity() (h is solved with the summed density)",
         );
         sim.world.insert_resource(grad_h::GradHSettings {

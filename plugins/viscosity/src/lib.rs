@@ -236,8 +236,7 @@ impl SimPlugin for ArtificialViscosity {
     }
 
     fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
-        sim.require_feature(
-            "eos",
+        sim.require::<dualsph_fluid::EquationOfState>(
             "ArtificialViscosity needs an equation of state for the sound speed",
         );
         ensure_energy_equation(sim)?;

@@ -28,11 +28,13 @@
 use crate::velocity::{ViscousWall, ViscousWallMode, wall_velocity};
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::bodies::Anchor;
+use dualsph_core::bodies::DriveBodies;
 use dualsph_core::bodies::{Bodies, BodyKind, DrivenBodies, WallVelocityOffset};
 use dualsph_core::chunks::DENSE;
 use dualsph_core::columns::ColumnSpec;
 use dualsph_core::neighbours::Neighbours;
 use dualsph_eos::{Eos, Materials};
+use dualsph_fluid::EquationOfState;
 use dualsph_gravity::GravityAccel;
 use dualsph_sweep::Support;
 use dualsph_sweep::prelude::*;
@@ -189,7 +191,7 @@ impl SimPlugin for WallPressure {
     }
 
     fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
-        sim.require_feature("eos", "WallPressure needs an equation of state (TaitEos)");
+        sim.require::<EquationOfState>("WallPressure needs an equation of state (TaitEos)");
         let bodies = sim.world.resource::<Bodies>();
         let mut walls = Vec::with_capacity(bodies.0.len());
         for b in &bodies.0 {
@@ -219,14 +221,13 @@ impl SimPlugin for WallPressure {
             "keep_wall_density (the extrapolated density, not the integrated one)",
             keep_wall_density,
         )
-        .after("drive_bodies");
+        .after::<DriveBodies>();
         sim.add_system(
             StepSet::Eos,
             "wall_pressure (Adami et al. 2012, Eq. 27)",
             wall_pressure::<V>,
         )
-        .after("TaitEos")
-        .after("IdealGas");
+        .after::<EquationOfState>();
         if self.viscous != ViscousWall::Own {
             let spec = ColumnSpec::scratch("wall_velocity_offset");
             sim.add_column(spec, |_| WallVelocityOffset(V::zero()))?;
