@@ -64,13 +64,15 @@ pub fn lattice_2d() -> World {
     world
 }
 
-/// Runs `check` on [`lattice_2d`]'s particles with their lists and the cubic spline, first
-/// without and then with the kernel-gradient correction; its error is
-/// prefixed with which.
+/// Runs `check` on [`lattice_2d`]'s particles (with the columns `extra` adds) with their
+/// lists and the cubic spline, first without and then with the kernel-gradient correction;
+/// its error is prefixed with which.
 fn on_lattice(
+    extra: impl FnOnce(&mut World),
     mut check: impl FnMut(&SweepCtx<'_, glam::DVec2>) -> Result<(), String>,
 ) -> Result<(), String> {
-    let world = lattice_2d();
+    let mut world = lattice_2d();
+    extra(&mut world);
     let mut nb = Neighbours::new(0.1);
     {
         let data = ParticleData::<glam::DVec2>::of(&world).ok_or("no particles")?;
@@ -95,7 +97,16 @@ fn on_lattice(
 /// group) gives bitwise what each pair alone gives; the error names the first differing pair
 /// and channel.
 pub fn check_lanes_2d(term: &dyn DynPairTerm<glam::DVec2>) -> Result<(), String> {
-    on_lattice(|ctx| {
+    check_lanes_2d_with(term, |_| {})
+}
+
+/// [`check_lanes_2d`] for a term that reads columns of its own: `extra` puts them on the
+/// lattice's particles (e.g. with `dualsph_core::store::insert_column`).
+pub fn check_lanes_2d_with(
+    term: &dyn DynPairTerm<glam::DVec2>,
+    extra: impl FnOnce(&mut World),
+) -> Result<(), String> {
+    on_lattice(extra, |ctx| {
         let mut layout = crate::accum::Layout::default();
         let binder = &mut Binder::new(ctx.data, ctx.kernel, &mut layout, term.name());
         let bound = term.bind_dyn(binder)?;
@@ -107,24 +118,27 @@ pub fn check_lanes_2d(term: &dyn DynPairTerm<glam::DVec2>) -> Result<(), String>
 /// sweep's only term — its block loop compiled for the term — it gives bitwise the sums it
 /// gives through a dynamic call per two pairs beside a term with no sums.
 pub fn check_block_loop_2d(term: Arc<dyn DynPairTerm<glam::DVec2>>) -> Result<(), String> {
-    on_lattice(|ctx| {
-        let (mut alone, mut beside) = (SweepBuffers::default(), SweepBuffers::default());
-        evaluate(ctx, std::slice::from_ref(&term), &mut alone)?;
-        evaluate(ctx, &[term.clone(), Arc::new(NoSums)], &mut beside)?;
-        let same = alone.sums.len() == beside.sums.len()
-            && alone
-                .sums
-                .iter()
-                .zip(&beside.sums)
-                .all(|(a, b)| a.to_bits() == b.to_bits());
-        match same {
-            true => Ok(()),
-            false => Err(format!(
-                "{}: its block loop gives other sums than its dynamic calls",
-                term.name()
-            )),
-        }
-    })
+    on_lattice(
+        |_| {},
+        |ctx| {
+            let (mut alone, mut beside) = (SweepBuffers::default(), SweepBuffers::default());
+            evaluate(ctx, std::slice::from_ref(&term), &mut alone)?;
+            evaluate(ctx, &[term.clone(), Arc::new(NoSums)], &mut beside)?;
+            let same = alone.sums.len() == beside.sums.len()
+                && alone
+                    .sums
+                    .iter()
+                    .zip(&beside.sums)
+                    .all(|(a, b)| a.to_bits() == b.to_bits());
+            match same {
+                true => Ok(()),
+                false => Err(format!(
+                    "{}: its block loop gives other sums than its dynamic calls",
+                    term.name()
+                )),
+            }
+        },
+    )
 }
 
 /// A term with a pair part and no sums (see [`check_block_loop_2d`]).

@@ -58,7 +58,7 @@ mod erased;
 mod fuse;
 mod sweep;
 mod system;
-pub use checks::{check_block_loop_2d, check_lanes_2d, lattice_2d};
+pub use checks::{check_block_loop_2d, check_lanes_2d, check_lanes_2d_with, lattice_2d};
 pub use fuse::{Fused, FusedBound, Fusions};
 pub use system::{FORCES, ForceSweep, PairSweep, PairSweeps, SimSweeps, sweep_into};
 

@@ -147,3 +147,20 @@ impl SimPlugin for PairDrag {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use dualsph::core::store::insert_column;
+
+    /// The term gives, two pairs at a time, bitwise what it gives one pair at a time: the
+    /// check every built-in term passes, on the same lattice, with the drag coefficient
+    /// varying from particle to particle.
+    #[test]
+    fn the_drag_gives_two_lanes_what_each_pair_gives_alone() {
+        dualsph::sweep::check_lanes_2d_with(&PairDragTerm, |world| {
+            insert_column(world, |i| DragGamma(0.5 + 0.1 * (i % 4) as Real))
+        })
+        .unwrap();
+    }
+}
