@@ -8,18 +8,20 @@
 //! and hold 0 with `inside = 0` in the `.vti` (threshold on `inside` or `shepard_sum` in
 //! ParaView to hide them).
 //!
+//! From code (the facade re-exports this module as `dualsph::gridded`):
+//!
 //! ```no_run
 //! # fn main() -> Result<(), Box<dyn std::error::Error>> {
-//! let records = dualsph::io::read_particles_csv("out/dam_break_2d/final.csv".as_ref())?;
-//! let kernel = dualsph::KernelKind::CubicSpline;
+//! let records = dualsph_io::read_particles_csv("out/dam_break_2d/final.csv".as_ref())?;
+//! let kernel = dualsph_core::kernels::KernelKind::CubicSpline;
 //! let (vti, png) =
-//!     dualsph::gridded::write_density_grid(&records, 2, kernel, 0.01, "out/dam_break_2d".as_ref())?;
+//!     dualsph_run::gridded::write_density_grid(&records, 2, kernel, 0.01, "out/dam_break_2d".as_ref())?;
 //! # Ok(()) }
 //! ```
 
-use crate::probes::Quantity;
 use dualsph_core::sampling::SamplingCloud;
 use dualsph_io::{ArrayValues, ImageGrid, ParticleRecord, VtkArray, VtkEncoding};
+use dualsph_probes::Quantity;
 use dualsph_sweep::prelude::*;
 use std::path::{Path, PathBuf};
 

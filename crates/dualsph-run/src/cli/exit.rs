@@ -3,8 +3,8 @@
 
 use crate::checkpoint::CheckpointError;
 use crate::runner::RunError;
-use crate::scene::SceneError;
 use dualsph_core::sim::SimError;
+use dualsph_scene::SceneError;
 
 /// The command succeeded.
 pub const SUCCESS: u8 = 0;

@@ -312,7 +312,7 @@ mod tests {
         Scene::from_str(
             &text,
             std::path::Path::new("f.ron"),
-            &crate::default_registry(),
+            &dualsph_builtin::default_registry(),
         )
         .unwrap_or_else(|e| panic!("{e}"))
     }

@@ -5,7 +5,12 @@ use std::path::Path;
 use std::process::Command;
 
 fn main() {
-    for f in [".git/HEAD", ".git/refs/heads", ".git/packed-refs"] {
+    // the repository's root is two levels up (crates/dualsph-run)
+    for f in [
+        "../../.git/HEAD",
+        "../../.git/refs/heads",
+        "../../.git/packed-refs",
+    ] {
         if Path::new(f).exists() {
             println!("cargo:rerun-if-changed={f}");
         }

@@ -1,19 +1,20 @@
 //! The `dualsph` command line as a library function: [`main`] takes the plugin registry, so
 //! a user's binary is the whole CLI (`run`, `check`, `plan`, `--resume`, …) with their own
-//! plugins registered beside the built-in ones:
+//! plugins registered beside the built-in ones (the facade re-exports this module as
+//! `dualsph::cli`, and the registry as `dualsph::default_registry`):
 //!
 //! ```no_run
 //! fn main() -> std::process::ExitCode {
-//!     let mut registry = dualsph::default_registry();
-//!     registry.register::<dualsph::plugins::Gravity>(); // your plugin here
-//!     dualsph::cli::main(registry)
+//!     let mut registry = dualsph_builtin::default_registry();
+//!     registry.register::<dualsph_builtin::plugins::Gravity>(); // your plugin here
+//!     dualsph_run::cli::main(registry)
 //! }
 //! ```
 
 use crate::runner;
-use crate::scene::{Formulation, Scene};
 use clap::{Parser, Subcommand};
 use dualsph_core::plugin::Registry;
+use dualsph_scene::{Formulation, Scene};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -122,11 +123,11 @@ fn grid_command(
     dx: f64,
 ) -> Result<(), String> {
     let dir = dir.unwrap_or_else(|| runner::default_out_dir(scene_path));
-    let q: crate::probes::Quantity = ron::from_str(field).map_err(|_| {
+    let q: dualsph_probes::Quantity = ron::from_str(field).map_err(|_| {
         format!("--field {field:?}: expected Density, Pressure, VelocityX, VelocityY, VelocityZ, Speed, InternalEnergy or ShepardSum")
     })?;
     let path = dir.join(file);
-    let records = crate::io::read_particles_csv(&path).map_err(|e| e.to_string())?;
+    let records = dualsph_io::read_particles_csv(&path).map_err(|e| e.to_string())?;
     let mut lo = [0.0; 3];
     let mut hi = [0.0; 3];
     lo[..s.dimension].copy_from_slice(&s.domain.min);
@@ -153,9 +154,10 @@ fn load(path: &std::path::Path, registry: &Registry) -> Result<Scene, Failure> {
 
 /// [`load`], also returning the file's text.
 fn load_with_text(path: &std::path::Path, registry: &Registry) -> Result<(Scene, String), Failure> {
-    let scene_error = |e: crate::scene::SceneError| Failure::new(exit::of_scene(&e), e.to_string());
+    let scene_error =
+        |e: dualsph_scene::SceneError| Failure::new(exit::of_scene(&e), e.to_string());
     let text = std::fs::read_to_string(path).map_err(|source| {
-        scene_error(crate::scene::SceneError::Io {
+        scene_error(dualsph_scene::SceneError::Io {
             path: path.to_path_buf(),
             source,
         })
@@ -227,7 +229,7 @@ pub fn main(registry: Registry) -> ExitCode {
             dx,
         } => load(&scene, &registry)
             .and_then(|s| Ok(grid_command(&scene, &s, dir, &file, &field, dx)?)),
-        Command::PlotProbes { dir } => crate::probes::plot_probes(&dir)
+        Command::PlotProbes { dir } => dualsph_probes::plot_probes(&dir)
             .map(|pngs| {
                 for p in pngs {
                     say!("wrote {}", p.display());

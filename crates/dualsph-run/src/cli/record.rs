@@ -14,8 +14,8 @@ pub const RUN_FILE: &str = "run.json";
 /// `plot-probes`) writes into its output directory — what `--force` clears.
 pub fn written_by_a_run(name: &str) -> bool {
     use crate::checkpoint::LAST_GOOD_STEM;
-    use crate::probes::{PROBE_POINTS_FILE, PROBES_FILE};
     use dualsph_io::{BODIES_FILE, DIAGNOSTICS_FILE, FINAL_FILE, PVD_FILE, SNAPSHOT_INDEX_FILE};
+    use dualsph_probes::{PROBE_POINTS_FILE, PROBES_FILE};
     let files = [
         RUN_FILE,
         DIAGNOSTICS_FILE,

@@ -5,8 +5,8 @@ use super::FormulationArg;
 use super::exit::{self, Failure};
 use super::record::{RunRecord, RunSettings, prepare_out_dir};
 use crate::runner::{self, Progress, RestartOptions, RunOptions, RunSummary};
-use crate::scene::Scene;
 use dualsph_core::plugin::Registry;
+use dualsph_scene::Scene;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU32, Ordering};
@@ -204,8 +204,8 @@ fn report(summary: &RunSummary, out: &Path) -> Result<(), Failure> {
             summary.wall_seconds
         );
     }
-    if out.join(crate::probes::PROBES_FILE).exists() {
-        let pngs = crate::probes::plot_probes(out)?;
+    if out.join(dualsph_probes::PROBES_FILE).exists() {
+        let pngs = dualsph_probes::plot_probes(out)?;
         say!("probes: {} plots in {}", pngs.len(), out.display());
     }
     Ok(())

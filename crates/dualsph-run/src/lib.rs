@@ -1,0 +1,245 @@
+//! Running `dualsph` scenes: a scene becomes a [`Sim`] ([`build_sim`], with the built-in
+//! plugin group of `dualsph-builtin`), runs headless ([`runner`]) with checkpoints
+//! ([`checkpoint`]) and gridded output ([`gridded`]), and the whole command line is a library
+//! function ([`cli::main`]). The `dualsph` facade re-exports all of it under its own paths.
+#![warn(missing_docs)]
+
+pub mod checkpoint;
+pub mod cli;
+mod file_columns;
+pub mod gridded;
+pub mod runner;
+
+/// The engine, for the paths inside [`with_dimension!`].
+#[doc(hidden)]
+pub use dualsph_core as __core;
+
+use dualsph_builtin::{fuse_builtin_terms, plugins};
+use dualsph_core::bodies::{Bodies, Body, install_bodies};
+use dualsph_diagnostics::SimDiagnostics;
+use dualsph_scene::Scene;
+use dualsph_sweep::prelude::*;
+
+/// Maps the scene's formulation to the engine's.
+pub fn formulation_of(f: dualsph_scene::Formulation) -> Formulation {
+    match f {
+        dualsph_scene::Formulation::DualSupport => Formulation::DualSupport,
+        dualsph_scene::Formulation::SingleSupport => Formulation::SingleSupport,
+        dualsph_scene::Formulation::ConstantH => Formulation::ConstantH,
+        dualsph_scene::Formulation::AveragedKernel => Formulation::AveragedKernel,
+        dualsph_scene::Formulation::GradH => Formulation::GradH,
+    }
+}
+
+fn vector<V: Vector>(x: &[Real], what: &str) -> Result<V, SimError> {
+    V::from_slice(x).ok_or_else(|| {
+        SimError::Build(format!(
+            "{what}: expected {} components, got {}",
+            V::DIM,
+            x.len()
+        ))
+    })
+}
+
+/// A vector of the scene padded with zeros to 3 components.
+fn padded3(v: &[f64]) -> [f64; 3] {
+    std::array::from_fn(|k| v.get(k).copied().unwrap_or(0.0))
+}
+
+/// A scene's law of motion as the engine's (vectors padded to 3 components).
+fn motion_of(m: &dualsph_scene::MotionSettings) -> dualsph_core::bodies::Motion {
+    use dualsph_core::bodies::Motion;
+    use dualsph_scene::MotionSettings as M;
+    let v3 = padded3;
+    match m {
+        M::Translate { velocity } => Motion::Translate {
+            velocity: v3(velocity),
+        },
+        M::Slide { velocity } => Motion::Slide {
+            velocity: v3(velocity),
+        },
+        M::Oscillate {
+            amplitude,
+            frequency,
+            phase,
+        } => Motion::Oscillate {
+            amplitude: v3(amplitude),
+            frequency: *frequency,
+            phase: *phase,
+        },
+        M::Rotate {
+            center,
+            axis,
+            omega,
+        } => Motion::Rotate {
+            center: v3(center),
+            axis: axis.as_deref().map_or([0.0, 0.0, 1.0], v3),
+            omega: *omega,
+        },
+    }
+}
+
+/// Builds a simulation of dimension `V::DIM` from a validated scene: core resources, the
+/// integrator and the diagnostics (the scene's, or [`LeapfrogPC`](plugins::LeapfrogPC) and
+/// [`DiagnosticsPlugin`](plugins::DiagnosticsPlugin) when it names none; two integrators are
+/// an error naming both), particles from the generators and their bodies, then each other
+/// plugin in the order listed.
+pub fn build_sim<V: Vector>(scene: &Scene) -> Result<Sim<V>, SimError> {
+    let domain = Domain {
+        min: vector::<V>(&scene.domain.min, "domain.min")?,
+        max: vector::<V>(&scene.domain.max, "domain.max")?,
+        periodic: scene.domain.periodic_axes(),
+    };
+    let time_stepping = match scene.integrator.dt {
+        dualsph_scene::TimeStep::Fixed(dt) => TimeStepping::Fixed(dt),
+        dualsph_scene::TimeStep::Adaptive {
+            courant,
+            force,
+            viscous,
+        } => TimeStepping::Adaptive {
+            courant,
+            force,
+            viscous,
+            max_dt: scene.integrator.max_dt.unwrap_or(Real::INFINITY),
+        },
+    };
+    let formulation = formulation_of(scene.formulation);
+    let roles = RolePlugins::of(scene)?;
+    let mut sim = Sim::<V>::new(SimConfig {
+        kernel: scene.kernel,
+        formulation,
+        domain,
+        skin: scene.neighbours.skin,
+        skin_rule: if scene.neighbours.tune_skin {
+            SkinRule::Tuned
+        } else {
+            SkinRule::Fixed
+        },
+        time_stepping,
+    });
+    // the integrator and the diagnostics first, as the engine's own systems: the scheme's
+    // stages open their sets (before any body pinning), its dt is chosen first
+    build_named(&mut sim, roles.integrator)?;
+    build_named(&mut sim, roles.diagnostics)?;
+    let particles: Vec<ParticleInit<V>> = scene
+        .generate()
+        .iter()
+        .map(|p| ParticleInit {
+            pos: vector::<V>(&p.pos[..V::DIM], "position").unwrap_or_else(|_| V::zero()),
+            vel: vector::<V>(&p.vel[..V::DIM], "velocity").unwrap_or_else(|_| V::zero()),
+            mass: p.mass,
+            density: p.density,
+            h: p.h,
+            internal_energy: p.internal_energy,
+            body: p.body,
+        })
+        .collect();
+    if formulation == Formulation::ConstantH
+        && let Some(first) = particles.first()
+        && let Some(other) = particles.iter().find(|p| p.h != first.h)
+    {
+        return Err(SimError::Build(format!(
+            "formulation ConstantH needs one h for all particles, found {} and {} (use one h_factor × spacing)",
+            first.h, other.h
+        )));
+    }
+    sim.spawn_particles(&particles)?;
+    let bodies = scene.body_list().into_iter().map(|b| Body {
+        name: b.name,
+        kind: match b.kind {
+            dualsph_scene::BodyKind::Fluid => BodyKind::Fluid,
+            dualsph_scene::BodyKind::Fixed => BodyKind::Fixed,
+            dualsph_scene::BodyKind::Prescribed(m) => BodyKind::Prescribed(motion_of(&m)),
+        },
+        moment_about: b.moment_about.as_deref().map_or([0.0; 3], padded3),
+    });
+    install_bodies(&mut sim, Bodies(bodies.collect()))?;
+    sim.world
+        .insert_resource(dualsph_diagnostics::HealthBounds {
+            density: (scene.health.density_below, scene.health.density_above),
+            h: (scene.health.h_below, scene.health.h_above),
+            rho_range: None,
+            h_range: particles.iter().fold(None, |r, p| match r {
+                None => Some((p.h, p.h)),
+                Some((lo, hi)) => Some((p.h.min(lo), p.h.max(hi))),
+            }),
+        });
+    sim.world
+        .insert_resource(runner::DtFloor::new(scene.health.dt_below));
+    sim.keep_resource::<runner::DtFloor>(runner::DT_FLOOR_KEY);
+    sim.set_diagnostics_every(scene.output.diagnostics_every);
+    {
+        let mut clock = sim.world.resource_mut::<SimClock>();
+        clock.t_end = scene.end_time;
+    }
+    fuse_builtin_terms(&mut sim);
+    for p in scene.plugins.iter().filter(|p| p.role() == Role::Physics) {
+        build_named(&mut sim, p.as_ref())?;
+    }
+    sim.finish()?;
+    file_columns::apply(&mut sim, scene)?;
+    Ok(sim)
+}
+
+/// Builds the default integrator ([`LeapfrogPC`](plugins::LeapfrogPC)) and diagnostics
+/// ([`DiagnosticsPlugin`](plugins::DiagnosticsPlugin)) into a simulation made in code
+/// (`Sim::new`), before its other plugins — what [`build_sim`] does for a scene that names
+/// neither.
+pub fn add_default_plugins<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimError> {
+    build_named(sim, &DEFAULT_INTEGRATOR)?;
+    build_named(sim, &DEFAULT_DIAGNOSTICS)
+}
+
+/// The plugins of a scene's exclusive roles: the ones it names, or the defaults
+/// ([`LeapfrogPC`](plugins::LeapfrogPC), [`DiagnosticsPlugin`](plugins::DiagnosticsPlugin)).
+struct RolePlugins<'s> {
+    integrator: &'s dyn PluginConfig,
+    diagnostics: &'s dyn PluginConfig,
+}
+
+static DEFAULT_INTEGRATOR: plugins::LeapfrogPC = plugins::LeapfrogPC {
+    energy: plugins::EnergyUpdate::Consistent,
+};
+static DEFAULT_DIAGNOSTICS: plugins::DiagnosticsPlugin = plugins::DiagnosticsPlugin {};
+
+impl<'s> RolePlugins<'s> {
+    /// The scene's (at most one per role: two are an error naming both) or the default.
+    fn of(scene: &'s Scene) -> Result<Self, SimError> {
+        let named = |role: Role| scene.plugin_of_role(role).map_err(SimError::Build);
+        Ok(RolePlugins {
+            integrator: named(Role::Integrator)?.unwrap_or(&DEFAULT_INTEGRATOR),
+            diagnostics: named(Role::Diagnostics)?.unwrap_or(&DEFAULT_DIAGNOSTICS),
+        })
+    }
+}
+
+/// Builds one plugin; its error names it.
+fn build_named<V: Vector>(sim: &mut Sim<V>, p: &dyn PluginConfig) -> Result<(), SimError> {
+    sim.build_plugin(p).map_err(|e| {
+        let why = match e {
+            SimError::Build(m) | SimError::BlowUp(m) => m,
+        };
+        SimError::Build(format!("plugin {}: {why}", p.name()))
+    })
+}
+
+/// Runs `f` with the scene's dimension as a type: `Vec1`, `DVec2` or `DVec3`.
+#[macro_export]
+macro_rules! with_dimension {
+    ($dim:expr, $v:ident => $body:expr) => {
+        match $dim {
+            1 => {
+                type $v = $crate::__core::math::Vec1;
+                $body
+            }
+            2 => {
+                type $v = $crate::__core::glam::DVec2;
+                $body
+            }
+            _ => {
+                type $v = $crate::__core::glam::DVec3;
+                $body
+            }
+        }
+    };
+}

@@ -1,0 +1,81 @@
+//! The default plugin group of `dualsph`: every built-in plugin under the name RON scenes use
+//! ([`plugins`]), a registry holding them all ([`default_registry`]) and the fusions of their
+//! pair terms ([`fuse_builtin_terms`]).
+#![warn(missing_docs)]
+
+use dualsph_sweep::prelude::*;
+
+/// The built-in plugins, by the names used in RON scenes.
+pub mod plugins {
+    pub use dualsph_density::{
+        ContinuityDensity, ContinuityForm, DensityDiffusion, SummationDensity,
+    };
+    pub use dualsph_diagnostics::DiagnosticsPlugin;
+    pub use dualsph_eos::{HydrostaticStart, IdealGas, TaitEos};
+    pub use dualsph_gravity::Gravity;
+    pub use dualsph_heat::HeatConduction;
+    pub use dualsph_inout::{Inlet, Outlet};
+    pub use dualsph_integrator::{EnergyUpdate, LeapfrogPC, PositionVerlet};
+    pub use dualsph_kernel_correction::KernelCorrection;
+    pub use dualsph_pressure::{ArtificialStress, PressureForce};
+    pub use dualsph_probes::{Probe, Probes, Quantity};
+    pub use dualsph_smoothing_length::SmoothingLengthUpdate;
+    pub use dualsph_surface_tension::SurfaceTension;
+    pub use dualsph_viscosity::{ArtificialViscosity, NewtonianViscosity, PhysicalViscosity};
+    pub use dualsph_walls::{SpecularWalls, WallPressure};
+}
+
+/// A registry with every built-in plugin; add your own with `register::<YourPlugin>()`.
+pub fn default_registry() -> Registry {
+    use plugins::*;
+    let mut r = Registry::new();
+    r.register::<LeapfrogPC>()
+        .register::<PositionVerlet>()
+        .register::<DiagnosticsPlugin>()
+        .register::<SummationDensity>()
+        .register::<ContinuityDensity>()
+        .register::<DensityDiffusion>()
+        .register::<TaitEos>()
+        .register::<HydrostaticStart>()
+        .register::<IdealGas>()
+        .register::<PressureForce>()
+        .register::<ArtificialStress>()
+        .register::<ArtificialViscosity>()
+        .register::<PhysicalViscosity>()
+        .register::<NewtonianViscosity>()
+        .register::<HeatConduction>()
+        .register::<KernelCorrection>()
+        .register::<SmoothingLengthUpdate>()
+        .register::<Gravity>()
+        .register::<SpecularWalls>()
+        .register::<WallPressure>()
+        .register::<Inlet>()
+        .register::<Outlet>()
+        .register::<Probes>()
+        .register::<SurfaceTension>();
+    r
+}
+
+/// Declares the fusions of the built-in terms in the orders the scenes list them (see
+/// [`dualsph_sweep::Fused`]): continuity, pressure, then artificial viscosity or the
+/// viscous stress, then the density diffusion or the cohesion — each fused chain runs as one
+/// compiled row loop. The results do not depend on it.
+pub fn fuse_builtin_terms<V: Vector>(sim: &mut Sim<V>) {
+    use dualsph_density::ContinuityTerm as C;
+    use dualsph_density::diffusion::DiffusionTerm as D;
+    use dualsph_pressure::PressureTerm as P;
+    use dualsph_surface_tension::CohesionTerm as S;
+    use dualsph_sweep::Fused;
+    use dualsph_viscosity::{ArtificialViscosityTerm as Av, ViscousStressTerm as Nv};
+    type Cp = Fused<C, P>;
+    sim.fuse::<C, P>()
+        .fuse::<Cp, Av>()
+        .fuse::<Cp, Nv>()
+        .fuse::<Fused<Cp, Av>, D>()
+        .fuse::<Fused<Cp, Nv>, D>()
+        .fuse::<Fused<Cp, Av>, S>()
+        .fuse::<P, Av>()
+        .fuse::<Av, P>()
+        .fuse::<P, Nv>()
+        .fuse::<Fused<P, Nv>, D>();
+}
