@@ -24,6 +24,10 @@ use dualsph_sweep::prelude::*;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+/// Which bodies are walls, by `BodyId` (set by [`WallPressure`]).
+#[derive(Resource, Clone, Debug)]
+pub struct WallBodies(pub Vec<bool>);
+
 /// Specular reflection on the domain box.
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]

@@ -25,6 +25,7 @@
 //! like the fluid (the dynamic boundary of Crespo, Gómez-Gesteira & Dalrymple 2007); with it,
 //! their density and pressure are set from the fluid every step, after the equation of state.
 
+use crate::WallBodies;
 use crate::velocity::{ViscousWall, ViscousWallMode, wall_velocity};
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::bodies::Anchor;
@@ -61,10 +62,6 @@ pub struct WallPressure {
 /// extrapolated density.
 #[derive(Resource, Clone, Debug, Default)]
 pub struct WallDensity(pub Vec<(usize, Real)>);
-
-/// Which bodies are walls, by [`BodyId`].
-#[derive(Resource, Clone, Debug)]
-pub struct WallBodies(pub Vec<bool>);
 
 /// What a wall particle's extrapolation reads of the others, by row.
 struct Fluid<'a> {

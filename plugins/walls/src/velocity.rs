@@ -19,7 +19,7 @@
 //! [`WallVelocityOffset`] `= v̂_w − v_w`); the continuity equation keeps the wall's own
 //! velocity, as in Adami et al. (2012).
 
-use crate::pressure::WallBodies;
+use crate::WallBodies;
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::bodies::{BodyId, WallVelocityOffset};
 use dualsph_core::chunks::DENSE;
