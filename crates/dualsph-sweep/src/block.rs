@@ -11,7 +11,7 @@
 
 use crate::accum::ReactionChannel;
 use crate::ctx::SweepCtx;
-use crate::pair::{BoundTerm, Out, OwnerSums, PairLanes, Specialised};
+use crate::pair::{BoundTerm, Out, OwnerSums, PairLanes};
 use dualsph_core::math::{Real, Vector};
 use row::{DynTerms, OneTerm, RowDest, RowPlan, RowScratch, Terms, initialize, row_apart};
 use wide::f64x2;
@@ -302,7 +302,7 @@ impl<V: Vector, B: BoundTerm<V>> RowTerm<V> for B {
         block: Block<'_>,
         s: &mut RowScratch<V>,
     ) -> Vec<u32> {
-        self.specialise(RunBlock { sweep, block, s })
+        run_block(sweep, &OneTermRows(self), block, s)
     }
 
     fn initialize(&self, i: usize, sums: &mut OwnerSums<'_>) {
@@ -315,22 +315,5 @@ impl<V: Vector, B: BoundTerm<V>> RowTerm<V> for B {
 
     fn has_pairs(&self) -> bool {
         BoundTerm::has_pairs(self)
-    }
-}
-
-/// Runs one block of a sweep with the term [`BoundTerm::specialise`] hands over.
-pub(crate) struct RunBlock<'r, 'a, 'w, 'b, V: Vector> {
-    sweep: &'r Sweep<'a, 'w, V>,
-    block: Block<'b>,
-    s: &'r mut RowScratch<V>,
-}
-
-impl<V: Vector> Specialised<V> for RunBlock<'_, '_, '_, '_, V> {
-    type Out = Vec<u32>;
-
-    #[inline(always)]
-    fn with<B: BoundTerm<V>>(self, term: &B) -> Vec<u32> {
-        let rows = OneTermRows(term);
-        run_block(self.sweep, &rows, self.block, self.s)
     }
 }

@@ -115,11 +115,9 @@ pub fn check_lanes_2d_with(
 }
 
 /// Checks a 2-D term on [`lattice_2d`], without and with the kernel-gradient correction: as a
-/// sweep's only term — its block loop compiled for the version
-/// [`crate::pair::BoundTerm::specialise`] hands over — it gives bitwise the sums it gives
-/// through a dynamic call per two pairs beside a term with no sums (the term itself, every
-/// switch tested at run time).
-pub fn check_specialised_2d(term: Arc<dyn DynPairTerm<glam::DVec2>>) -> Result<(), String> {
+/// sweep's only term — its block loop compiled for the term — it gives bitwise the sums it
+/// gives through a dynamic call per two pairs beside a term with no sums.
+pub fn check_block_loop_2d(term: Arc<dyn DynPairTerm<glam::DVec2>>) -> Result<(), String> {
     on_lattice(
         |_| {},
         |ctx| {
@@ -135,7 +133,7 @@ pub fn check_specialised_2d(term: Arc<dyn DynPairTerm<glam::DVec2>>) -> Result<(
             match same {
                 true => Ok(()),
                 false => Err(format!(
-                    "{}: its specialised version gives other sums",
+                    "{}: its block loop gives other sums than its dynamic calls",
                     term.name()
                 )),
             }
@@ -143,7 +141,7 @@ pub fn check_specialised_2d(term: Arc<dyn DynPairTerm<glam::DVec2>>) -> Result<(
     )
 }
 
-/// A term with a pair part and no sums (see [`check_specialised_2d`]).
+/// A term with a pair part and no sums (see [`check_block_loop_2d`]).
 struct NoSums;
 
 impl<V: Vector> PairTerm<V> for NoSums {

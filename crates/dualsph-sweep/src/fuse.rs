@@ -10,7 +10,7 @@
 //! term written against the contract can be fused, a user's as well as the built-in ones.
 
 use super::{Binder, BoundTerm, DynPairTerm, Out, PairLanes, PairSweeps, PairTerm};
-use crate::pair::{OwnerSums, Specialised};
+use crate::pair::OwnerSums;
 use bevy_ecs::prelude::*;
 use dualsph_core::lanes::Lanes;
 use dualsph_core::math::Vector;
@@ -64,42 +64,6 @@ impl<V: Vector, A: BoundTerm<V>, B: BoundTerm<V>> BoundTerm<V> for FusedBound<A,
 
     fn has_pairs(&self) -> bool {
         self.0.has_pairs() || self.1.has_pairs()
-    }
-
-    /// The fusion of the versions its parts hand over.
-    #[inline(always)]
-    fn specialise<K: Specialised<V>>(&self, k: K) -> K::Out {
-        self.0.specialise(First { b: &self.1, k })
-    }
-}
-
-/// [`FusedBound::specialise`] with the first part's version: asks the second part for its.
-struct First<'a, B, K> {
-    b: &'a B,
-    k: K,
-}
-
-impl<V: Vector, B: BoundTerm<V>, K: Specialised<V>> Specialised<V> for First<'_, B, K> {
-    type Out = K::Out;
-
-    #[inline(always)]
-    fn with<A: BoundTerm<V>>(self, a: &A) -> K::Out {
-        self.b.specialise(Second { a, k: self.k })
-    }
-}
-
-/// [`FusedBound::specialise`] with both parts' versions: runs `k` with their fusion.
-struct Second<'a, A, K> {
-    a: &'a A,
-    k: K,
-}
-
-impl<V: Vector, A: BoundTerm<V>, K: Specialised<V>> Specialised<V> for Second<'_, A, K> {
-    type Out = K::Out;
-
-    #[inline(always)]
-    fn with<B: BoundTerm<V>>(self, b: &B) -> K::Out {
-        self.k.with(&FusedBound(self.a, b))
     }
 }
 

@@ -58,7 +58,7 @@ mod erased;
 mod fuse;
 mod sweep;
 mod system;
-pub use checks::{check_lanes_2d, check_lanes_2d_with, check_specialised_2d, lattice_2d};
+pub use checks::{check_block_loop_2d, check_lanes_2d, check_lanes_2d_with, lattice_2d};
 pub use fuse::{Fused, FusedBound, Fusions};
 pub use system::{FORCES, ForceSweep, PairSweep, PairSweeps, SimSweeps, sweep_into};
 
@@ -66,7 +66,7 @@ pub use system::{FORCES, ForceSweep, PairSweep, PairSweeps, SimSweeps, sweep_int
 /// pair terms imports.
 pub mod prelude {
     pub use crate::accum::{Acc, Binder, Reaction};
-    pub use crate::pair::{BoundTerm, Out, OwnerSums, PairLanes, PairTerm, Specialised};
+    pub use crate::pair::{BoundTerm, Out, OwnerSums, PairLanes, PairTerm};
     pub use crate::{FORCES, OwnerKernel, SimSweeps, SweepCtx};
     pub use dualsph_core::prelude::*;
 }

@@ -439,26 +439,10 @@ pub trait BoundTerm<V: Vector>: Sync {
     fn has_pairs(&self) -> bool {
         true
     }
-
-    /// Hands `k` the term the sweep's row loop is compiled for: the term itself by default.
-    /// A term whose settings switch parts of [`BoundTerm::interact`] on or off for a whole
-    /// sweep (an optional channel, an optional column) can hand over, for its common case, a
-    /// version with those switches fixed when it is compiled, so that the row loop tests
-    /// nothing per pair for them and keeps its registers for the pair's values. Fused terms
-    /// ([`crate::Fused`]) hand over the fusion of their parts' versions.
-    #[inline(always)]
-    fn specialise<K: Specialised<V>>(&self, k: K) -> K::Out
-    where
-        Self: Sized,
-    {
-        k.with(self)
-    }
 }
 
 mod owner_kernel;
 pub use owner_kernel::OwnerKernel;
-mod specialise;
-pub use specialise::Specialised;
 
 #[cfg(test)]
 mod tests;

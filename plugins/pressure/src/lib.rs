@@ -144,6 +144,6 @@ mod tests {
     #[test]
     fn two_lanes_equal_one_lane_bitwise() {
         dualsph_sweep::check_lanes_2d(&PressureTerm).unwrap();
-        dualsph_sweep::check_specialised_2d(std::sync::Arc::new(PressureTerm)).unwrap();
+        dualsph_sweep::check_block_loop_2d(std::sync::Arc::new(PressureTerm)).unwrap();
     }
 }

@@ -113,12 +113,9 @@ pub fn pi_parts<T: Lanes>(
     )
 }
 
-/// [`ArtificialViscosityTerm`] bound to the sound-speed column and its sums. With
-/// `OPTIONAL = false` it is the version the row loop runs when the scene neither tracks the
-/// dissipated heat nor sets wall velocity offsets (see [`BoundTerm::specialise`]): those two
-/// parts are then left out when it is compiled, not tested per pair.
+/// [`ArtificialViscosityTerm`] bound to the sound-speed column and its sums.
 #[derive(Clone, Copy, Debug)]
-pub struct BoundAv<'w, V: Vector, const OPTIONAL: bool = true> {
+pub struct BoundAv<'w, V: Vector> {
     term: &'w ArtificialViscosityTerm,
     data: ParticleData<'w, V>,
     sound: &'w [SoundSpeed],
@@ -162,7 +159,7 @@ impl<V: Vector> PairTerm<V> for ArtificialViscosityTerm {
     }
 }
 
-impl<V: Vector, const OPTIONAL: bool> BoundTerm<V> for BoundAv<'_, V, OPTIONAL> {
+impl<V: Vector> BoundTerm<V> for BoundAv<'_, V> {
     /// `(m_i, (h_i, c_i, ρ_i), (α_i, β_i, η_f))` (`η_f` read once per row, not per pair);
     /// `m_i/Ω_i` for the grad-h formulation, whose viscous force on i from its own support is
     /// `−m_i m_j (Π_ij/2) ∇_iW_ij(h_i)/Ω_i` (the viscosity of Price 2012 with the
@@ -202,10 +199,7 @@ impl<V: Vector, const OPTIONAL: bool> BoundTerm<V> for BoundAv<'_, V, OPTIONAL> 
         );
         let (vij, g) = (p.vij(), p.grad_raw());
         let side_i = (c(h_i), c(c_i), c(rho_i));
-        let seen = match OPTIONAL {
-            true => viscous_vij(p, self.offset),
-            false => vij,
-        };
+        let seen = viscous_vij(p, self.offset);
         let (num, den) = pi_parts(coefs, side_i, side_j, seen.dot::<V>(p.rij()), p.r());
         // m_i m_j Π/2 = m_i m_j num/den
         let coef = c(m_i) * p.m_j() * num / den;
@@ -213,26 +207,9 @@ impl<V: Vector, const OPTIONAL: bool> BoundTerm<V> for BoundAv<'_, V, OPTIONAL> 
         let heat = c(0.5) * coef * vij.dot::<V>(g);
         out.add_power(heat);
         out.react_power(heat);
-        if let Some(acc) = self.dissipation.filter(|_| OPTIONAL) {
+        if let Some(acc) = self.dissipation {
             out.add(acc, heat);
             out.react(acc, heat);
-        }
-    }
-
-    /// Without a dissipation channel or wall offsets, the version that leaves them out.
-    #[inline(always)]
-    fn specialise<K: Specialised<V>>(&self, k: K) -> K::Out {
-        match (self.dissipation, self.offset) {
-            (None, None) => k.with(&BoundAv::<V, false> {
-                term: self.term,
-                data: self.data,
-                sound: self.sound,
-                body: self.body,
-                omega: self.omega,
-                dissipation: None,
-                offset: None,
-            }),
-            _ => k.with(self),
         }
     }
 }

@@ -24,12 +24,11 @@ fn two_lanes_equal_one_lane_bitwise() {
     .unwrap();
 }
 
-/// The artificial viscosity without a dissipation channel runs as its specialised version
-/// (the dissipation and the wall offsets left out when compiled): bitwise the sums of the
-/// term with its switches tested per pair; with the channel, the term itself.
+/// The artificial viscosity as a sweep's only term, with and without a dissipation channel:
+/// its block loop gives bitwise the sums of its dynamic calls.
 #[test]
-fn the_specialised_viscosity_gives_the_same_sums() {
-    use dualsph_sweep::check_specialised_2d;
+fn the_viscosity_block_loop_gives_the_same_sums() {
+    use dualsph_sweep::check_block_loop_2d;
     for dissipation in [false, true] {
         let av = ArtificialViscosityTerm {
             alpha: 1.0,
@@ -38,7 +37,7 @@ fn the_specialised_viscosity_gives_the_same_sums() {
             by_body: Vec::new(),
             dissipation,
         };
-        check_specialised_2d(std::sync::Arc::new(av)).unwrap();
+        check_block_loop_2d(std::sync::Arc::new(av)).unwrap();
     }
 }
 
