@@ -339,7 +339,10 @@ impl<V: Vector> Neighbours<V> {
             .iter()
             .enumerate()
             .map(|(i, b)| self.separation(at(i), *b).length_squared())
-            .fold(0.0, Real::max);
+            // a comparison, not `f64::max`: the same value (no length is NaN or -0), and the
+            // loop stays a plain compare-and-select (f64::max cost 35 instructions per
+            // particle here, the neighbour update 25 % more, callgrind)
+            .fold(0.0, |m, d| if d > m { d } else { m });
         Some(max_d2.sqrt())
     }
 
