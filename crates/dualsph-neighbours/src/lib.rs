@@ -339,7 +339,7 @@ impl<V: Vector> Neighbours<V> {
             .iter()
             .enumerate()
             .map(|(i, b)| self.separation(at(i), *b).length_squared())
-            // a comparison, not `f64::max`: the same value (no length is NaN or -0), and the
+            // a comparison, not `f64::max`: the same value (both skip a NaN; no square is -0), and the
             // loop stays a plain compare-and-select (f64::max cost 35 instructions per
             // particle here, the neighbour update 25 % more, callgrind)
             .fold(0.0, |m, d| if d > m { d } else { m });
