@@ -25,14 +25,6 @@ use serde::{Deserialize, Serialize};
 mod settings;
 pub use settings::{check_box, lattice};
 
-/// Present once the inlets' resources and systems are added.
-#[derive(Resource, Default)]
-struct InletsOn;
-
-/// Present once the outlets' resources and system are added.
-#[derive(Resource, Default)]
-struct OutletsOn;
-
 /// An inlet (see the module docs).
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
@@ -176,7 +168,7 @@ impl SimPlugin for Inlet {
             until: self.until.unwrap_or(Real::INFINITY),
         };
         sim.enable_population();
-        if sim.enable::<InletsOn>() {
+        if !sim.has::<Inlets<V>>() {
             sim.world.insert_resource(Inlets::<V>(Vec::new()));
             sim.world.insert_resource(InletLayers::default());
             sim.keep_resource::<InletLayers>("inlet_layers");
@@ -229,7 +221,7 @@ impl SimPlugin for Outlet {
         };
         let b = (vector(&self.min)?, vector(&self.max)?);
         sim.enable_population();
-        if sim.enable::<OutletsOn>() {
+        if !sim.has::<Outlets<V>>() {
             sim.world.insert_resource(Outlets::<V>(Vec::new()));
             sim.add_system(StepSet::Population, "drain_outlets", drain_outlets::<V>);
         }

@@ -51,10 +51,6 @@ use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
-/// Present once the probes are built (they are listed in one entry).
-#[derive(Resource, Default)]
-struct ProbesOn;
-
 /// File name of the probe table.
 pub const PROBES_FILE: &str = "probes.csv";
 /// File name of the probe positions.
@@ -369,7 +365,7 @@ impl SimPlugin for Probes {
     }
 
     fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
-        if !sim.enable::<ProbesOn>() {
+        if sim.has::<ProbeState<V>>() {
             return Err(SimError::Build(
                 "Probes appears twice: list every probe in one Probes(...) entry".into(),
             ));
