@@ -4,7 +4,8 @@
 //! (Ren, Dai, Zhuang & Rabczuk). Particles are `bevy_ecs` entities; physics are plugins that
 //! add components, scheduled systems and pair terms; scenes are RON files that compose plugins.
 //!
-//! This crate is the facade: it re-exports the engine ([`core`]), scenes ([`scene`]) and
+//! This crate is the facade: it re-exports the engine ([`core`], the pair layer [`sweep`] and
+//! the fluid's vocabulary [`fluid`]), scenes ([`scene`]) and
 //! output ([`io`]), the built-in plugins ([`plugins`], [`default_registry`], from
 //! `dualsph-builtin`), and from `dualsph-run` the building of a [`Sim`] from a scene
 //! ([`build_sim`]), the headless run ([`runner`]), checkpoints ([`checkpoint`]), gridded output
@@ -13,6 +14,7 @@
 
 pub use dualsph_core as core;
 pub use dualsph_diagnostics as diagnostics;
+pub use dualsph_fluid as fluid;
 pub use dualsph_integrator as integrator;
 pub use dualsph_io as io;
 pub use dualsph_plot as plot;
@@ -20,12 +22,12 @@ pub use dualsph_probes as probes;
 pub use dualsph_scene as scene;
 pub use dualsph_sweep as sweep;
 
-pub use dualsph_sweep::prelude::*;
+pub use dualsph_fluid::prelude::*;
 
 /// The most used items of the engine.
 pub mod prelude {
     pub use dualsph_diagnostics::{Diagnostics, SimDiagnostics};
-    pub use dualsph_sweep::prelude::*;
+    pub use dualsph_fluid::prelude::*;
 }
 
 pub use dualsph_diagnostics::{Diagnostics, SimDiagnostics};

@@ -126,34 +126,8 @@ macro_rules! matrix_column {
     )*};
 }
 
-scalar_column!(
-    Mass,
-    Density,
-    SmoothingLength,
-    Pressure,
-    SoundSpeed,
-    InternalEnergy,
-    Dissipated,
-    Conductivity,
-    GradHFactor
-);
+scalar_column!(Mass, Density, SmoothingLength);
 vector_column!(Position, Velocity, Acceleration);
-matrix_column!(GradientCorrection, VelocityGradient);
-
-macro_rules! rate_column {
-    ($($t:ident),*) => {$(
-        impl<V: Vector> ColumnValue<V> for $t {
-            const SHAPE: Shape = Shape::Scalar;
-            fn put(&self, out: &mut Vec<Real>) {
-                out.push(self.rate);
-            }
-            fn take(&mut self, values: &[Real]) {
-                self.rate = values[0];
-            }
-        }
-    )*};
-}
-rate_column!(EnergyRate, DensityRate, DissipationRate);
 
 /// What a plugin declares about one of its columns.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -418,6 +392,12 @@ impl Columns {
 mod tests {
     use super::*;
     use glam::DVec2;
+
+    /// A matrix column, as a plugin registers one.
+    #[derive(Component)]
+    struct VelocityGradient<V: Vector>(V::Mat);
+
+    matrix_column!(VelocityGradient);
 
     #[test]
     fn values_round_trip_by_row_and_sort_by_id() {

@@ -9,7 +9,7 @@
 //! the plugin that needs it, [`Sim::integrate`]`::<S, R>()`: the column `S` is advanced by the
 //! rate `R` that the step's systems compute (the continuity equation's `Density` by
 //! `DensityRate`, the energy equation's `InternalEnergy` by `EnergyRate`: see
-//! [`ensure_density_integration`] and [`ensure_energy_equation`]).
+//! `dualsph_fluid::ensure_density_integration` and `ensure_energy_equation`).
 //!
 //! **Schemes.** A scheme is a [`Scheme`] set once per simulation ([`Sim::set_integrator`]; a
 //! second one is an error naming both). It adds its own systems for the kinematics, and for
@@ -49,11 +49,6 @@ pub trait ScalarState: Component<Mutability = Mutable> + TransparentWrapper<Real
 pub trait ScalarRate: Component + TransparentWrapper<Real> {}
 
 impl ScalarState for Density {}
-impl ScalarState for InternalEnergy {}
-impl ScalarState for Dissipated {}
-impl ScalarRate for DensityRate {}
-impl ScalarRate for EnergyRate {}
-impl ScalarRate for DissipationRate {}
 
 /// A scheme's two reals of one particle (see [`Registers`]).
 pub type Pair = [Real; 2];
@@ -325,70 +320,6 @@ pub(crate) fn check_integrator<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimErr
                 .into(),
         )),
     }
-}
-
-/// The name under which [`ensure_energy_equation`] declares the internal energy (what a
-/// [`Scheme`] sees as [`ScalarEquation::name`]).
-pub const INTERNAL_ENERGY: &str = "internal_energy";
-
-/// Present once the energy equation is solved ([`ensure_energy_equation`]).
-#[derive(Resource, Debug, Default)]
-pub struct EnergyEquation;
-
-/// Present once the dissipated energy is tracked apart ([`ensure_dissipation`]).
-#[derive(Resource, Debug, Default)]
-pub struct Dissipation;
-
-/// Present once the density is integrated by the continuity equation
-/// ([`ensure_density_integration`]).
-#[derive(Resource, Debug, Default)]
-pub struct DensityIntegration;
-
-/// Adds the internal-energy equation once: `InternalEnergy` (initial ε from the scene) and
-/// `EnergyRate` on every particle, and declares `dε/dt` integrated.
-pub fn ensure_energy_equation<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimError> {
-    if !sim.enable::<EnergyEquation>() {
-        return Ok(());
-    }
-    let spec = ColumnSpec::state("internal_energy", "e");
-    sim.add_column(spec, |seed| InternalEnergy(seed.init.internal_energy))?;
-    let spec = ColumnSpec::restart_only("energy_rate");
-    sim.add_column(spec, move |_| EnergyRate { rate: 0.0 })?;
-    sim.integrate::<InternalEnergy, EnergyRate>(INTERNAL_ENERGY)?;
-    Ok(())
-}
-
-/// The name of the dissipated energy as an integrated scalar ([`ensure_dissipation`]).
-pub const DISSIPATED: &str = "dissipated";
-
-/// Adds the dissipated-energy channel once (with the energy equation): [`Dissipated`] (0 at
-/// the start; written to snapshots as `dissipated` and kept in checkpoints) and
-/// [`DissipationRate`] on every particle, and declares `dd/dt` integrated by the scene's
-/// scheme with the same rule as the internal energy's rates. A dissipative pair term sums its
-/// heat into `DissipationRate` as well as into the power (`Binder::dissipation` of `dualsph-sweep`).
-pub fn ensure_dissipation<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimError> {
-    ensure_energy_equation(sim)?;
-    if !sim.enable::<Dissipation>() {
-        return Ok(());
-    }
-    let spec = ColumnSpec::state(DISSIPATED, "e_diss");
-    sim.add_column(spec, |_| Dissipated(0.0))?;
-    let spec = ColumnSpec::restart_only("dissipation_rate");
-    sim.add_column(spec, move |_| DissipationRate { rate: 0.0 })?;
-    sim.integrate::<Dissipated, DissipationRate>(DISSIPATED)?;
-    Ok(())
-}
-
-/// Adds the integrated density (continuity) once: `DensityRate` on every particle, and
-/// declares `dρ/dt` integrated.
-pub fn ensure_density_integration<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimError> {
-    if !sim.enable::<DensityIntegration>() {
-        return Ok(());
-    }
-    let spec = ColumnSpec::restart_only("density_rate");
-    sim.add_column(spec, move |_| DensityRate { rate: 0.0 })?;
-    sim.integrate::<Density, DensityRate>("density")?;
-    Ok(())
 }
 
 /// Rebuilds the neighbour lists when the skin rule requires it.

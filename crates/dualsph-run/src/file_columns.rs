@@ -6,9 +6,9 @@
 //! are left as they are, already the file's.
 
 use dualsph_core::columns::{Column, Columns, ids_by_row};
+use dualsph_fluid::prelude::*;
 use dualsph_io::ParticleTable;
 use dualsph_scene::{Generator, Scene};
-use dualsph_sweep::prelude::*;
 
 /// The columns a particle's [`ParticleInit`] sets.
 const INITIAL: [&str; 6] = [

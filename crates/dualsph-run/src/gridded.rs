@@ -20,9 +20,9 @@
 //! ```
 
 use dualsph_core::sampling::SamplingCloud;
+use dualsph_fluid::prelude::*;
 use dualsph_io::{ArrayValues, ImageGrid, ParticleRecord, VtkArray, VtkEncoding};
 use dualsph_probes::Quantity;
-use dualsph_sweep::prelude::*;
 use std::path::{Path, PathBuf};
 
 /// Points with a Shepard sum below this are outside the fluid.

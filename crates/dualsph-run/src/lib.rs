@@ -17,8 +17,8 @@ pub use dualsph_core as __core;
 use dualsph_builtin::{fuse_builtin_terms, plugins};
 use dualsph_core::bodies::{Bodies, Body, install_bodies};
 use dualsph_diagnostics::SimDiagnostics;
+use dualsph_fluid::prelude::*;
 use dualsph_scene::Scene;
-use dualsph_sweep::prelude::*;
 
 /// Maps the scene's formulation to the engine's.
 pub fn formulation_of(f: dualsph_scene::Formulation) -> Formulation {

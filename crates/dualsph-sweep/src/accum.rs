@@ -11,7 +11,7 @@
 use bevy_ecs::component::Mutable;
 use bevy_ecs::prelude::*;
 use dualsph_core::columns::{ColumnValue, Shape, take_vector};
-use dualsph_core::components::{Acceleration, DensityRate, DissipationRate, EnergyRate, Mass};
+use dualsph_core::components::{Acceleration, Mass};
 use dualsph_core::kernels::Kernel;
 use dualsph_core::math::{Real, Vector};
 use dualsph_core::store::{ParticleData, single_table};
@@ -37,8 +37,8 @@ pub enum Reaction {
     OneSided,
 }
 
-/// A term's handle on one accumulator of its own column (not the standard force, power and
-/// density rate, which [`crate::pair::Out`] has by name): its owner channels start at `i`,
+/// A term's handle on one accumulator of its own column (not the force or a scalar register,
+/// which [`crate::pair::Out`] has by place): its owner channels start at `i`,
 /// its neighbour channels (only with [`Reaction::Separate`]) at `j`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Acc {
@@ -56,15 +56,20 @@ impl<C, F: Fn(&mut C, &[Real], Real) + Copy + Send + Sync + 'static> Finish<C> f
 /// channel); false when the particles lack the column.
 type Writer = std::sync::Arc<dyn Fn(&mut World, &[Real], usize, usize) -> bool + Send + Sync>;
 
-/// The sums every sweep has by name in [`crate::pair::Out`] (kept in registers).
+/// How many scalar registers a sweep has ([`Standard::Scalar`]).
+pub const SCALAR_REGISTERS: usize = 2;
+
+/// The sums a sweep keeps in registers, by place in [`crate::pair::Out`]: the force and
+/// [`SCALAR_REGISTERS`] scalars. The first declarations of a sweep take them — whatever
+/// column each goes into ([`Binder::force`], [`Binder::scalar_register`]) — and the row loop
+/// is compiled for them, so a term that writes a column of its own through a register runs
+/// at the same cost as one that writes a built-in column.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Standard {
-    /// The force, into the acceleration.
+    /// The force (a vector whose reaction is opposite), into the acceleration.
     Force,
-    /// The power, into the energy rate.
-    Power,
-    /// The density rate.
-    Rate,
+    /// Scalar register `k` (`k < SCALAR_REGISTERS`).
+    Scalar(usize),
 }
 
 /// One accumulator of a sweep.
@@ -119,10 +124,8 @@ pub struct Layout {
 pub enum Source {
     /// Component `c` of the force, negated.
     Force(usize),
-    /// The power to j.
-    Power,
-    /// The density rate to j.
-    Rate,
+    /// Scalar register `k` to j.
+    Scalar(usize),
     /// A non-standard owner channel, negated ([`Reaction::Opposite`]).
     Owner(usize),
     /// A non-standard neighbour channel ([`Reaction::Separate`]).
@@ -140,16 +143,15 @@ pub struct ReactionChannel {
 
 impl Layout {
     /// The reaction channels stored per support slot: the standard ones first (the force's
-    /// components, the power, the density rate), then the others in layout order — so that
+    /// components, then the scalar registers), then the others in layout order — so that
     /// a sweep of standard sums has its channels at fixed places (see
     /// [`crate::block::row::RowPlan`]).
     pub fn reactions<V: Vector>(&self) -> Vec<ReactionChannel> {
         let mut out = self.reactions_in_slot_order::<V>();
         let rank = |r: &ReactionChannel| match r.source {
             Source::Force(c) => c,
-            Source::Power => 3,
-            Source::Rate => 4,
-            Source::Owner(_) | Source::Neighbour(_) => 5,
+            Source::Scalar(k) => 3 + k,
+            Source::Owner(_) | Source::Neighbour(_) => 3 + SCALAR_REGISTERS,
         };
         // stable: the others keep their order
         out.sort_by_key(rank);
@@ -163,8 +165,7 @@ impl Layout {
                 let source = match (s.standard, s.reaction) {
                     (_, Reaction::OneSided) => continue,
                     (Some(Standard::Force), _) => Source::Force(c),
-                    (Some(Standard::Power), _) => Source::Power,
-                    (Some(Standard::Rate), _) => Source::Rate,
+                    (Some(Standard::Scalar(k)), _) => Source::Scalar(k),
                     (None, Reaction::Opposite) => Source::Owner(s.chan + c),
                     (None, Reaction::Separate) => match s.j {
                         Some(j) => Source::Neighbour(j + c),
@@ -233,6 +234,16 @@ impl Layout {
                 "{name}: a sweep carries at most {MAX_OWNER_CHANNELS} reals of its own columns \
                  per pair and {MAX_NEIGHBOUR_CHANNELS} to neighbours; put this term in a sweep of \
                  its own"
+            ));
+        }
+        if let Some(taken) = standard.and_then(|k| self.standard(k))
+            && taken.type_id != TypeId::of::<C>()
+        {
+            return Err(format!(
+                "{name}: its register ({:?}) already holds {}; put this term in a sweep of its \
+                 own or use another register",
+                standard.expect("a register"),
+                taken.name
             ));
         }
         if let Some(k) = self
@@ -421,36 +432,33 @@ impl<'l, 'w, V: Vector> Binder<'l, 'w, V> {
             .map_err(|e| format!("{}: {e}", self.term))
     }
 
-    /// Declares that the term adds to the power into each particle's internal energy
-    /// (`m_i ε̇_i`, [`Reaction::Separate`], with [`crate::pair::Out::add_power`] and
-    /// [`crate::pair::Out::react_power`]), which goes into its [`EnergyRate`] (divided by
-    /// `m_i`); dropped when the scene integrates no energy.
-    pub fn power(&mut self) -> Result<(), String> {
-        let finish = |e: &mut EnergyRate, s: &[Real], m: Real| e.rate = s[0] / m;
+    /// Declares that the term adds to scalar register `K` (`K <` [`SCALAR_REGISTERS`]) with
+    /// `reaction` ([`crate::pair::Out::add_scalar`] and, with [`Reaction::Separate`],
+    /// [`crate::pair::Out::react_scalar`]); after the sweep `finish(C, Σ, m_i)` sets each
+    /// particle's `C`, and nothing when the particles lack `C` (a sum the scene does not
+    /// keep). The error names the term when another term of the sweep holds the register for
+    /// another column, or sums `C` with a force-like reaction.
+    pub fn scalar_register<C: Component<Mutability = Mutable>, const K: usize>(
+        &mut self,
+        reaction: Reaction,
+        finish: impl Finish<C>,
+    ) -> Result<(), String> {
+        const {
+            assert!(
+                K < SCALAR_REGISTERS,
+                "a sweep has SCALAR_REGISTERS scalar registers"
+            )
+        };
+        if reaction == Reaction::Opposite {
+            return Err(format!(
+                "{}: a scalar register carries an own-support or a separate reaction, not an \
+                 opposite one; declare a force-like scalar with accumulate",
+                self.term
+            ));
+        }
+        let optional = self.column::<C>().is_none();
         self.layout
-            .declare((Reaction::Separate, 1, Some(Standard::Power)), finish, true)
-            .map(drop)
-            .map_err(|e| format!("{}: {e}", self.term))
-    }
-
-    /// Declares that the term adds to the dissipation rate of each particle (`m_i ḋ_i`,
-    /// [`Reaction::Separate`], with [`crate::pair::Out::add`] and [`crate::pair::Out::react`]
-    /// on the handle returned), which goes into its [`DissipationRate`] (divided by `m_i`):
-    /// the part of its power that is heat, for the energy budget
-    /// ([`dualsph_core::integrate::ensure_dissipation`]).
-    pub fn dissipation(&mut self) -> Result<Acc, String> {
-        let finish = |d: &mut DissipationRate, s: &[Real], m: Real| d.rate = s[0] / m;
-        self.accumulate::<DissipationRate>(Reaction::Separate, 1, finish)
-    }
-
-    /// Declares that the term adds to the density rate `dρ_i/dt` ([`DensityRate`], with
-    /// [`crate::pair::Out::add_density_rate`] and, with [`Reaction::Separate`],
-    /// [`crate::pair::Out::react_density_rate`]).
-    pub fn density_rate(&mut self, reaction: Reaction) -> Result<(), String> {
-        self.require::<DensityRate>()?;
-        let finish = |d: &mut DensityRate, s: &[Real], _: Real| d.rate = s[0];
-        self.layout
-            .declare((reaction, 1, Some(Standard::Rate)), finish, false)
+            .declare((reaction, 1, Some(Standard::Scalar(K))), finish, optional)
             .map(drop)
             .map_err(|e| format!("{}: {e}", self.term))
     }
@@ -459,8 +467,58 @@ impl<'l, 'w, V: Vector> Binder<'l, 'w, V> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use dualsph_core::components::{GradientCorrection, VelocityGradient};
+    use dualsph_core::math::Vector;
     use glam::DVec2;
+
+    /// A matrix column (a velocity gradient, say).
+    #[derive(Component)]
+    struct VelocityGradient<V: Vector>(#[allow(dead_code)] V::Mat);
+
+    /// Another matrix column (a correction, say).
+    #[derive(Component)]
+    struct GradientCorrection<V: Vector>(#[allow(dead_code)] V::Mat);
+
+    /// Two columns that both ask for scalar register 0.
+    #[derive(Component)]
+    struct First(#[allow(dead_code)] Real);
+    #[derive(Component)]
+    struct Second(#[allow(dead_code)] Real);
+
+    #[test]
+    fn a_register_holds_one_column() {
+        let mut l = Layout::default();
+        let none = |_: &mut First, _: &[Real], _: Real| {};
+        let a = l.declare::<First>(
+            (Reaction::Separate, 1, Some(Standard::Scalar(0))),
+            none,
+            true,
+        );
+        assert!(a.is_ok());
+        let again = l.declare::<First>(
+            (Reaction::Separate, 1, Some(Standard::Scalar(0))),
+            none,
+            true,
+        );
+        assert!(again.is_ok(), "the same column shares its register");
+        let none = |_: &mut Second, _: &[Real], _: Real| {};
+        let clash = l.declare::<Second>(
+            (Reaction::Separate, 1, Some(Standard::Scalar(0))),
+            none,
+            true,
+        );
+        let e = clash.unwrap_err();
+        assert!(
+            e.contains("Second") && e.contains("already holds First"),
+            "{e}"
+        );
+        let other = l.declare::<Second>(
+            (Reaction::OneSided, 1, Some(Standard::Scalar(1))),
+            none,
+            true,
+        );
+        assert!(other.is_ok());
+        assert_eq!(l.owner, 2);
+    }
 
     #[test]
     fn declarations_share_a_column_and_upgrade_one_sided_to_separate() {

@@ -2,16 +2,14 @@
 //! pairs at a time, bitwise what it gives one pair at a time.
 
 use crate::block::RowTerm;
+use crate::ctx::GradientCorrection;
 use crate::pair::ParticleData;
 use crate::pair::{Extra, Out, OwnerKernel};
 use crate::{
     Binder, BoundTerm, DynPairTerm, PairLanes, PairTerm, SweepBuffers, SweepCtx, evaluate,
 };
 use bevy_ecs::prelude::*;
-use dualsph_core::components::{
-    Acceleration, Conductivity, DensityRate, DissipationRate, EnergyRate, GradientCorrection,
-    InternalEnergy, Pressure, SoundSpeed, VelocityGradient,
-};
+use dualsph_core::components::Acceleration;
 use dualsph_core::kernels::Kernel;
 use dualsph_core::lanes::{LaneVec, Lanes};
 use dualsph_core::math::{Real, Vector};
@@ -21,10 +19,10 @@ use dualsph_core::store::{Cloud, insert_column};
 use std::sync::Arc;
 use wide::f64x2;
 
-/// A jittered 20 × 20 lattice with varying h, velocities, masses, densities, pressures,
-/// sound speeds, internal energies, conductivities and correction matrices (a fixed LCG), and the core's rate columns, as a
-/// world of particles: the fixture of
-/// [`check_lanes_2d`].
+/// A jittered 20 × 20 lattice with varying h, velocities, masses and densities (a fixed
+/// LCG), the acceleration and a non-trivial kernel-gradient correction, as a world of
+/// particles: the fixture of [`check_lanes_2d`] (a layer above adds the columns of its
+/// vocabulary with [`check_lanes_2d_with`]).
 pub fn lattice_2d() -> World {
     use glam::DVec2;
     let mut seed = 12345u64;
@@ -36,27 +34,15 @@ pub fn lattice_2d() -> World {
     };
     let n = 20 * 20;
     let mut c = Cloud::<DVec2>::new(n);
-    let (mut p, mut s) = (vec![0.0; n], vec![0.0; n]);
     for i in 0..n {
         c.pos[i] = DVec2::new((i % 20) as Real, (i / 20) as Real) + DVec2::new(rnd(), rnd()) * 0.4;
         c.vel[i] = DVec2::new(rnd() - 0.5, rnd() - 0.5);
         c.mass[i] = 0.8 + 0.4 * rnd();
         c.rho[i] = 950.0 + 100.0 * rnd();
         c.h[i] = 1.2 + 1.5 * rnd();
-        p[i] = rnd() * 1e3 - 200.0;
-        s[i] = 10.0 + rnd();
     }
     let mut world = c.spawn();
-    insert_column(&mut world, |i| Pressure(p[i]));
-    insert_column(&mut world, |i| SoundSpeed(s[i]));
-    // the columns the core's sums write, and a non-trivial kernel-gradient correction
-    insert_column(&mut world, |i| InternalEnergy(1.0 + 0.1 * (i % 5) as Real));
-    insert_column(&mut world, |i| Conductivity(0.5 + 0.01 * (i % 3) as Real));
     insert_column(&mut world, |_| Acceleration(DVec2::ZERO));
-    insert_column(&mut world, |_| EnergyRate::default());
-    insert_column(&mut world, |_| DensityRate::default());
-    insert_column(&mut world, |_| DissipationRate::default());
-    insert_column(&mut world, |_| VelocityGradient::<DVec2>(glam::DMat2::ZERO));
     insert_column(&mut world, |i| {
         let a = 1.0 + 0.01 * (i % 7) as Real;
         GradientCorrection::<DVec2>(glam::DMat2::from_cols_array(&[a, 0.02, -0.01, 1.0 / a]))
@@ -100,8 +86,8 @@ pub fn check_lanes_2d(term: &dyn DynPairTerm<glam::DVec2>) -> Result<(), String>
     check_lanes_2d_with(term, |_| {})
 }
 
-/// [`check_lanes_2d`] for a term that reads columns of its own: `extra` puts them on the
-/// lattice's particles (e.g. with `dualsph_core::store::insert_column`).
+/// [`check_lanes_2d`] for a term that reads or writes columns beyond the lattice's: `extra`
+/// puts them on the lattice's particles (e.g. with `dualsph_core::store::insert_column`).
 pub fn check_lanes_2d_with(
     term: &dyn DynPairTerm<glam::DVec2>,
     extra: impl FnOnce(&mut World),
@@ -118,27 +104,33 @@ pub fn check_lanes_2d_with(
 /// sweep's only term — its block loop compiled for the term — it gives bitwise the sums it
 /// gives through a dynamic call per two pairs beside a term with no sums.
 pub fn check_block_loop_2d(term: Arc<dyn DynPairTerm<glam::DVec2>>) -> Result<(), String> {
-    on_lattice(
-        |_| {},
-        |ctx| {
-            let (mut alone, mut beside) = (SweepBuffers::default(), SweepBuffers::default());
-            evaluate(ctx, std::slice::from_ref(&term), &mut alone)?;
-            evaluate(ctx, &[term.clone(), Arc::new(NoSums)], &mut beside)?;
-            let same = alone.sums.len() == beside.sums.len()
-                && alone
-                    .sums
-                    .iter()
-                    .zip(&beside.sums)
-                    .all(|(a, b)| a.to_bits() == b.to_bits());
-            match same {
-                true => Ok(()),
-                false => Err(format!(
-                    "{}: its block loop gives other sums than its dynamic calls",
-                    term.name()
-                )),
-            }
-        },
-    )
+    check_block_loop_2d_with(term, |_| {})
+}
+
+/// [`check_block_loop_2d`] with the columns `extra` puts on the lattice's particles (see
+/// [`check_lanes_2d_with`]).
+pub fn check_block_loop_2d_with(
+    term: Arc<dyn DynPairTerm<glam::DVec2>>,
+    extra: impl FnOnce(&mut World),
+) -> Result<(), String> {
+    on_lattice(extra, |ctx| {
+        let (mut alone, mut beside) = (SweepBuffers::default(), SweepBuffers::default());
+        evaluate(ctx, std::slice::from_ref(&term), &mut alone)?;
+        evaluate(ctx, &[term.clone(), Arc::new(NoSums)], &mut beside)?;
+        let same = alone.sums.len() == beside.sums.len()
+            && alone
+                .sums
+                .iter()
+                .zip(&beside.sums)
+                .all(|(a, b)| a.to_bits() == b.to_bits());
+        match same {
+            true => Ok(()),
+            false => Err(format!(
+                "{}: its block loop gives other sums than its dynamic calls",
+                term.name()
+            )),
+        }
+    })
 }
 
 /// A term with a pair part and no sums (see [`check_block_loop_2d`]).

@@ -2,12 +2,21 @@
 //! columns, the lists, the kernel and the formulation, and the walk over a support.
 
 use crate::pair::OwnerKernel;
-use dualsph_core::components::{GradientCorrection, Position, SmoothingLength};
+use bevy_ecs::prelude::Component;
+use dualsph_core::components::{Position, SmoothingLength};
 use dualsph_core::kernels::Kernel;
 use dualsph_core::math::{Matrix, Real, Vector};
 use dualsph_core::neighbours::Neighbours;
 use dualsph_core::sim::Formulation;
 use dualsph_core::store::ParticleData;
+
+/// Kernel-gradient correction matrix `L_i` (Eq. 2.10): when the particles have it, every
+/// pass over supports corrects the owner's kernel gradients with it (`L_i ∇_iW_ij`). The
+/// correction plugin adds and computes it.
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct GradientCorrection<V: Vector>(pub V::Mat);
+
+dualsph_core::matrix_column!(GradientCorrection);
 
 /// Everything a pass over neighbours needs.
 #[derive(Clone, Copy)]

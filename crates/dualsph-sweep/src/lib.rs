@@ -38,7 +38,7 @@
 //!   reaction on i), so it runs on the dual-support sweep with `P/(Ωρ²)` as the owner's factor.
 
 pub use crate::block::RowTerm;
-pub use crate::ctx::{Support, SweepCtx};
+pub use crate::ctx::{GradientCorrection, Support, SweepCtx};
 pub use crate::erased::DynPairTerm;
 pub use crate::pair::{
     Acc, Binder, BoundTerm, Out, OwnerKernel, PairLanes, PairTerm, ParticleData, Reaction,
@@ -58,7 +58,9 @@ mod erased;
 mod fuse;
 mod sweep;
 mod system;
-pub use checks::{check_block_loop_2d, check_lanes_2d, check_lanes_2d_with, lattice_2d};
+pub use checks::{
+    check_block_loop_2d, check_block_loop_2d_with, check_lanes_2d, check_lanes_2d_with, lattice_2d,
+};
 pub use fuse::{Fused, FusedBound, Fusions};
 pub use system::{FORCES, ForceSweep, PairSweep, PairSweeps, SimSweeps, sweep_into};
 
@@ -67,6 +69,6 @@ pub use system::{FORCES, ForceSweep, PairSweep, PairSweeps, SimSweeps, sweep_int
 pub mod prelude {
     pub use crate::accum::{Acc, Binder, Reaction};
     pub use crate::pair::{BoundTerm, Out, OwnerSums, PairLanes, PairTerm};
-    pub use crate::{FORCES, OwnerKernel, SimSweeps, SweepCtx};
+    pub use crate::{FORCES, GradientCorrection, OwnerKernel, SimSweeps, SweepCtx};
     pub use dualsph_core::prelude::*;
 }

@@ -6,7 +6,9 @@
 //! [the sweep](crate), which runs every term of one place over each owner's support in one pass
 //! and delivers each contribution to j through j's dual-support.
 
-pub use crate::accum::{Acc, Binder, MAX_NEIGHBOUR_CHANNELS, MAX_OWNER_CHANNELS, Reaction};
+pub use crate::accum::{
+    Acc, Binder, MAX_NEIGHBOUR_CHANNELS, MAX_OWNER_CHANNELS, Reaction, SCALAR_REGISTERS,
+};
 use dualsph_core::lanes::{LaneVec, Lanes};
 use dualsph_core::math::{Matrix, Real, Vector};
 pub use dualsph_core::store::ParticleData;
@@ -188,22 +190,20 @@ impl<'a, T: Lanes, V: Vector> PairLanes<'a, T, V> {
     }
 }
 
-/// What the terms of a sweep give for `T::N` pairs, [`EMPTY`] before the first term: the standard
-/// sums by name (the force, the power and the density rate, to the owner and to the
-/// neighbour: kept in registers), and the channels of the sweep's other accumulators
-/// ([`Acc`], see [`crate::accum`]).
+/// What the terms of a sweep give for `T::N` pairs, [`EMPTY`] before the first term: the sums
+/// it keeps in registers by place (the force, and the [`SCALAR_REGISTERS`] scalars to the
+/// owner and to the neighbour: see [`crate::accum::Standard`]), and the channels of the
+/// sweep's other accumulators ([`Acc`], see [`crate::accum`]).
 #[derive(Debug)]
 pub struct Out<'e, T: Lanes> {
     pub(crate) force: LaneVec<T>,
-    pub(crate) power: T,
-    pub(crate) power_j: T,
-    pub(crate) rate: T,
-    pub(crate) rate_j: T,
+    pub(crate) scalar: [T; SCALAR_REGISTERS],
+    pub(crate) scalar_j: [T; SCALAR_REGISTERS],
     pub(crate) extra: &'e mut Extra<T>,
 }
 
-/// The channels of a sweep's non-standard accumulators, apart from [`Out`]'s standard sums
-/// so that those stay in registers.
+/// The channels of a sweep's non-standard accumulators, apart from [`Out`]'s registers so
+/// that those stay in registers.
 #[derive(Clone, Copy, Debug)]
 pub struct Extra<T: Lanes> {
     pub(crate) own: [T; MAX_OWNER_CHANNELS],
@@ -227,12 +227,19 @@ impl<'e, T: Lanes> Out<'e, T> {
         let z = T::splat(EMPTY);
         Out {
             force: LaneVec([z; 3]),
-            power: z,
-            power_j: z,
-            rate: z,
-            rate_j: z,
+            scalar: [z; SCALAR_REGISTERS],
+            scalar_j: [z; SCALAR_REGISTERS],
             extra,
         }
+    }
+
+    /// Empties the registers (the sweep does, after each lane group).
+    #[inline(always)]
+    pub(crate) fn clear_registers(&mut self) {
+        let z = T::splat(EMPTY);
+        self.force = LaneVec([z; 3]);
+        self.scalar = [z; SCALAR_REGISTERS];
+        self.scalar_j = [z; SCALAR_REGISTERS];
     }
 
     /// Adds `f` to the force on the owner (its reaction `−f` goes to the neighbour); the term
@@ -242,29 +249,17 @@ impl<'e, T: Lanes> Out<'e, T> {
         self.force = self.force.plus::<V>(f);
     }
 
-    /// Adds `p` to the power into the owner's internal energy ([`Binder::power`]).
+    /// Adds `v` to the owner's scalar register `K` ([`Binder::scalar_register`]).
     #[inline(always)]
-    pub fn add_power(&mut self, p: T) {
-        self.power = self.power + p;
+    pub fn add_scalar<const K: usize>(&mut self, v: T) {
+        self.scalar[K] = self.scalar[K] + v;
     }
 
-    /// Adds `p` to the power into the neighbour's internal energy ([`Binder::power`]).
-    #[inline(always)]
-    pub fn react_power(&mut self, p: T) {
-        self.power_j = self.power_j + p;
-    }
-
-    /// Adds `d` to the owner's density rate ([`Binder::density_rate`]).
-    #[inline(always)]
-    pub fn add_density_rate(&mut self, d: T) {
-        self.rate = self.rate + d;
-    }
-
-    /// Adds `d` to the neighbour's density rate ([`Binder::density_rate`] with
+    /// Adds `v` to the neighbour's scalar register `K` ([`Binder::scalar_register`] with
     /// [`Reaction::Separate`]).
     #[inline(always)]
-    pub fn react_density_rate(&mut self, d: T) {
-        self.rate_j = self.rate_j + d;
+    pub fn react_scalar<const K: usize>(&mut self, v: T) {
+        self.scalar_j[K] = self.scalar_j[K] + v;
     }
 
     #[inline(always)]
@@ -331,8 +326,7 @@ impl<'e, T: Lanes> Out<'e, T> {
         use crate::accum::Standard;
         match s.standard {
             Some(Standard::Force) => self.force.0[c],
-            Some(Standard::Power) => self.power,
-            Some(Standard::Rate) => self.rate,
+            Some(Standard::Scalar(k)) => self.scalar[k],
             None => self.extra.own[s.chan + c],
         }
     }
@@ -343,8 +337,7 @@ impl<'e, T: Lanes> Out<'e, T> {
         use crate::accum::Standard;
         match s.standard {
             Some(Standard::Force) => -self.force.0[c],
-            Some(Standard::Power) => self.power_j,
-            Some(Standard::Rate) => self.rate_j,
+            Some(Standard::Scalar(k)) => self.scalar_j[k],
             None => match (s.reaction, s.j) {
                 (Reaction::Opposite, _) => -self.extra.own[s.chan + c],
                 (_, Some(j)) => self.extra.nbr[j + c],
@@ -381,11 +374,11 @@ impl<'b> OwnerSums<'b> {
         }
     }
 
-    /// Adds `d` to the density rate ([`Binder::density_rate`]).
-    pub fn add_density_rate(&mut self, d: Real) {
+    /// Adds `v` to scalar register `K` ([`Binder::scalar_register`]).
+    pub fn add_scalar<const K: usize>(&mut self, v: Real) {
         use crate::accum::Standard;
-        if let Some(s) = self.layout.standard(Standard::Rate) {
-            self.sums[s.i] += d;
+        if let Some(s) = self.layout.standard(Standard::Scalar(K)) {
+            self.sums[s.i] += v;
         }
     }
 }
@@ -396,7 +389,8 @@ impl<'b> OwnerSums<'b> {
 ///
 /// Once per sweep the term is **bound** ([`PairTerm::bind`]): it fetches the columns it reads
 /// beyond the core ones (`b.require::<Pressure>()`) and declares the sums it writes
-/// (`b.force()`, `b.power()`, `b.density_rate(…)` or any column with [`Binder::accumulate`]);
+/// (`b.force()`, a scalar register with [`Binder::scalar_register`], or any column with
+/// [`Binder::accumulate`]);
 /// a missing column is a build error naming the term.
 pub trait PairTerm<V: Vector>: Send + Sync + 'static {
     /// The term bound to its columns and sums for one sweep.

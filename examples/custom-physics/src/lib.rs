@@ -158,7 +158,7 @@ mod tests {
     /// varying from particle to particle.
     #[test]
     fn the_drag_gives_two_lanes_what_each_pair_gives_alone() {
-        dualsph::sweep::check_lanes_2d_with(&PairDragTerm, |world| {
+        dualsph::fluid::checks::check_lanes_2d_with(&PairDragTerm, |world| {
             insert_column(world, |i| DragGamma(0.5 + 0.1 * (i % 4) as Real))
         })
         .unwrap();

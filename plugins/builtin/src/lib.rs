@@ -3,7 +3,7 @@
 //! pair terms ([`fuse_builtin_terms`]).
 #![warn(missing_docs)]
 
-use dualsph_sweep::prelude::*;
+use dualsph_fluid::prelude::*;
 
 /// The built-in plugins, by the names used in RON scenes.
 pub mod plugins {

@@ -48,12 +48,12 @@
 
 use dualsph_core::bevy_ecs::prelude::Resource;
 use dualsph_core::bodies::{Bodies, BodyKind};
-use dualsph_core::integrate::DensityIntegration;
 use dualsph_core::lanes::LaneVec;
 use dualsph_eos::{Eos, Materials};
+use dualsph_fluid::DensityIntegration;
 use dualsph_fluid::EquationOfState;
+use dualsph_fluid::prelude::*;
 use dualsph_gravity::GravityAccel;
-use dualsph_sweep::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// Present once the diffusion term is in the force sweep.
@@ -309,7 +309,7 @@ mod tests {
 
     #[test]
     fn two_lanes_equal_one_lane_bitwise() {
-        dualsph_sweep::check_lanes_2d(&DiffusionTerm {
+        dualsph_fluid::checks::check_lanes_2d(&DiffusionTerm {
             delta: 0.1,
             fluid: None,
             hydrostatic: None,

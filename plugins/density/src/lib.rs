@@ -9,9 +9,9 @@
 pub mod diffusion;
 pub use diffusion::DensityDiffusion;
 
-use dualsph_core::integrate::DensityIntegration;
+use dualsph_fluid::DensityIntegration;
 use dualsph_fluid::DensitySummation;
-use dualsph_sweep::prelude::*;
+use dualsph_fluid::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// `ρ_i = Σ_{j ∈ H_i ∪ {i}} m_j W(r_ij, h_i)` every step.
@@ -120,7 +120,7 @@ impl SimPlugin for ContinuityDensity {
                 "SummationDensity and ContinuityDensity cannot both set the density".into(),
             ));
         }
-        dualsph_core::integrate::ensure_density_integration(sim)?;
+        dualsph_fluid::ensure_density_integration(sim)?;
         match self.form {
             ContinuityForm::Pairwise => sim.add_pair_term(ContinuityTerm),
             ContinuityForm::VelocityDivergence => {
@@ -216,7 +216,7 @@ mod tests {
 
     #[test]
     fn two_lanes_equal_one_lane_bitwise() {
-        use dualsph_sweep::check_lanes_2d;
+        use dualsph_fluid::checks::check_lanes_2d;
         check_lanes_2d(&SummationTerm).unwrap();
         check_lanes_2d(&ContinuityTerm).unwrap();
         check_lanes_2d(&DivergenceTerm).unwrap();

@@ -7,6 +7,7 @@ use dualsph_core::chunks::{DENSE, MIN_LEN};
 use dualsph_core::components::*;
 use dualsph_core::math::{Real, Vector};
 use dualsph_core::sim::Domain;
+use dualsph_fluid::components::*;
 use rayon::prelude::*;
 
 /// The first unphysical value found in the state (lowest particle id), if any.

@@ -23,7 +23,7 @@ pub use health::*;
 pub use totals::*;
 
 use dualsph_core::bevy_ecs::system::RunSystemOnce;
-use dualsph_sweep::prelude::*;
+use dualsph_fluid::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// `Diagnostics()`: the plugin (no settings; the cadence is the scene's

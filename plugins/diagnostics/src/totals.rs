@@ -18,6 +18,7 @@ use dualsph_core::components::*;
 use dualsph_core::math::{Real, Vector};
 use dualsph_core::potentials::ExternalPotentials;
 use dualsph_core::sim::SimClock;
+use dualsph_fluid::components::*;
 use glam::DVec3;
 
 /// Totals of the current state.

@@ -27,9 +27,9 @@ use crate::{Eos, Materials};
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::bodies::{Bodies, BodyKind};
 use dualsph_core::chunks::DENSE;
+use dualsph_fluid::prelude::*;
 use dualsph_fluid::{GravityField, Liquid};
 use dualsph_gravity::GravityAccel;
-use dualsph_sweep::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// The fluid starts hydrostatic below a free surface (module docs).

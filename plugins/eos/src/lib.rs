@@ -9,10 +9,10 @@ pub use hydrostatic::HydrostaticStart;
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::bodies::Bodies;
 use dualsph_core::chunks::DENSE;
-use dualsph_core::integrate::ensure_energy_equation;
 use dualsph_core::plugin::positive;
+use dualsph_fluid::ensure_energy_equation;
+use dualsph_fluid::prelude::*;
 use dualsph_fluid::{EquationOfState, Liquid};
-use dualsph_sweep::prelude::*;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 

@@ -14,7 +14,7 @@ use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::bodies::{Bodies, BodyId};
 use dualsph_core::chunks::{DENSE, MIN_LEN};
 use dualsph_core::potentials::ExternalPotentials;
-use dualsph_sweep::prelude::*;
+use dualsph_fluid::prelude::*;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 

@@ -5,9 +5,9 @@
 //! any h field. With equal h the two supports add up to the classical `(κ_i + κ_j)` form.
 #![warn(missing_docs)]
 
-use dualsph_core::integrate::ensure_energy_equation;
 use dualsph_core::plugin::positive;
-use dualsph_sweep::prelude::*;
+use dualsph_fluid::ensure_energy_equation;
+use dualsph_fluid::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// Heat conduction.
@@ -113,6 +113,6 @@ mod tests {
 
     #[test]
     fn two_lanes_equal_one_lane_bitwise() {
-        dualsph_sweep::check_lanes_2d(&HeatTerm { inv_cv: 0.25 }).unwrap();
+        dualsph_fluid::checks::check_lanes_2d(&HeatTerm { inv_cv: 0.25 }).unwrap();
     }
 }

@@ -19,7 +19,7 @@ use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::bodies::{Bodies, BodyKind};
 use dualsph_core::plugin::positive;
 use dualsph_core::population::Population;
-use dualsph_sweep::prelude::*;
+use dualsph_fluid::prelude::*;
 use serde::{Deserialize, Serialize};
 
 mod settings;

@@ -41,7 +41,7 @@ use dualsph_core::bodies::DriveBodies;
 use dualsph_core::chunks::{DENSE, MIN_LEN};
 use dualsph_core::columns::{ColumnValue, Shape, put_vector, take_vector};
 use dualsph_core::integrate::Updates;
-use dualsph_sweep::prelude::*;
+use dualsph_fluid::prelude::*;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 

@@ -22,7 +22,7 @@ pub mod time_step;
 pub mod verlet;
 
 use dualsph_core::integrate::{ScalarEquation, ScalarKernel};
-use dualsph_sweep::prelude::*;
+use dualsph_fluid::prelude::*;
 pub use energy::EnergyUpdate;
 
 /// A scheme's systems that advance positions and velocities (the leapfrog's predictor and

@@ -11,7 +11,7 @@
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::chunks::{DENSE, MIN_LEN};
 use dualsph_core::sim::MaxViscosity;
-use dualsph_sweep::prelude::*;
+use dualsph_fluid::prelude::*;
 use rayon::prelude::*;
 
 /// The limit of one particle, `min(C_cfl h/(c + |v|), C_f √(h/|a|), C_v ρ h²/μ)`: the

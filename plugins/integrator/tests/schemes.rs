@@ -9,11 +9,11 @@
 //! `ensure_density_integration`), evaluated at the state each scheme presents to the step.
 
 use dualsph_core::bevy_ecs::prelude::*;
-use dualsph_core::integrate::ensure_density_integration;
 use dualsph_core::plugin::PluginConfig;
 use dualsph_core::sim::{Domain, ParticleInit, SimConfig};
+use dualsph_fluid::ensure_density_integration;
+use dualsph_fluid::prelude::*;
 use dualsph_integrator::{LeapfrogPC, PositionVerlet};
-use dualsph_sweep::prelude::*;
 use glam::DVec2;
 use serde::Deserialize;
 

@@ -11,7 +11,7 @@
 
 use dualsph_core::bevy_ecs::prelude::Resource;
 use dualsph_core::columns::take_matrix;
-use dualsph_sweep::prelude::*;
+use dualsph_fluid::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// Kernel-gradient correction.
@@ -160,7 +160,7 @@ mod tests {
 
     #[test]
     fn two_lanes_equal_one_lane_bitwise() {
-        dualsph_sweep::check_lanes_2d(&CorrectionTerm).unwrap();
-        dualsph_sweep::check_lanes_2d(&VelocityGradientTerm).unwrap();
+        dualsph_fluid::checks::check_lanes_2d(&CorrectionTerm).unwrap();
+        dualsph_fluid::checks::check_lanes_2d(&VelocityGradientTerm).unwrap();
     }
 }

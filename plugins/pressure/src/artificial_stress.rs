@@ -19,8 +19,8 @@
 //! 159, 290–311.
 
 use crate::{add_pressure_like, is_corrected, neighbour_lanes, owner_factor};
-use dualsph_core::integrate::ensure_energy_equation;
-use dualsph_sweep::prelude::*;
+use dualsph_fluid::ensure_energy_equation;
+use dualsph_fluid::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// Artificial stress settings.
@@ -158,6 +158,6 @@ mod tests {
             epsilon: 0.2,
             exponent: 4,
         };
-        dualsph_sweep::check_lanes_2d(&term).unwrap();
+        dualsph_fluid::checks::check_lanes_2d(&term).unwrap();
     }
 }

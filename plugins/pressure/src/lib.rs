@@ -12,8 +12,8 @@
 mod artificial_stress;
 pub use artificial_stress::{ArtificialStress, ArtificialStressTerm};
 
-use dualsph_core::integrate::ensure_energy_equation;
-use dualsph_sweep::prelude::*;
+use dualsph_fluid::ensure_energy_equation;
+use dualsph_fluid::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// Pressure force.
@@ -143,7 +143,7 @@ mod tests {
 
     #[test]
     fn two_lanes_equal_one_lane_bitwise() {
-        dualsph_sweep::check_lanes_2d(&PressureTerm).unwrap();
-        dualsph_sweep::check_block_loop_2d(std::sync::Arc::new(PressureTerm)).unwrap();
+        dualsph_fluid::checks::check_lanes_2d(&PressureTerm).unwrap();
+        dualsph_fluid::checks::check_block_loop_2d(std::sync::Arc::new(PressureTerm)).unwrap();
     }
 }

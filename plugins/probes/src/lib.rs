@@ -46,7 +46,7 @@ pub use plot::{ProbeTable, plot_probes, read_probes};
 
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::sampling::SamplingCloud;
-use dualsph_sweep::prelude::*;
+use dualsph_fluid::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -382,7 +382,7 @@ impl SimPlugin for Probes {
             );
         }
         if wants(Quantity::InternalEnergy) {
-            sim.require::<dualsph_core::integrate::EnergyEquation>(
+            sim.require::<dualsph_fluid::EnergyEquation>(
                 "Probes: an InternalEnergy probe needs a plugin that solves the energy equation",
             );
         }

@@ -27,7 +27,7 @@
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::kernels::Kernel;
 use dualsph_core::neighbours::Neighbours;
-use dualsph_sweep::prelude::*;
+use dualsph_fluid::prelude::*;
 use rayon::prelude::*;
 
 /// The solve's settings (a resource).

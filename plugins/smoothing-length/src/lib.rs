@@ -14,7 +14,7 @@ pub use isotropy::Isotropy;
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::neighbours::Neighbours;
 use dualsph_core::plugin::positive;
-use dualsph_sweep::prelude::*;
+use dualsph_fluid::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// The h-update of §6.

@@ -45,7 +45,7 @@
 
 #![warn(missing_docs)]
 
-use dualsph_sweep::prelude::*;
+use dualsph_fluid::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// Pairwise cohesion surface tension (Akinci et al. 2013), calibrated to a surface tension σ.
@@ -207,7 +207,7 @@ mod tests {
     #[test]
     fn two_lanes_equal_one_lane_bitwise() {
         let term = CohesionTerm::new(1.0, 2).unwrap();
-        dualsph_sweep::check_lanes_2d(&term).unwrap();
+        dualsph_fluid::checks::check_lanes_2d(&term).unwrap();
     }
 
     #[test]

@@ -4,7 +4,7 @@
 //!   `f_ij = −m_i m_j (Π_ij/2) ∇_iW_ij` on i, `−f_ij` on j; the dissipated work `−f_ij·v_ij ≥ 0`
 //!   is shared ½/½ as internal energy (Eq. 4.20). The same heat is summed into the particles'
 //!   `DissipationRate`, integrated into their `Dissipated` energy (the energy budget's
-//!   dissipated part, `dualsph_core::integrate::ensure_dissipation`) with `dissipation: true`.
+//!   dissipated part, `dualsph_fluid::ensure_dissipation`) with `dissipation: true`.
 //! * `PhysicalViscosity(mu)` — Eq. 4.23: `f_ij = m_i m_j (μ/ρ_i²) (r_ij·∇_iW_ij)/(r_ij²+η²) v_ij`,
 //!   `η = 0.1 h_i`, work shared ½/½ (Eq. 4.24).
 //!
@@ -24,11 +24,11 @@
 #![warn(missing_docs)]
 
 use dualsph_core::bodies::WallVelocityOffset;
-use dualsph_core::integrate::{ensure_dissipation, ensure_energy_equation};
 use dualsph_core::lanes::LaneVec;
 use dualsph_core::sim::MaxViscosity;
+use dualsph_fluid::prelude::*;
+use dualsph_fluid::{ensure_dissipation, ensure_energy_equation};
 use dualsph_kernel_correction::ensure_velocity_gradient;
-use dualsph_sweep::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// Monaghan artificial viscosity.

@@ -2,7 +2,7 @@ use super::*;
 
 #[test]
 fn two_lanes_equal_one_lane_bitwise() {
-    use dualsph_sweep::check_lanes_2d;
+    use dualsph_fluid::checks::check_lanes_2d;
     let av = ArtificialViscosityTerm {
         alpha: 1.0,
         beta: 2.0,
@@ -28,7 +28,7 @@ fn two_lanes_equal_one_lane_bitwise() {
 /// its block loop gives bitwise the sums of its dynamic calls.
 #[test]
 fn the_viscosity_block_loop_gives_the_same_sums() {
-    use dualsph_sweep::check_block_loop_2d;
+    use dualsph_fluid::checks::check_block_loop_2d;
     for dissipation in [false, true] {
         let av = ArtificialViscosityTerm {
             alpha: 1.0,

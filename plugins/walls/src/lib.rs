@@ -20,7 +20,7 @@ pub use velocity::ViscousWall;
 
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::chunks::{DENSE, MIN_LEN};
-use dualsph_sweep::prelude::*;
+use dualsph_fluid::prelude::*;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 

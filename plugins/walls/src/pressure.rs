@@ -36,9 +36,9 @@ use dualsph_core::columns::ColumnSpec;
 use dualsph_core::neighbours::Neighbours;
 use dualsph_eos::{Eos, Materials};
 use dualsph_fluid::EquationOfState;
+use dualsph_fluid::prelude::*;
 use dualsph_gravity::GravityAccel;
 use dualsph_sweep::Support;
-use dualsph_sweep::prelude::*;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 

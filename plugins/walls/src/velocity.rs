@@ -24,8 +24,8 @@ use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::bodies::{BodyId, WallVelocityOffset};
 use dualsph_core::chunks::DENSE;
 use dualsph_core::neighbours::Neighbours;
+use dualsph_fluid::prelude::*;
 use dualsph_sweep::Support;
-use dualsph_sweep::prelude::*;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 

@@ -2,7 +2,7 @@
 //!
 //! With `E_kin`, `E_pot`, `E_int` the totals of `diagnostics.csv` and `D = Σ m_i d_i` its
 //! `dissipated` column (the time integral of the artificial viscosity's heating,
-//! `dualsph_core::components::Dissipated`), the changes since t = 0 are
+//! `dualsph_fluid::components::Dissipated`), the changes since t = 0 are
 //!
 //! `ΔE_kin + ΔE_pot + W_c + D = ΔE_tot`, with `W_c = ΔE_int − D`
 //!

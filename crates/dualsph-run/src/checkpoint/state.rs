@@ -7,8 +7,8 @@ use dualsph_core::neighbours::{Csr, Neighbours};
 use dualsph_core::population::{NextId, Seed, replace_particles};
 use dualsph_core::restart::KeptResources;
 use dualsph_diagnostics::{BodyLoad, BodyTotals, Diagnostics};
+use dualsph_fluid::prelude::*;
 use dualsph_probes::ProbeState;
-use dualsph_sweep::prelude::*;
 
 /// The registered columns kept in checkpoints, in registration order.
 fn restart_columns(world: &World) -> Vec<Column> {

@@ -3,7 +3,7 @@
 //! of stepping forever.
 
 use bevy_ecs::prelude::Resource;
-use dualsph_sweep::prelude::*;
+use dualsph_fluid::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// Key of [`DtFloor`] in checkpoints: a resumed run keeps the reference of the run it

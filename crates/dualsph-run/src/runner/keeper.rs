@@ -5,9 +5,9 @@
 use super::{RunError, particle_table};
 use crate::checkpoint::{self, Checkpoint, LAST_GOOD_STEM, checkpoint_file_name, fingerprint};
 use dualsph_diagnostics::Diagnostics;
+use dualsph_fluid::prelude::*;
 use dualsph_io::OutputDir;
 use dualsph_scene::Scene;
-use dualsph_sweep::prelude::*;
 use std::collections::VecDeque;
 use std::path::{Path, PathBuf};
 

@@ -4,9 +4,9 @@
 
 use bevy_ecs::prelude::{Resource, World};
 use dualsph_core::columns::{Column, Columns};
+use dualsph_fluid::prelude::*;
 use dualsph_io::{OutputOptions, POSITION, VtkEncoding};
 use dualsph_scene::{OutputFormat, OutputSettings};
-use dualsph_sweep::prelude::*;
 
 /// Relative tolerance of the time cadence: a step whose t is within `1e-9·snapshot_dt` below a
 /// multiple of `snapshot_dt` counts as reaching it (t accumulated over many steps lands a

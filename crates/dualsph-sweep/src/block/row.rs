@@ -7,7 +7,7 @@
 //! the order of `H_i`, so the sums do not depend on how the pairs are grouped in lanes.
 
 use super::RowTerm;
-use crate::accum::{Layout, ReactionChannel, Source, Standard};
+use crate::accum::{Layout, ReactionChannel, SCALAR_REGISTERS, Source, Standard};
 use crate::ctx::SweepCtx;
 use crate::pair::{BoundTerm, Extra, Out, OwnerKernel, OwnerSums, PairLanes, ParticleData};
 use dualsph_core::kernels::KernelKind;
@@ -24,14 +24,14 @@ pub type Terms<'a, 'w, V> = [&'a (dyn RowTerm<V> + 'w)];
 
 /// What one row of a sweep forms, laid out once per sweep from its [`Layout`]: the place in
 /// each particle's sums (and, with a reaction, in each slot's reaction record) of the
-/// standard sums, the other accumulators' channels, and the terms with a pair part.
+/// registers (the force, the scalars), the other accumulators' channels, and the terms with
+/// a pair part.
 pub struct RowPlan<'a, 'w, V: Vector> {
     pub(crate) layout: &'a Layout,
     pub(crate) owner: usize,
     pub(crate) rw: usize,
     pub(crate) force: Option<(usize, usize)>,
-    pub(crate) power: Option<(usize, Option<usize>)>,
-    pub(crate) rate: Option<(usize, Option<usize>)>,
+    pub(crate) scalar: [Option<(usize, Option<usize>)>; SCALAR_REGISTERS],
     pub(crate) extra_own: Vec<(usize, usize)>,
     pub(crate) extra_react: Vec<(Source, usize)>,
     pub(crate) extra: (usize, usize),
@@ -47,7 +47,8 @@ pub struct RowPlan<'a, 'w, V: Vector> {
 }
 
 /// How a sweep's reaction records are laid out: the standard ones only — the force's `d`
-/// components, the power to j and, when `rate`, the density rate to j, at fixed places (see
+/// components, scalar register 0 to j and, when `rate`, scalar register 1 to j, at fixed
+/// places (see
 /// [`crate::accum::Layout::reactions`]) — which the row loop writes with no per-pair test,
 /// or any other layout, written channel by channel from the plan.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -82,8 +83,9 @@ impl<'a, 'w, V: Vector> RowPlan<'a, 'w, V> {
             owner: layout.owner,
             rw: react.len(),
             force: at(Standard::Force).map(|i| (i, r_of(Source::Force(0)).unwrap_or(usize::MAX))),
-            power: at(Standard::Power).map(|i| (i, r_of(Source::Power))),
-            rate: at(Standard::Rate).map(|i| (i, r_of(Source::Rate))),
+            scalar: std::array::from_fn(|k| {
+                at(Standard::Scalar(k)).map(|i| (i, r_of(Source::Scalar(k))))
+            }),
             extra_own,
             extra_react,
             extra: (layout.extra_owner, layout.extra_neighbour),
@@ -97,16 +99,16 @@ impl<'a, 'w, V: Vector> RowPlan<'a, 'w, V> {
         plan
     }
 
-    /// [`Records::Standard`] when the sweep's sums are the force, the power with a
-    /// reaction and possibly the density rate, and nothing else.
+    /// [`Records::Standard`] when the sweep's sums are the force, scalar register 0 with a
+    /// reaction and possibly scalar register 1, and nothing else.
     fn records_shape(&self) -> Records {
         let d = V::DIM;
         let standard = matches!(self.force, Some((_, 0)))
-            && matches!(self.power, Some((_, Some(r))) if r == d)
+            && matches!(self.scalar[0], Some((_, Some(r))) if r == d)
             && self.extra_own.is_empty()
             && self.extra_react.is_empty()
             && self.extra == (0, 0);
-        match self.rate {
+        match self.scalar[1] {
             _ if !standard => Records::General,
             Some((_, Some(r))) if r == d + 1 && self.rw == d + 2 => {
                 Records::Standard { rate: true }
@@ -125,12 +127,11 @@ impl<V: Vector> RowPlan<'_, '_, V> {
     }
 }
 
-/// i's standard sums while its row runs (in registers; the others in an array apart).
+/// i's register sums while its row runs (in registers; the others in an array apart).
 #[derive(Clone, Copy)]
 pub(crate) struct RowSums<V: Vector> {
     pub(crate) force: V,
-    pub(crate) power: Real,
-    pub(crate) rate: Real,
+    pub(crate) scalar: [Real; SCALAR_REGISTERS],
 }
 
 /// Per-thread scratch of pass 1: one row's candidates inside `h_i`, compacted.
@@ -423,16 +424,14 @@ fn row_of<V: Vector, E: GroupEval<V>, const STD: bool, const RATE_J: bool, const
     let mut own = if plan.fresh {
         RowSums {
             force: V::zero(),
-            power: 0.0,
-            rate: 0.0,
+            scalar: [0.0; SCALAR_REGISTERS],
         }
     } else {
         RowSums {
             force: plan.force.map_or(V::zero(), |(i, _)| {
                 dualsph_core::columns::take_vector(&sums[i..])
             }),
-            power: plan.power.map_or(0.0, |(i, _)| sums[i]),
-            rate: plan.rate.map_or(0.0, |(i, _)| sums[i]),
+            scalar: plan.scalar.map(|s| s.map_or(0.0, |(i, _)| sums[i])),
         }
     };
     if !plan.extra_own.is_empty() {
@@ -459,10 +458,9 @@ fn row_of<V: Vector, E: GroupEval<V>, const STD: bool, const RATE_J: bool, const
             sums[i + c] = own.force.get(c);
         }
     }
-    if let Some((i, _)) = plan.power {
-        sums[i] = own.power;
-    }
-    if let Some((i, _)) = plan.rate {
-        sums[i] = own.rate;
+    for (s, v) in plan.scalar.iter().zip(own.scalar) {
+        if let Some((i, _)) = *s {
+            sums[i] = v;
+        }
     }
 }

@@ -3,14 +3,31 @@
 
 use super::*;
 use crate::pair::{BoundTerm, Out, PairLanes, PairTerm, Reaction};
+use bevy_ecs::prelude::Component;
 use bevy_ecs::prelude::World;
-use dualsph_core::components::{Acceleration, DensityRate, EnergyRate, Pressure};
+use dualsph_core::components::Acceleration;
 use dualsph_core::kernels::KernelKind;
 use dualsph_core::lanes::Lanes;
 use dualsph_core::store::{Cloud, insert_column};
 use glam::DVec2;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+
+/// A column the probe reads (a pressure, say).
+#[derive(Component, Clone, Copy)]
+struct Pressure(Real);
+
+/// The column of the probe's first scalar register (a power, say: divided by the mass).
+#[derive(Component, Clone, Copy, Default)]
+struct EnergyRate {
+    rate: Real,
+}
+
+/// The column of the probe's second scalar register (a density rate, say).
+#[derive(Component, Clone, Copy, Default)]
+struct DensityRate {
+    rate: Real,
+}
 
 /// A term with an arbitrary but pair-specific force, owner and neighbour powers and a
 /// density rate (one-sided, or with its own value for the neighbour when `rate_to_j`),
@@ -32,12 +49,15 @@ impl PairTerm<DVec2> for Probe {
     }
     fn bind<'w>(&'w self, b: &mut Binder<'_, 'w, DVec2>) -> Result<BoundProbe<'w>, String> {
         b.force()?;
-        b.power()?;
-        b.density_rate(if self.rate_to_j {
+        let power = |e: &mut EnergyRate, s: &[Real], m: Real| e.rate = s[0] / m;
+        b.scalar_register::<EnergyRate, 0>(Reaction::Separate, power)?;
+        let rate = |d: &mut DensityRate, s: &[Real], _: Real| d.rate = s[0];
+        let reaction = if self.rate_to_j {
             Reaction::Separate
         } else {
             Reaction::OneSided
-        })?;
+        };
+        b.scalar_register::<DensityRate, 1>(reaction, rate)?;
         Ok(BoundProbe {
             pressure: b.require()?,
             rho: b.data().rho,
@@ -60,11 +80,11 @@ impl BoundTerm<DVec2> for BoundProbe<'_> {
             .scale::<DVec2>(m_j * p_i)
             .plus::<DVec2>(p.rij().scale::<DVec2>(p.w()));
         out.add_force::<DVec2>(f);
-        out.add_power(p.vij().dot::<DVec2>(p.grad_raw()) * m_j);
-        out.react_power(p.r() * T::splat(self.rho[p.i()].0));
-        out.add_density_rate(m_j * p.vij().dot::<DVec2>(p.grad_raw()));
+        out.add_scalar::<0>(p.vij().dot::<DVec2>(p.grad_raw()) * m_j);
+        out.react_scalar::<0>(p.r() * T::splat(self.rho[p.i()].0));
+        out.add_scalar::<1>(m_j * p.vij().dot::<DVec2>(p.grad_raw()));
         if self.rate_to_j {
-            out.react_density_rate(p.w() * m_j);
+            out.react_scalar::<1>(p.w() * m_j);
         }
     }
 }

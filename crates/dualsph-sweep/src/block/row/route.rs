@@ -7,7 +7,7 @@ use super::{RowPlan, RowSums};
 use crate::accum::Source;
 use crate::pair::{EMPTY, Out};
 use dualsph_core::components::Position;
-use dualsph_core::lanes::{LaneVec, Lanes};
+use dualsph_core::lanes::Lanes;
 use dualsph_core::math::{Real, Vector};
 use dualsph_core::neighbours::Period;
 
@@ -151,16 +151,12 @@ pub(crate) fn flush<T: Lanes, V: Vector>(
                 *x = -f.get(c);
             }
         }
-        if let Some((_, r)) = plan.power {
-            sums.power += out.power.lane(l);
-            if let Some(r) = r {
-                rec[r] = out.power_j.lane(l);
-            }
-        }
-        if let Some((_, r)) = plan.rate {
-            sums.rate += out.rate.lane(l);
-            if let Some(r) = r {
-                rec[r] = out.rate_j.lane(l);
+        for (k, s) in plan.scalar.iter().enumerate() {
+            if let Some((_, r)) = *s {
+                sums.scalar[k] += out.scalar[k].lane(l);
+                if let Some(r) = r {
+                    rec[r] = out.scalar_j[k].lane(l);
+                }
             }
         }
         for &(c, k) in &plan.extra_own {
@@ -183,8 +179,8 @@ pub(crate) fn flush<T: Lanes, V: Vector>(
             records[k..k + rw].copy_from_slice(rec);
         }
     }
+    out.clear_registers();
     let z = T::splat(EMPTY);
-    (out.force, out.power, out.power_j, out.rate, out.rate_j) = (LaneVec([z; 3]), z, z, z, z);
     if plan.extra != (0, 0) {
         out.extra.own[..plan.extra.0].fill(z);
         out.extra.nbr[..plan.extra.1].fill(z);
@@ -224,15 +220,15 @@ fn flush_records<T: Lanes, V: Vector, const RATE_J: bool, const W: usize>(
     for (l, &Cand { dest, .. }) in pairs.iter().enumerate() {
         let f: V = out.force.lane(l);
         sums.force += f;
-        sums.power += out.power.lane(l);
-        sums.rate += out.rate.lane(l);
+        sums.scalar[0] += out.scalar[0].lane(l);
+        sums.scalar[1] += out.scalar[1].lane(l);
         let mut rec = [0.0; W];
         for (c, x) in rec[..V::DIM].iter_mut().enumerate() {
             *x = -f.get(c);
         }
-        rec[V::DIM] = out.power_j.lane(l);
+        rec[V::DIM] = out.scalar_j[0].lane(l);
         if RATE_J {
-            rec[V::DIM + 1] = out.rate_j.lane(l);
+            rec[V::DIM + 1] = out.scalar_j[1].lane(l);
         }
         if dest & INSIDE != 0 {
             let sum = &mut accs[(dest ^ INSIDE) as usize];
@@ -243,6 +239,5 @@ fn flush_records<T: Lanes, V: Vector, const RATE_J: bool, const W: usize>(
             records[dest as usize] = rec;
         }
     }
-    let z = T::splat(EMPTY);
-    (out.force, out.power, out.power_j, out.rate, out.rate_j) = (LaneVec([z; 3]), z, z, z, z);
+    out.clear_registers();
 }
