@@ -108,12 +108,12 @@ fn what_density_diffusion_needs_is_checked_whatever_the_order() {
     }
 }
 
-/// A system added to a finished simulation (here the pair-balance probe after `build_sim`)
-/// runs at the end of its set: the probe sees the force sweep's accelerations — of a
-/// SingleSupport run, whose pair forces do not balance, a clearly non-zero imbalance — and a
-/// DualSupport run balances to round-off.
+/// A caller's own system added with `build_sim_with` (here the pair-balance probe) runs after
+/// the force sweep: the probe sees the sweep's accelerations — of a SingleSupport run, whose
+/// pair forces do not balance, a clearly non-zero imbalance — and a DualSupport run balances
+/// to round-off.
 #[test]
-fn a_system_added_after_the_build_runs_at_the_end_of_its_set() {
+fn a_callers_system_runs_after_the_force_sweep() {
     use dualsph::diagnostics::{PairBalance, track_pair_balance};
     let balance = |formulation: &str| {
         let mut s = with_plugins(&[
@@ -127,8 +127,11 @@ fn a_system_added_after_the_build_runs_at_the_end_of_its_set() {
             "single" => dualsph::scene::Formulation::SingleSupport,
             _ => dualsph::scene::Formulation::DualSupport,
         };
-        let mut sim = build_sim::<DVec2>(&s).unwrap();
-        track_pair_balance(&mut sim);
+        let mut sim = dualsph::build_sim_with::<DVec2>(&s, |sim| {
+            track_pair_balance(sim);
+            Ok(())
+        })
+        .unwrap();
         for _ in 0..5 {
             sim.step().unwrap();
         }

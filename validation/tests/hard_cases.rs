@@ -184,7 +184,7 @@ mod dam_break_jumps {
     use dualsph::diagnostics::{Health, PairBalance, track_pair_balance};
     use dualsph::prelude::*;
     use dualsph::scene::{Block, Generator, Lattice, Scene};
-    use dualsph::{build_sim, default_registry};
+    use dualsph::{build_sim_with, default_registry};
     use dualsph_reference::dam_break::KOSHIZUKA_OKA_FRONT;
 
     /// What one run gives.
@@ -215,8 +215,11 @@ mod dam_break_jumps {
     }
 
     fn run(scene: &Scene) -> Run {
-        let mut sim = build_sim::<DVec2>(scene).unwrap();
-        track_pair_balance(&mut sim);
+        let mut sim = build_sim_with::<DVec2>(scene, |sim| {
+            track_pair_balance(sim);
+            Ok(())
+        })
+        .unwrap();
         sim.initialize().unwrap();
         let e0 = sim.diagnostics().e_tot;
         let largest_x = |sim: &mut Sim<DVec2>| {

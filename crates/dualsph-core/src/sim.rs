@@ -113,10 +113,6 @@ pub struct Step;
 #[derive(SystemSet, Debug, Clone, Copy, PartialEq, Eq, Hash)]
 struct Slot(usize);
 
-/// The first slot number of the systems added after the schedule was built (below it, a slot
-/// number is a position in the built order).
-const LATE_SLOTS: usize = usize::MAX / 2;
-
 /// The profiling marker after slot `k` (see [`crate::profile`]); `None` is the one before the
 /// first slot.
 #[derive(SystemSet, Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -171,9 +167,6 @@ pub struct Sim<V: Vector> {
     labels: Vec<String>,
     /// The systems' indices in schedule order (set when the schedule is built).
     built_order: Vec<usize>,
-    /// Systems added after the schedule was built: `(position of the system they follow,
-    /// their slot)` (see [`Sim::add_late`]).
-    late: Vec<(Option<usize>, usize)>,
     /// The threads that run the steps (see [`Sim::step`]); made at the first step.
     pool: Option<rayon::ThreadPool>,
     /// What crates above the core check and add when the simulation is finished, by name
@@ -219,7 +212,6 @@ impl<V: Vector> Sim<V> {
             schedule: None,
             labels: Vec::new(),
             built_order: Vec::new(),
-            late: Vec::new(),
             pool: None,
             finish_hooks: Vec::new(),
             _v: PhantomData,
@@ -252,68 +244,38 @@ impl<V: Vector> Sim<V> {
     /// Adds a system to a set, after every system already in that set unless the returned
     /// [`SystemOrder`] constrains it otherwise (see [`crate::order`]). The label's first word
     /// is the system's name in messages.
+    ///
+    /// # Panics
+    /// When the schedule is already built ([`Sim::finish`], or the first step): every system
+    /// is placed before then (a caller of `dualsph_run::build_sim` adds its own with
+    /// `build_sim_with`).
     pub fn add_system<M: 'static>(
         &mut self,
         set: StepSet,
         label: impl Into<String>,
         system: impl IntoScheduleConfigs<ScheduleSystem, M> + Send + Sync + 'static,
     ) -> SystemOrder<'_> {
+        let label = label.into();
+        assert!(
+            self.schedule.is_none(),
+            "system {label} added after the schedule was built: add it before Sim::finish"
+        );
         let adder: Adder = Box::new(move |schedule: &mut Schedule, slot: Slot| {
             schedule.add_systems(system.in_set(slot));
         });
         self.systems.push(SystemEntry {
             set,
             place: Placement {
-                label: label.into(),
+                label,
                 plugin: self.building.to_string(),
                 ..Placement::default()
             },
             add: Some(adder),
         });
         let last = self.systems.len() - 1;
-        if self.schedule.is_some() {
-            self.add_late(last);
-        }
         SystemOrder {
             place: &mut self.systems[last].place,
         }
-    }
-
-    /// Places system `k`, added after the schedule was built, at the end of its set: a slot of
-    /// its own after the set's last system (and the set's earlier late ones) and before the
-    /// next set's first. Its order constraints are not applied (the schedule is built); a
-    /// diagnostic added to a finished simulation (e.g. a pair-balance probe) runs so.
-    fn add_late(&mut self, k: usize) {
-        let rank = |s: StepSet| StepSet::ALL.iter().position(|&x| x == s).unwrap_or(0);
-        let own = rank(self.systems[k].set);
-        let systems = &self.systems;
-        let after = self
-            .built_order
-            .iter()
-            .rposition(|&i| rank(systems[i].set) <= own);
-        let slot = Slot(LATE_SLOTS + self.late.len());
-        let next = after.map_or(0, |p| p + 1);
-        let Some(schedule) = self.schedule.as_mut() else {
-            return;
-        };
-        if let Some(p) = after {
-            schedule.configure_sets(slot.after(Slot(p)));
-        }
-        if next < self.built_order.len() {
-            schedule.configure_sets(slot.before(Slot(next)));
-        }
-        for &(p, id) in &self.late {
-            if p == after {
-                schedule.configure_sets(slot.after(Slot(id)));
-            }
-        }
-        if self.systems[k].set.advances_state() {
-            schedule.configure_sets(slot.run_if(|c: Res<SimClock>| !c.initializing));
-        }
-        if let Some(add) = self.systems[k].add.take() {
-            add(schedule, slot);
-        }
-        self.late.push((after, slot.0));
     }
 
     /// Runs `f` with the systems it adds attributed to the plugin `name` (`core` for systems

@@ -85,6 +85,16 @@ fn motion_of(m: &dualsph_scene::MotionSettings) -> dualsph_core::bodies::Motion 
 /// an error naming both), particles from the generators and their bodies, then each other
 /// plugin in the order listed.
 pub fn build_sim<V: Vector>(scene: &Scene) -> Result<Sim<V>, SimError> {
+    build_sim_with(scene, |_| Ok(()))
+}
+
+/// [`build_sim`] with `extra` run after the scene's plugins and before the schedule is built:
+/// a caller's own systems and resources (a diagnostic such as
+/// `dualsph_diagnostics::track_pair_balance`) join the step like a plugin's.
+pub fn build_sim_with<V: Vector>(
+    scene: &Scene,
+    extra: impl FnOnce(&mut Sim<V>) -> Result<(), SimError>,
+) -> Result<Sim<V>, SimError> {
     let domain = Domain {
         min: vector::<V>(&scene.domain.min, "domain.min")?,
         max: vector::<V>(&scene.domain.max, "domain.max")?,
@@ -176,6 +186,7 @@ pub fn build_sim<V: Vector>(scene: &Scene) -> Result<Sim<V>, SimError> {
     for p in scene.plugins.iter().filter(|p| p.role() == Role::Physics) {
         build_named(&mut sim, p.as_ref())?;
     }
+    extra(&mut sim)?;
     sim.finish()?;
     file_columns::apply(&mut sim, scene)?;
     Ok(sim)

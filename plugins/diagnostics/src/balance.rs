@@ -42,13 +42,16 @@ pub fn pair_balance<V: Vector>(
     };
 }
 
-/// Adds [`pair_balance`] right after the scene's force systems (call before the first step):
-/// the [`PairBalance`] resource then holds the balance of every step's sweep.
+/// Adds [`pair_balance`] after the force sweep and the force systems added so far (call it
+/// after the scene's plugins and before the schedule is built, e.g. in
+/// `dualsph_run::build_sim_with`): the [`PairBalance`] resource then holds the balance of
+/// every step's sweep.
 pub fn track_pair_balance<V: Vector>(sim: &mut Sim<V>) {
     sim.world.insert_resource(PairBalance::default());
     sim.add_system(
         StepSet::Forces,
         "pair_balance (diagnostic)",
         pair_balance::<V>,
-    );
+    )
+    .after::<dualsph_sweep::ForceSweep>();
 }

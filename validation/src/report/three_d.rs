@@ -12,7 +12,7 @@
 
 use super::case::process_cpu_seconds;
 use super::{ReportError, ReportOptions, Section, Table, image};
-use dualsph::build_sim;
+use dualsph::build_sim_with;
 use dualsph::prelude::*;
 use dualsph_core::glam::DVec3;
 use dualsph_diagnostics::{Diagnostics, PairBalance, SimDiagnostics, track_pair_balance};
@@ -122,8 +122,10 @@ fn largest_x(sim: &mut Sim<DVec3>) -> f64 {
 
 /// Runs a 3-D scene to its end time (or `max_steps`), recording every `every` steps.
 pub fn run_scene(scene: &Scene, every: u64) -> Result<ThreeDRun, SimError> {
-    let mut sim = build_sim::<DVec3>(scene)?;
-    track_pair_balance(&mut sim);
+    let mut sim = build_sim_with::<DVec3>(scene, |sim| {
+        track_pair_balance(sim);
+        Ok(())
+    })?;
     sim.initialize()?;
     let a0 = axes(&mut sim);
     let (fi, ti) = pair_imbalance(&sim);
