@@ -5,6 +5,7 @@
 //!   the rates, …);
 //! - the energy and continuity equations as integrated scalars ([`ensure_energy_equation`],
 //!   [`ensure_dissipation`], [`ensure_density_integration`]);
+//! - each body's equation of state as other plugins see it ([`BodyEos`], [`EosLaw`]);
 //! - the fluid's pair sums by name ([`FluidSums`], [`FluidOut`]: the power and the density
 //!   rate in the sweep's scalar registers);
 //! - the types by which plugins order and require each other. Each is a marker resource (a
@@ -20,9 +21,11 @@ use dualsph_core::order::SystemGroup;
 
 pub mod checks;
 pub mod components;
+mod eos;
 mod equations;
 mod sums;
 
+pub use eos::{BodyEos, EosLaw};
 pub use equations::{
     DISSIPATED, DensityIntegration, Dissipation, EnergyEquation, INTERNAL_ENERGY,
     ensure_density_integration, ensure_dissipation, ensure_energy_equation,
@@ -38,8 +41,9 @@ pub mod prelude {
 }
 
 /// An equation of state sets every particle's pressure and sound speed (in
-/// `StepSet::Eos`): the pressure force, the viscosity, the density diffusion and the pressure
-/// probes need one, and the walls' pressure is extrapolated after it.
+/// `StepSet::Eos`) and publishes its law per body ([`BodyEos`]): the pressure force, the
+/// viscosity, the density diffusion and the pressure probes need one, and the walls'
+/// pressure is extrapolated after it.
 #[derive(Resource, Debug, Default)]
 pub struct EquationOfState;
 

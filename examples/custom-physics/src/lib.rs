@@ -10,7 +10,18 @@
 //! written to snapshots (CSV and VTK) and kept in checkpoints, so a resumed run continues
 //! bitwise. The sweep evaluates the force once per pair in i's support and applies the
 //! reaction to j: momentum is conserved to round-off, and the dissipated work `−f·v_ij` goes
-//! to internal energy, half to each particle.
+//! to internal energy, half to each particle. The same heat is summed into a column of the
+//! crate's own, `drag_power` (`Σ_j −½ f_ij·v_ij / m_i`, W/kg), through the sweep's second scalar
+//! register: the sweep then runs on the record layout of the built-in terms (the pressure
+//! force's power and the continuity equation's density rate), at their cost per pair. The
+//! register is the one the continuity equation's density rate takes, so a scene that
+//! integrates the density puts the drag in a sweep of its own (the build says so).
+//!
+//! The crate also brings an equation of state of its own ([`LinearEos`]), which the walls of
+//! particles and the hydrostatic start follow with no edit of theirs.
+
+mod linear_eos;
+pub use linear_eos::{LinearEos, LinearEosLaw, LinearLaw, apply_linear_eos};
 
 use bevy_ecs::prelude::*;
 use dualsph::core::chunks::DENSE;
@@ -36,7 +47,15 @@ pub struct DragGamma(pub Real);
 #[derive(Component, Clone, Copy, Debug, PartialEq)]
 pub struct PathLength(pub Real);
 
-dualsph::core::scalar_column!(DragGamma, PathLength);
+/// The power per unit mass the drag dissipates in the particle, `Σ_j −½ f_ij·v_ij / m_i`
+/// (W/kg; summed by the sweep each step).
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct DragPower(pub Real);
+
+dualsph::core::scalar_column!(DragGamma, PathLength, DragPower);
+
+/// The sweep's scalar register that carries [`DragPower`].
+pub const DRAG_POWER: usize = 1;
 
 /// The pair term, before it is bound to the columns it reads.
 #[derive(Debug, Clone, Copy)]
@@ -59,6 +78,8 @@ impl<V: Vector> PairTerm<V> for PairDragTerm {
     fn bind<'w>(&'w self, b: &mut Binder<'_, 'w, V>) -> Result<BoundDrag<'w>, String> {
         b.force()?;
         b.power()?;
+        let per_mass = |d: &mut DragPower, s: &[Real], m: Real| d.0 = s[0] / m;
+        b.scalar_register::<DragPower, DRAG_POWER>(Reaction::Separate, per_mass)?;
         Ok(BoundDrag {
             gamma: b.require::<DragGamma>()?,
         })
@@ -88,6 +109,8 @@ impl<V: Vector> BoundTerm<V> for BoundDrag<'_> {
         let heat = c(-0.5) * force.dot::<V>(vij);
         out.add_power(heat);
         out.react_power(heat);
+        out.add_scalar::<DRAG_POWER>(heat);
+        out.react_scalar::<DRAG_POWER>(heat);
     }
 }
 
@@ -138,6 +161,8 @@ impl SimPlugin for PairDrag {
         let spec = ColumnSpec::state("drag_gamma", "gamma");
         sim.add_column(spec, move |seed| DragGamma(gamma(seed.init.pos)))?;
         sim.add_column(ColumnSpec::state("path_length", "s"), |_| PathLength(0.0))?;
+        let spec = ColumnSpec::state("drag_power", "drag_power");
+        sim.add_column(spec, |_| DragPower(0.0))?;
         sim.add_pair_term(PairDragTerm);
         sim.add_system(
             StepSet::Correct,
@@ -159,7 +184,8 @@ mod tests {
     #[test]
     fn the_drag_gives_two_lanes_what_each_pair_gives_alone() {
         dualsph::fluid::checks::check_lanes_2d_with(&PairDragTerm, |world| {
-            insert_column(world, |i| DragGamma(0.5 + 0.1 * (i % 4) as Real))
+            insert_column(world, |i| DragGamma(0.5 + 0.1 * (i % 4) as Real));
+            insert_column(world, |_| DragPower(0.0));
         })
         .unwrap();
     }

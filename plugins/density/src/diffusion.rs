@@ -49,7 +49,8 @@
 use dualsph_core::bevy_ecs::prelude::Resource;
 use dualsph_core::bodies::{Bodies, BodyKind};
 use dualsph_core::lanes::LaneVec;
-use dualsph_eos::{Eos, Materials};
+use dualsph_eos::Eos;
+use dualsph_fluid::BodyEos;
 use dualsph_fluid::DensityIntegration;
 use dualsph_fluid::EquationOfState;
 use dualsph_fluid::prelude::*;
@@ -220,14 +221,16 @@ fn hydrostatic_setup<V: Vector>(sim: &Sim<V>) -> Result<Hydrostatic, SimError> {
         .get_resource::<GravityAccel<V>>()
         .ok_or_else(|| SimError::Build(need.into()))?
         .0;
-    let materials = &sim
+    let laws = sim
         .world
-        .get_resource::<Materials>()
-        .ok_or_else(|| SimError::Build(need.into()))?
-        .0;
-    let tait = materials
-        .iter()
-        .map(|e| match *e {
+        .get_resource::<BodyEos>()
+        .ok_or_else(|| SimError::Build(need.into()))?;
+    let tait = (0..laws.0.len())
+        .map(|b| match laws.law_as::<Eos>(b).copied() {
+            None => Err(SimError::Build(need.into())),
+            Some(e) => Ok(e),
+        })
+        .map(|e| match e? {
             Eos::Tait {
                 rho0, gamma, p0, ..
             } => Ok((rho0, p0, 1.0 / gamma)),

@@ -23,10 +23,11 @@
 //! fixed or prescribed bodies (whose density a wall model sets, or which evolve their own),
 //! are left as generated.
 
-use crate::{Eos, Materials};
+use crate::Eos;
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::bodies::{Bodies, BodyKind};
 use dualsph_core::chunks::DENSE;
+use dualsph_fluid::BodyEos;
 use dualsph_fluid::prelude::*;
 use dualsph_fluid::{GravityField, Liquid};
 use dualsph_gravity::GravityAccel;
@@ -47,7 +48,7 @@ pub struct SurfaceLevel(pub Real);
 impl Eos {
     /// The pressure at depth `s` below a free surface at rest under gravity `|g|` (module
     /// docs), for a liquid; `None` for a gas, whose equilibrium depends on its temperature
-    /// profile.
+    /// profile (the law's `EosLaw::hydrostatic_pressure`).
     pub fn hydrostatic_pressure(&self, g: Real, s: Real) -> Option<Real> {
         match *self {
             Eos::Tait {
@@ -76,7 +77,7 @@ pub fn hydrostatic_start<V: Vector>(
     clock: Res<SimClock>,
     level: Res<SurfaceLevel>,
     gravity: Res<GravityAccel<V>>,
-    materials: Res<Materials>,
+    laws: Res<BodyEos>,
     bodies: Res<Bodies>,
     mut q: Query<(&Position<V>, &BodyId, &mut Density, &mut Mass)>,
 ) {
@@ -92,7 +93,7 @@ pub fn hydrostatic_start<V: Vector>(
             if bodies.0[body].kind != BodyKind::Fluid || depth <= 0.0 {
                 continue;
             }
-            let eos = materials.0[body];
+            let eos = laws.0[body].as_ref();
             let rho_s = eos
                 .hydrostatic_pressure(g, depth)
                 .and_then(|p| eos.density_at(p));

@@ -12,9 +12,10 @@ use dualsph_core::chunks::DENSE;
 use dualsph_core::plugin::positive;
 use dualsph_fluid::ensure_energy_equation;
 use dualsph_fluid::prelude::*;
-use dualsph_fluid::{EquationOfState, Liquid};
+use dualsph_fluid::{BodyEos, EosLaw, EquationOfState, Liquid};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
+use std::sync::Arc;
 
 /// Weakly compressible Tait equation (Eq. 7.5): `p = p0((ρ/ρ0)^γ − 1)`, `p0 = c0²ρ0/γ`,
 /// `c = c0 (ρ/ρ0)^{(γ−1)/2}`. Give either `c0` or `p0`.
@@ -70,9 +71,17 @@ pub struct TaitMaterial {
     pub p0: Option<Real>,
 }
 
-/// The equation of state of every body, indexed by [`BodyId`].
-#[derive(Resource, Clone, Debug, PartialEq)]
-pub struct Materials(pub Vec<Eos>);
+/// The laws of this plugin's bodies, read back from the fluid's [`BodyEos`] (where this
+/// plugin publishes them): one per body, indexed by [`BodyId`].
+pub fn materials(laws: &BodyEos) -> Vec<Eos> {
+    (0..laws.0.len())
+        .map(|b| {
+            *laws
+                .law_as::<Eos>(b)
+                .expect("every body's law is this plugin's")
+        })
+        .collect()
+}
 
 /// Ideal gas (Eq. 7.3): `p = (γ − 1) ρ ε`, `c = sqrt(γ p / ρ)`.
 #[derive(Debug, Clone, Deserialize, Serialize)]
@@ -134,6 +143,31 @@ impl Eos {
                 (p, (gamma * p.max(0.0) / rho).sqrt())
             }
         }
+    }
+}
+
+impl EosLaw for Eos {
+    #[inline]
+    fn eval(&self, rho: Real, eps: Real) -> (Real, Real) {
+        Eos::eval(self, rho, eps)
+    }
+
+    /// The inverse of Eq. 7.5 with the background pressure, `ρ = ρ0 ((p − p_b)/p0 + 1)^{1/γ}`,
+    /// for a liquid; `None` for a gas, whose pressure depends on its internal energy too, or
+    /// for a tension beyond `−p0` that no density gives.
+    fn density_at(&self, p: Real) -> Option<Real> {
+        Eos::density_at(self, p)
+    }
+
+    fn reference_density(&self) -> Option<Real> {
+        match *self {
+            Eos::Tait { rho0, .. } => Some(rho0),
+            Eos::Ideal { .. } => None,
+        }
+    }
+
+    fn hydrostatic_pressure(&self, g: Real, s: Real) -> Option<Real> {
+        Eos::hydrostatic_pressure(self, g, s)
     }
 }
 
@@ -232,7 +266,7 @@ pub fn apply_eos(
 /// [`apply_eos`] with each particle's body's equation of state (scenes whose bodies differ).
 #[inline(never)] // a frame of its own in profiles
 pub fn apply_eos_by_body(
-    materials: Res<Materials>,
+    laws: Res<BodyEos>,
     mut q: Query<(
         &BodyId,
         &Density,
@@ -241,7 +275,7 @@ pub fn apply_eos_by_body(
         &mut SoundSpeed,
     )>,
 ) {
-    let eos = &materials.0;
+    let eos = &materials(&laws);
     for (body, rho, eps, mut p, mut c) in q.contiguous_iter_mut().expect(DENSE) {
         let (p, c) = (p.bypass_change_detection(), c.bypass_change_detection());
         (body, rho, p, c)
@@ -281,7 +315,10 @@ fn install<V: Vector>(
         )
         .in_group::<EquationOfState>();
     }
-    sim.world.insert_resource(Materials(materials));
+    let laws = materials
+        .into_iter()
+        .map(|m| Arc::new(m) as Arc<dyn EosLaw>);
+    sim.world.insert_resource(BodyEos(laws.collect()));
     Ok(())
 }
 

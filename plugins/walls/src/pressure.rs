@@ -34,9 +34,8 @@ use dualsph_core::bodies::{Bodies, BodyKind, DrivenBodies, WallVelocityOffset};
 use dualsph_core::chunks::DENSE;
 use dualsph_core::columns::ColumnSpec;
 use dualsph_core::neighbours::Neighbours;
-use dualsph_eos::{Eos, Materials};
-use dualsph_fluid::EquationOfState;
 use dualsph_fluid::prelude::*;
+use dualsph_fluid::{BodyEos, EquationOfState};
 use dualsph_gravity::GravityAccel;
 use dualsph_sweep::Support;
 use rayon::prelude::*;
@@ -91,7 +90,7 @@ fn sums<V: Vector>(support: &Support<'_, V>, f: &Fluid<'_>, i: usize) -> (Real, 
 #[inline(never)] // a frame of its own in profiles
 pub fn wall_pressure<V: Vector>(
     walls: Res<WallBodies>,
-    materials: Res<Materials>,
+    laws: Res<BodyEos>,
     gravity: Option<Res<GravityAccel<V>>>,
     driven: Res<DrivenBodies>,
     clock: Res<SimClock>,
@@ -135,14 +134,14 @@ pub fn wall_pressure<V: Vector>(
         .filter(|&i| walls.0[body[i].0 as usize])
         .map(|i| {
             let b = body[i].0 as usize;
-            let eos = materials.0[b];
+            let eos = laws.0[b].as_ref();
             let a_w = driven.0[b].map_or(V::zero(), |m| m.acceleration(anchor[i].0, t));
             let (pw, rw, w_sum) = sums(&support, &fluid, i);
             let rho_w = if w_sum > 0.0 {
                 let p_w = (pw + (g - a_w).dot(rw)) / w_sum;
                 eos.density_at(p_w).unwrap_or(rho[i].0)
             } else {
-                reference_density(&eos).unwrap_or(rho[i].0)
+                eos.reference_density().unwrap_or(rho[i].0)
             };
             let (p_w, c_w) = eos.eval(rho_w, 0.0);
             (i, rho_w, p_w, c_w)
@@ -164,14 +163,6 @@ pub fn keep_wall_density(kept: Res<WallDensity>, mut q: Query<&mut Density>) {
     };
     for &(i, rho_w) in &kept.0 {
         rho[i].0 = rho_w;
-    }
-}
-
-/// ρ0 of a liquid's equation of state.
-fn reference_density(eos: &Eos) -> Option<Real> {
-    match *eos {
-        Eos::Tait { rho0, .. } => Some(rho0),
-        Eos::Ideal { .. } => None,
     }
 }
 
