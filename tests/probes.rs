@@ -94,14 +94,20 @@ fn dam_break_gauges_and_wall_sensor_start_from_the_initial_column() {
         assert_eq!(first[c], 0.0, "{} = {}", table.columns[c], first[c]);
     }
     // gridded density of the final state, from final.csv, and the probe plots
-    let records = read_particles_csv(&dir.path().join("final.csv")).unwrap();
+    let scene = Scene::load(
+        &scene_path("dam_break_2d.ron"),
+        &dualsph::default_registry(),
+    )
+    .unwrap();
+    let final_csv = dir.path().join("final.csv");
+    let table = dualsph::gridded::read_particles(&scene, &final_csv).unwrap();
     let kernel = dualsph::KernelKind::CubicSpline;
     let (vti, png) =
-        dualsph::gridded::write_density_grid(&records, 2, kernel, 0.02, dir.path()).unwrap();
+        dualsph::gridded::write_density_grid(&table, 2, kernel, 0.02, dir.path()).unwrap();
     assert!(String::from_utf8_lossy(&std::fs::read(vti).unwrap()).contains("ImageData"));
     assert!(std::fs::metadata(png).unwrap().len() > 5000);
     let pngs = dualsph::probes::plot_probes(dir.path()).unwrap();
-    assert_eq!(pngs.len(), 2, "{pngs:?}"); // Pressure and WaterHeight
+    assert_eq!(pngs.len(), 2, "{pngs:?}"); // pressure and water_height
 }
 
 #[test]
@@ -113,8 +119,8 @@ fn density_grid_of_a_live_sim() {
     .unwrap();
     let mut sim = dualsph::build_sim::<glam::DVec2>(&scene).unwrap();
     sim.initialize().unwrap();
-    let f =
-        dualsph::gridded::sample_sim(&mut sim, dualsph::probes::Quantity::Density, 0.05).unwrap();
+    let f = dualsph::gridded::sample_sim(&mut sim, &dualsph::probes::Quantity::density(), 0.05)
+        .unwrap();
     // the domain box [0, 4] × [0, 3] at 0.05 m; the water column [0, 1] × [0, 2] at rest
     assert_eq!(f.grid.dims, [81, 61, 1]);
     for n in 0..f.grid.len() {
@@ -149,6 +155,20 @@ fn cli_grid_and_plot_probes() {
         String::from_utf8_lossy(&out.stderr)
     );
     assert!(dir.path().join("density_grid.vti").is_file());
+    let out = bin()
+        .arg("grid")
+        .arg(scene_path("sod_1d.ron"))
+        .arg("--dir")
+        .arg(dir.path())
+        .args(["--dx", "0.01", "--field", "velocity.x"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(dir.path().join("velocity_x_grid.vti").is_file());
     let out = bin().arg("plot-probes").arg(dir.path()).output().unwrap();
     assert!(
         out.status.success(),
@@ -166,5 +186,6 @@ fn cli_grid_and_plot_probes() {
         .output()
         .unwrap();
     assert!(!out.status.success());
-    assert!(String::from_utf8_lossy(&out.stderr).contains("--field"));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("--field") && err.contains("density"), "{err}");
 }

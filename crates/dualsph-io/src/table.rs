@@ -101,3 +101,48 @@ impl ParticleTable {
         Ok(())
     }
 }
+
+impl ParticleTable {
+    /// The table with the one-component columns named by the labels of each of `groups`
+    /// (`(name, labels)`, e.g. `("velocity", ["vx", "vy", "vz"])`) joined into one column of
+    /// that name, for a table read from a CSV file ([`crate::read_particle_table_csv`]): a
+    /// group whose labels are not all present, and every column in no group, stay as they are.
+    pub fn grouped(&self, groups: &[(String, Vec<String>)]) -> ParticleTable {
+        let mut used = vec![false; self.columns.len()];
+        let mut columns = Vec::new();
+        for (name, labels) in groups {
+            let at: Option<Vec<usize>> = labels
+                .iter()
+                .map(|l| {
+                    self.columns
+                        .iter()
+                        .position(|c| c.width() == 1 && &c.name == l)
+                })
+                .collect();
+            let Some(at) = at.filter(|a| !a.is_empty()) else {
+                continue;
+            };
+            let values = (0..self.len())
+                .flat_map(|k| at.iter().map(move |&c| (c, k)))
+                .map(|(c, k)| self.columns[c].values[k])
+                .collect();
+            at.iter().for_each(|&c| used[c] = true);
+            columns.push(TableColumn {
+                name: name.clone(),
+                labels: labels.clone(),
+                values,
+            });
+        }
+        columns.extend(
+            self.columns
+                .iter()
+                .zip(&used)
+                .filter(|(_, u)| !**u)
+                .map(|(c, _)| c.clone()),
+        );
+        ParticleTable {
+            ids: self.ids.clone(),
+            columns,
+        }
+    }
+}

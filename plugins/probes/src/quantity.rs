@@ -87,6 +87,11 @@ impl Quantity {
         Ok(Quantity(name.to_string()))
     }
 
+    /// The density column, `density`.
+    pub fn density() -> Self {
+        Quantity("density".to_string())
+    }
+
     /// The name, as written in `probes_points.csv`.
     pub fn name(&self) -> &str {
         &self.0

@@ -331,7 +331,7 @@ fn measurements(
     if let Some((_, t, particles)) = case2.snapshots.iter().find(|s| s.0 == CONTOUR_TIME) {
         let dir = opts.file("dam_break_density");
         let (vti, png) = dualsph::gridded::write_density_grid(
-            particles,
+            &dualsph_io::ParticleTable::from_records(particles),
             2,
             dualsph_core::kernels::KernelKind::CubicSpline,
             0.01,
