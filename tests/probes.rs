@@ -1,7 +1,7 @@
 //! Probes and gridded output end to end: the shipped Sod and dam-break scenes with their
 //! probes, `probes.csv` well-formed and consistent with the particles, plots and grids written.
 
-use dualsph::io::read_particles_csv;
+use dualsph::io::read_particles;
 use dualsph::probes::read_probes;
 use dualsph::runner::{self, Progress, RunOptions};
 use dualsph::scene::Scene;
@@ -48,10 +48,10 @@ fn sod_density_line_matches_the_particles_and_the_initial_states() {
     assert!(table.t.windows(2).all(|w| w[1] > w[0]));
     let last = table.values.last().unwrap();
     assert!(last.iter().all(|v| v.is_finite() && *v > 0.0));
-    let mut xs: Vec<(f64, f64)> = read_particles_csv(&dir.path().join("final.csv"))
+    let mut xs: Vec<(f64, f64)> = read_particles(&dir.path().join("final.csv"))
         .unwrap()
-        .iter()
-        .map(|r| (r.pos[0], r.rho))
+        .rows()
+        .map(|r| (r.pos()[0], r.rho()))
         .collect();
     xs.sort_by(|a, b| a.0.total_cmp(&b.0));
     let mut checked = 0;

@@ -279,7 +279,7 @@ fn killed_process_resumes_bitwise_identical() {
 /// panic, exactly one `error:` line containing every phrase of `expect`, and the last good
 /// state written as `.ckpt`, `.csv` (one record per particle) and `.vtp` from mid-run.
 /// Returns the error text and the last good particle records.
-fn blow_up(scene: &str, out: &Path, expect: &[&str]) -> (String, Vec<dualsph::io::ParticleRecord>) {
+fn blow_up(scene: &str, out: &Path, expect: &[&str]) -> (String, dualsph::io::ParticleTable) {
     let o = bin()
         .arg("run")
         .arg(scene_path(scene))
@@ -300,7 +300,7 @@ fn blow_up(scene: &str, out: &Path, expect: &[&str]) -> (String, Vec<dualsph::io
         "{err}"
     );
     let good = Checkpoint::read(&out.join("last_good.ckpt")).unwrap();
-    let records = dualsph::io::read_particles_csv(&out.join("last_good.csv")).unwrap();
+    let records = dualsph::io::read_particles(&out.join("last_good.csv")).unwrap();
     assert_eq!(records.len() as u64, good.particles);
     assert!(out.join("last_good.vtp").exists());
     assert!(good.step > 0, "last good state at step {}", good.step);
@@ -322,11 +322,11 @@ fn fixed_dt_overtaken_by_the_cfl_limit_stops_and_writes_the_last_good_state() {
     let (_, records) = blow_up("blow_up.ron", tmp.path(), &expect);
     // the last good state is sound (from mid-run: checked by blow_up): every position finite
     // and in the tank
-    assert!(records.iter().all(|r| {
-        r.pos[0].is_finite()
-            && r.pos[1].is_finite()
-            && (0.0..=4.0).contains(&r.pos[0])
-            && (0.0..=3.0).contains(&r.pos[1])
+    assert!(records.rows().all(|r| {
+        r.pos()[0].is_finite()
+            && r.pos()[1].is_finite()
+            && (0.0..=4.0).contains(&r.pos()[0])
+            && (0.0..=3.0).contains(&r.pos()[1])
     }));
 }
 
@@ -502,8 +502,8 @@ fn density_driven_out_of_its_sane_range_stops_with_the_cause_and_the_last_good_s
     // the last good state is inside the sane range
     assert!(
         records
-            .iter()
-            .all(|r| r.rho.is_finite() && r.rho > 1000.0 / 300.0 && r.rho <= 2000.0),
+            .rows()
+            .all(|r| r.rho().is_finite() && r.rho() > 1000.0 / 300.0 && r.rho() <= 2000.0),
         "the last good state is already out of range"
     );
 }

@@ -20,7 +20,7 @@ use dualsph_core::neighbours::Neighbours;
 use dualsph_core::population::Population;
 use dualsph_diagnostics::{Diagnostics, DiagnosticsLog, Health, HealthBounds, SimDiagnostics};
 use dualsph_integrator::time_step::{CFL_LIMIT, TimeStepCheck};
-use dualsph_io::{OutputDir, ParticleRecord, ParticleTable, TableColumn};
+use dualsph_io::{OutputDir, ParticleTable, TableColumn};
 use dualsph_scene::Scene;
 use dualsph_sweep::prelude::*;
 use keeper::Keeper;
@@ -199,36 +199,6 @@ fn padded(v: &[Real]) -> [Real; 3] {
     let mut xyz = [0.0; 3];
     xyz[..v.len()].copy_from_slice(v);
     xyz
-}
-
-/// The particles as output records, in id order.
-pub fn particle_records<V: Vector>(sim: &mut Sim<V>) -> Vec<ParticleRecord> {
-    let world = &mut sim.world;
-    let mut q = world.query::<(
-        &ParticleId,
-        &Position<V>,
-        &Velocity<V>,
-        &Mass,
-        &Density,
-        &SmoothingLength,
-        Option<&Pressure>,
-        Option<&InternalEnergy>,
-    )>();
-    let mut out: Vec<ParticleRecord> = q
-        .iter(world)
-        .map(|(id, r, v, m, rho, h, p, e)| ParticleRecord {
-            id: id.0 as u64,
-            pos: r.0.to_xyz(),
-            vel: v.0.to_xyz(),
-            mass: m.0,
-            rho: rho.0,
-            p: p.map_or(0.0, |p| p.0),
-            e: e.map_or(0.0, |e| e.0),
-            h: h.0,
-        })
-        .collect();
-    out.sort_unstable_by_key(|r| r.id);
-    out
 }
 
 /// The usual cause of an unphysical `quantity` (as named by [`Health`]).
