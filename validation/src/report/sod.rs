@@ -131,9 +131,8 @@ pub fn grade_against(run: CaseRun, r: &Riemann) -> SodCase {
         .collect();
     let reference: Vec<Sample> = inside.iter().map(|p| r.at(p.pos()[0], t, 0.0)).collect();
     let col = |f: &dyn Fn(&Sample) -> f64| reference.iter().map(f).collect::<Vec<_>>();
-    let sim = |f: &dyn Fn(&dualsph_io::ParticleRow<'_>) -> f64| {
-        inside.iter().map(f).collect::<Vec<_>>()
-    };
+    let sim =
+        |f: &dyn Fn(&dualsph_io::ParticleRow<'_>) -> f64| inside.iter().map(f).collect::<Vec<_>>();
     let volumes = sim(&|p| p.mass() / p.rho());
     let l1 = [
         l1_error(&sim(&|p| p.rho()), &col(&|s| s.rho), &volumes),
