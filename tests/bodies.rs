@@ -2,7 +2,7 @@
 //! equations of state and per-body totals; a fixed body holds still under a fluid's load; a
 //! prescribed lid moves by its law and drags the water under it.
 
-use dualsph::io::read_particles_csv;
+use dualsph::io::read_particles;
 use dualsph::runner::{self, Progress, RunOptions};
 use dualsph::scene::Scene;
 use std::path::Path;
@@ -104,21 +104,25 @@ fn a_fixed_body_holds_still_under_a_fluid() {
     );
     let first = scene.generate();
     let (dir, s) = run(&scene);
-    let last = read_particles_csv(&dir.path().join("final.csv")).unwrap();
+    let last = read_particles(&dir.path().join("final.csv")).unwrap();
     let floor = first.iter().filter(|p| p.body == 0).count();
     assert_eq!(floor, 90);
     let mut top_floor = f64::NEG_INFINITY;
-    for (p0, p) in first.iter().zip(&last).filter(|(p0, _)| p0.body == 0) {
+    for (p0, p) in first.iter().zip(last.rows()).filter(|(p0, _)| p0.body == 0) {
         assert_eq!(
-            p.pos.map(f64::to_bits),
+            p.pos().map(f64::to_bits),
             p0.pos.map(f64::to_bits),
             "id {}",
-            p.id
+            p.id()
         );
-        assert_eq!(p.vel, [0.0; 3]);
-        top_floor = top_floor.max(p.pos[1]);
+        assert_eq!(p.vel(), [0.0; 3]);
+        top_floor = top_floor.max(p.pos()[1]);
     }
-    let lowest_water = last[floor..].iter().map(|p| p.pos[1]).fold(1.0, f64::min);
+    let lowest_water = last
+        .rows()
+        .skip(floor)
+        .map(|p| p.pos()[1])
+        .fold(1.0, f64::min);
     assert!(
         lowest_water > top_floor,
         "water at {lowest_water}, floor up to {top_floor}"
@@ -139,19 +143,19 @@ fn a_prescribed_lid_moves_by_its_law_and_drags_the_water() {
     let scene = load(&lid_scene("PhysicalViscosity(mu: 1.0)"));
     let first = scene.generate();
     let (dir, s) = run(&scene);
-    let last = read_particles_csv(&dir.path().join("final.csv")).unwrap();
+    let last = read_particles(&dir.path().join("final.csv")).unwrap();
     let lid = first.iter().filter(|p| p.body == 0).count();
     assert_eq!(lid, 60);
     let t = 0.1;
-    for (p0, p) in first.iter().zip(&last).take(lid) {
+    for (p0, p) in first.iter().zip(last.rows()).take(lid) {
         let want = [p0.pos[0] + 0.2 * t, p0.pos[1]];
         assert!(
-            (p.pos[0] - want[0]).abs() < 1e-12 && p.pos[1] == want[1],
+            (p.pos()[0] - want[0]).abs() < 1e-12 && p.pos()[1] == want[1],
             "id {}: {:?} vs {want:?}",
-            p.id,
-            p.pos
+            p.id(),
+            p.pos()
         );
-        assert_eq!(p.vel, [0.2, 0.0, 0.0], "id {}", p.id);
+        assert_eq!(p.vel(), [0.2, 0.0, 0.0], "id {}", p.id());
     }
     let lid_mass: f64 = first.iter().take(lid).map(|p| p.mass).sum();
     let m = s.last.per_body[0].momentum;
@@ -159,12 +163,12 @@ fn a_prescribed_lid_moves_by_its_law_and_drags_the_water() {
         (m[0] - 0.2 * lid_mass).abs() < 1e-12 * lid_mass && m[1] == 0.0,
         "{m:?}"
     );
-    let water = &last[lid..];
-    let px = |rows: &mut dyn Iterator<Item = &dualsph::io::ParticleRecord>| {
-        rows.map(|p| p.mass * p.vel[0]).sum::<f64>()
+    let water = last.rows().skip(lid);
+    let px = |rows: &mut dyn Iterator<Item = dualsph::io::ParticleRow<'_>>| {
+        rows.map(|p| p.mass() * p.vel()[0]).sum::<f64>()
     };
-    let upper = px(&mut water.iter().filter(|p| p.pos[1] > 0.05));
-    let lower = px(&mut water.iter().filter(|p| p.pos[1] <= 0.05));
+    let upper = px(&mut water.clone().filter(|p| p.pos()[1] > 0.05));
+    let lower = px(&mut water.clone().filter(|p| p.pos()[1] <= 0.05));
     // Stokes' first problem (a plate started impulsively at U over fluid of kinematic
     // viscosity ν): u(y, t) = U erfc(y / 2√(νt)), so the fluid's x-momentum per unit plate
     // length is ρ U 2√(νt/π) (Batchelor 1967, *An Introduction to Fluid Dynamics*, §4.3).

@@ -8,7 +8,7 @@
 
 mod common;
 
-use dualsph::io::{ParticleRecord, read_particles_csv};
+use dualsph::io::{ParticleRow, read_particles};
 use dualsph::scene::Scene;
 use std::path::Path;
 
@@ -44,9 +44,9 @@ fn scene(particles: &str, steps: u64, dir: &Path) -> Scene {
 }
 
 /// The fields a particle file carries, as bits.
-fn bits(r: &ParticleRecord) -> Vec<u64> {
-    let mut v: Vec<f64> = r.pos.iter().chain(&r.vel).copied().collect();
-    v.extend([r.mass, r.rho, r.h, r.e]);
+fn bits(r: &ParticleRow) -> Vec<u64> {
+    let mut v: Vec<f64> = r.pos().iter().chain(&r.vel()).copied().collect();
+    v.extend([r.mass(), r.rho(), r.h(), r.e()]);
     v.into_iter().map(f64::to_bits).collect()
 }
 
@@ -56,11 +56,15 @@ fn a_final_csv_read_as_particles_starts_a_scene_bitwise() {
                  density: 1000.0, h_factor: 2.0, velocity: Linear([[0.5, 0.0], [0.0, -1.0]]))";
     let first = tempfile::tempdir().unwrap();
     let (out, _) = common::run_on_threads(&scene(block, 30, first.path()), 1);
-    let written = read_particles_csv(&out.path().join("final.csv")).unwrap();
+    let written = read_particles(&out.path().join("final.csv")).unwrap();
     let dissipated = e_diss(&out.path().join("final.csv"));
     // the particles moved, at different densities, and the viscosity heated them
-    assert!(written.iter().any(|r| r.vel[1] < -1e-3 && r.rho != 1000.0));
-    assert!(written.iter().any(|r| r.e > 0.0) && dissipated.iter().any(|&d| d > 0.0));
+    assert!(
+        written
+            .rows()
+            .any(|r| r.vel()[1] < -1e-3 && r.rho() != 1000.0)
+    );
+    assert!(written.rows().any(|r| r.e() > 0.0) && dissipated.iter().any(|&d| d > 0.0));
 
     // the file next to the new scene, read relative to its directory
     std::fs::copy(out.path().join("final.csv"), first.path().join("end.csv")).unwrap();
@@ -70,26 +74,19 @@ fn a_final_csv_read_as_particles_starts_a_scene_bitwise() {
         let next = scene(&format!("File(path: {file:?})"), 1, first.path());
         let specs = next.generate();
         assert_eq!(specs.len(), written.len());
-        for (s, r) in specs.iter().zip(&written) {
-            let spec = ParticleRecord {
-                id: r.id,
-                pos: s.pos,
-                vel: s.vel,
-                mass: s.mass,
-                rho: s.density,
-                p: r.p,
-                e: s.internal_energy,
-                h: s.h,
-            };
-            assert_eq!(bits(&spec), bits(r), "{file}: particle {}", r.id);
+        for (s, r) in specs.iter().zip(written.rows()) {
+            let mut spec: Vec<f64> = s.pos.iter().chain(&s.vel).copied().collect();
+            spec.extend([s.mass, s.density, s.h, s.internal_energy]);
+            let spec: Vec<u64> = spec.into_iter().map(f64::to_bits).collect();
+            assert_eq!(spec, bits(&r), "{file}: particle {}", r.id());
         }
         // the run's snapshot at step 0 holds them unchanged
         let (again, _) = common::run_on_threads(&next, 1);
-        let start = read_particles_csv(&again.path().join("particles_000000.csv")).unwrap();
+        let start = read_particles(&again.path().join("particles_000000.csv")).unwrap();
         assert_eq!(start.len(), written.len());
-        for (a, b) in start.iter().zip(&written) {
-            assert_eq!(a.id, b.id);
-            assert_eq!(bits(a), bits(b), "{file}: particle {}", a.id);
+        for (a, b) in start.rows().zip(written.rows()) {
+            assert_eq!(a.id(), b.id());
+            assert_eq!(bits(&a), bits(&b), "{file}: particle {}", a.id());
         }
         let again = e_diss(&again.path().join("particles_000000.csv"));
         let same = again

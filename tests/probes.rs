@@ -1,7 +1,7 @@
 //! Probes and gridded output end to end: the shipped Sod and dam-break scenes with their
 //! probes, `probes.csv` well-formed and consistent with the particles, plots and grids written.
 
-use dualsph::io::read_particles_csv;
+use dualsph::io::read_particles;
 use dualsph::probes::read_probes;
 use dualsph::runner::{self, Progress, RunOptions};
 use dualsph::scene::Scene;
@@ -48,10 +48,10 @@ fn sod_density_line_matches_the_particles_and_the_initial_states() {
     assert!(table.t.windows(2).all(|w| w[1] > w[0]));
     let last = table.values.last().unwrap();
     assert!(last.iter().all(|v| v.is_finite() && *v > 0.0));
-    let mut xs: Vec<(f64, f64)> = read_particles_csv(&dir.path().join("final.csv"))
+    let mut xs: Vec<(f64, f64)> = read_particles(&dir.path().join("final.csv"))
         .unwrap()
-        .iter()
-        .map(|r| (r.pos[0], r.rho))
+        .rows()
+        .map(|r| (r.pos()[0], r.rho()))
         .collect();
     xs.sort_by(|a, b| a.0.total_cmp(&b.0));
     let mut checked = 0;
@@ -94,14 +94,20 @@ fn dam_break_gauges_and_wall_sensor_start_from_the_initial_column() {
         assert_eq!(first[c], 0.0, "{} = {}", table.columns[c], first[c]);
     }
     // gridded density of the final state, from final.csv, and the probe plots
-    let records = read_particles_csv(&dir.path().join("final.csv")).unwrap();
+    let scene = Scene::load(
+        &scene_path("dam_break_2d.ron"),
+        &dualsph::default_registry(),
+    )
+    .unwrap();
+    let final_csv = dir.path().join("final.csv");
+    let table = dualsph::gridded::read_particles(&scene, &final_csv).unwrap();
     let kernel = dualsph::KernelKind::CubicSpline;
     let (vti, png) =
-        dualsph::gridded::write_density_grid(&records, 2, kernel, 0.02, dir.path()).unwrap();
+        dualsph::gridded::write_density_grid(&table, 2, kernel, 0.02, dir.path()).unwrap();
     assert!(String::from_utf8_lossy(&std::fs::read(vti).unwrap()).contains("ImageData"));
     assert!(std::fs::metadata(png).unwrap().len() > 5000);
     let pngs = dualsph::probes::plot_probes(dir.path()).unwrap();
-    assert_eq!(pngs.len(), 2, "{pngs:?}"); // Pressure and WaterHeight
+    assert_eq!(pngs.len(), 2, "{pngs:?}"); // pressure and water_height
 }
 
 #[test]
@@ -113,8 +119,8 @@ fn density_grid_of_a_live_sim() {
     .unwrap();
     let mut sim = dualsph::build_sim::<glam::DVec2>(&scene).unwrap();
     sim.initialize().unwrap();
-    let f =
-        dualsph::gridded::sample_sim(&mut sim, dualsph::probes::Quantity::Density, 0.05).unwrap();
+    let f = dualsph::gridded::sample_sim(&mut sim, &dualsph::probes::Quantity::density(), 0.05)
+        .unwrap();
     // the domain box [0, 4] × [0, 3] at 0.05 m; the water column [0, 1] × [0, 2] at rest
     assert_eq!(f.grid.dims, [81, 61, 1]);
     for n in 0..f.grid.len() {
@@ -149,6 +155,20 @@ fn cli_grid_and_plot_probes() {
         String::from_utf8_lossy(&out.stderr)
     );
     assert!(dir.path().join("density_grid.vti").is_file());
+    let out = bin()
+        .arg("grid")
+        .arg(scene_path("sod_1d.ron"))
+        .arg("--dir")
+        .arg(dir.path())
+        .args(["--dx", "0.01", "--field", "velocity.x"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(dir.path().join("velocity_x_grid.vti").is_file());
     let out = bin().arg("plot-probes").arg(dir.path()).output().unwrap();
     assert!(
         out.status.success(),
@@ -166,5 +186,6 @@ fn cli_grid_and_plot_probes() {
         .output()
         .unwrap();
     assert!(!out.status.success());
-    assert!(String::from_utf8_lossy(&out.stderr).contains("--field"));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("--field") && err.contains("density"), "{err}");
 }

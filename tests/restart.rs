@@ -164,7 +164,13 @@ fn resume_from_half_way_is_bitwise_identical_1d_sod() {
     run(&scene, &b, 20, Some(b.join(checkpoint_file_name(20))));
     let half = Checkpoint::read(&a.join(checkpoint_file_name(20))).unwrap();
     assert!(half.components.iter().any(|c| c.name == "EnergyRate"));
-    assert!(half.probe_rows.as_ref().is_some_and(|r| !r.is_empty()));
+    // the plugins' own state: the probes' samples and the diagnostics' start
+    let kept = |key: &str| {
+        half.resources
+            .iter()
+            .any(|(k, b)| k == key && !b.is_empty())
+    };
+    assert!(kept("probes") && kept("diagnostics"));
     assert!(state_bytes(&a, 40) == state_bytes(&b, 40));
     for f in ["final.csv", "diagnostics.csv", "probes.csv"] {
         assert!(read(&a.join(f)) == read(&b.join(f)), "{f} differs");
@@ -273,7 +279,7 @@ fn killed_process_resumes_bitwise_identical() {
 /// panic, exactly one `error:` line containing every phrase of `expect`, and the last good
 /// state written as `.ckpt`, `.csv` (one record per particle) and `.vtp` from mid-run.
 /// Returns the error text and the last good particle records.
-fn blow_up(scene: &str, out: &Path, expect: &[&str]) -> (String, Vec<dualsph::io::ParticleRecord>) {
+fn blow_up(scene: &str, out: &Path, expect: &[&str]) -> (String, dualsph::io::ParticleTable) {
     let o = bin()
         .arg("run")
         .arg(scene_path(scene))
@@ -294,7 +300,7 @@ fn blow_up(scene: &str, out: &Path, expect: &[&str]) -> (String, Vec<dualsph::io
         "{err}"
     );
     let good = Checkpoint::read(&out.join("last_good.ckpt")).unwrap();
-    let records = dualsph::io::read_particles_csv(&out.join("last_good.csv")).unwrap();
+    let records = dualsph::io::read_particles(&out.join("last_good.csv")).unwrap();
     assert_eq!(records.len() as u64, good.particles);
     assert!(out.join("last_good.vtp").exists());
     assert!(good.step > 0, "last good state at step {}", good.step);
@@ -316,11 +322,11 @@ fn fixed_dt_overtaken_by_the_cfl_limit_stops_and_writes_the_last_good_state() {
     let (_, records) = blow_up("blow_up.ron", tmp.path(), &expect);
     // the last good state is sound (from mid-run: checked by blow_up): every position finite
     // and in the tank
-    assert!(records.iter().all(|r| {
-        r.pos[0].is_finite()
-            && r.pos[1].is_finite()
-            && (0.0..=4.0).contains(&r.pos[0])
-            && (0.0..=3.0).contains(&r.pos[1])
+    assert!(records.rows().all(|r| {
+        r.pos()[0].is_finite()
+            && r.pos()[1].is_finite()
+            && (0.0..=4.0).contains(&r.pos()[0])
+            && (0.0..=3.0).contains(&r.pos()[1])
     }));
 }
 
@@ -496,8 +502,8 @@ fn density_driven_out_of_its_sane_range_stops_with_the_cause_and_the_last_good_s
     // the last good state is inside the sane range
     assert!(
         records
-            .iter()
-            .all(|r| r.rho.is_finite() && r.rho > 1000.0 / 300.0 && r.rho <= 2000.0),
+            .rows()
+            .all(|r| r.rho().is_finite() && r.rho() > 1000.0 / 300.0 && r.rho() <= 2000.0),
         "the last good state is already out of range"
     );
 }

@@ -1,7 +1,7 @@
 //! Shipped scenes run end to end in every dimension, and a free-flying drop conserves
 //! momentum over 1000 steps with variable h under the dual-support formulation.
 
-use dualsph::io::{read_diagnostics_csv, read_particles_csv};
+use dualsph::io::{read_diagnostics_csv, read_particles};
 use dualsph::runner::{self, Progress, RunOptions};
 use dualsph::scene::{Formulation, Scene};
 use std::path::Path;
@@ -53,15 +53,15 @@ fn scenes_of_each_dimension_run_and_write_outputs() {
     ] {
         let (dir, s) = run_short(name, 20);
         assert_eq!(s.steps, 20, "{name}");
-        let parts = read_particles_csv(&dir.path().join("final.csv")).unwrap();
+        let parts = read_particles(&dir.path().join("final.csv")).unwrap();
         assert_eq!(parts.len() as u64, s.particles, "{name}");
         assert!(
-            parts.iter().all(|p| p.pos.iter().all(|x| x.is_finite())),
+            parts.rows().all(|p| p.pos().iter().all(|x| x.is_finite())),
             "{name}"
         );
         if dim < 3 {
             assert!(
-                parts.iter().all(|p| p.pos[2] == 0.0),
+                parts.rows().all(|p| p.pos()[2] == 0.0),
                 "{name}: unused z must be 0"
             );
         }
@@ -139,12 +139,12 @@ fn tank_of_particle_walls_with_obstacles_from_shapes() {
     scene.output.snapshot_every = 0;
     let (dir, s) = run_in_tempdir(&scene);
     assert_eq!(s.steps, 100);
-    let last = read_particles_csv(&dir.path().join("final.csv")).unwrap();
+    let last = read_particles(&dir.path().join("final.csv")).unwrap();
     assert_eq!(last.len(), first.len());
-    for (p0, p) in first.iter().zip(&last) {
+    for (p0, p) in first.iter().zip(last.rows()) {
         if p0.body > 0 {
-            assert_eq!(p.pos.map(f64::to_bits), p0.pos.map(f64::to_bits));
+            assert_eq!(p.pos().map(f64::to_bits), p0.pos.map(f64::to_bits));
         }
-        assert!(p.pos[0] > -0.06 && p.pos[0] < 1.66 && p.pos[1] > -0.06 && p.pos[1] < 1.06);
+        assert!(p.pos()[0] > -0.06 && p.pos()[0] < 1.66 && p.pos()[1] > -0.06 && p.pos()[1] < 1.06);
     }
 }

@@ -78,8 +78,8 @@ fn grad_h_runs_the_sod_tube_with_h_tied_to_its_density_and_conserving() {
     assert!((grad_h.run.final_diagnostics().t - 0.2).abs() < 1e-9);
     // largest |h/(η m/ρ) − 1| over the particles at the end (η = 2, the scene's n; 1-D)
     let off_density = |c: &sod::SodCase| {
-        let rows = c.run.last.iter();
-        rows.map(|p| (p.h / (2.0 * p.mass / p.rho) - 1.0).abs())
+        let rows = c.run.last.rows();
+        rows.map(|p| (p.h() / (2.0 * p.mass() / p.rho()) - 1.0).abs())
             .fold(0.0, f64::max)
     };
     // h = η (m/ρ)^{1/d} with the density summed at that h, on every particle at the end
@@ -126,8 +126,8 @@ fn grad_h_is_bitwise_the_same_on_one_and_two_threads() {
     assert!(one.steps > 1000 && one.steps == two.steps);
     let bits = |r: &dualsph_validation::report::CaseRun| {
         r.last
-            .iter()
-            .flat_map(|p| [p.pos[0], p.vel[0], p.rho, p.h, p.e])
+            .rows()
+            .flat_map(|p| [p.pos()[0], p.vel()[0], p.rho(), p.h(), p.e()])
             .map(f64::to_bits)
             .collect::<Vec<_>>()
     };

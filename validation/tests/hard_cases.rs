@@ -94,8 +94,8 @@ fn dam_break_runs_to_eight_seconds_through_the_sloshing() {
     );
     assert!(to_end <= 1e-12, "energy varies by {to_end:e} before 8 s");
     // the walls keep every particle in the tank
-    for p in &run.last {
-        assert!(p.pos[0] >= 0.0 && p.pos[0] <= 4.0 && p.pos[1] >= 0.0 && p.pos[1] <= 3.0);
+    for p in run.last.rows() {
+        assert!(p.pos()[0] >= 0.0 && p.pos()[0] <= 4.0 && p.pos()[1] >= 0.0 && p.pos()[1] <= 3.0);
     }
 }
 

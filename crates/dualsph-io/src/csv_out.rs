@@ -7,17 +7,7 @@ use std::io::{self, Write};
 use std::path::Path;
 use std::str::FromStr;
 
-use crate::{DiagnosticsRow, OutputError, ParticleRecord, ParticleTable, Real, TableColumn};
-
-/// The columns [`read_particles_csv`] reads: `id` and the core columns must be present, in
-/// any order; `p` and `e` are read as 0 when absent (a scene without an equation of state or
-/// an energy equation); other columns are ignored.
-pub const PARTICLE_COLUMNS: [&str; 12] = [
-    "id", "x", "y", "z", "vx", "vy", "vz", "m", "rho", "p", "e", "h",
-];
-
-/// The columns of [`PARTICLE_COLUMNS`] that may be absent.
-const OPTIONAL_COLUMNS: [&str; 2] = ["p", "e"];
+use crate::{DiagnosticsRow, OutputError, ParticleTable, Real, TableColumn};
 
 /// Fixed leading column names of `diagnostics.csv`; extra columns follow.
 pub const DIAGNOSTICS_FIXED_COLUMNS: [&str; 13] = [
@@ -164,45 +154,6 @@ pub(crate) fn header_mismatch(path: &Path, found: &[String], expected: &[String]
             expected.join(",")
         ),
     }
-}
-
-/// Read a particle CSV written by this crate (snapshot or `final.csv`).
-///
-/// The header must hold the columns of [`PARTICLE_COLUMNS`] (see there). Values are
-/// bit-for-bit the ones that were written.
-pub fn read_particles_csv(path: &Path) -> Result<Vec<ParticleRecord>, OutputError> {
-    let (header, rows) = read_table(path)?;
-    let mut at = [None; 12];
-    for (k, name) in PARTICLE_COLUMNS.iter().enumerate() {
-        at[k] = header.iter().position(|h| h == name);
-        if at[k].is_none() && !OPTIONAL_COLUMNS.contains(name) {
-            return Err(OutputError::Parse {
-                path: path.to_path_buf(),
-                line: 1,
-                msg: format!("header `{}` has no column `{name}`", header.join(",")),
-            });
-        }
-    }
-    let mut out = Vec::with_capacity(rows.len());
-    for (line, rec) in rows {
-        let mut r = [0.0; 11];
-        for (k, v) in r.iter_mut().enumerate() {
-            if let Some(i) = at[k + 1] {
-                *v = parse_field(path, line, &rec, i, PARTICLE_COLUMNS[k + 1])?;
-            }
-        }
-        out.push(ParticleRecord {
-            id: parse_field(path, line, &rec, at[0].unwrap_or(0), "id")?,
-            pos: [r[0], r[1], r[2]],
-            vel: [r[3], r[4], r[5]],
-            mass: r[6],
-            rho: r[7],
-            p: r[8],
-            e: r[9],
-            h: r[10],
-        });
-    }
-    Ok(out)
 }
 
 /// Read every column of a particle CSV as a [`ParticleTable`]: the `id` column as the ids,

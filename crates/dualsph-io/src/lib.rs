@@ -51,41 +51,23 @@ use std::path::{Path, PathBuf};
 
 pub use atomic::{write_atomic, write_atomic_with};
 pub use csv_out::{
-    DIAGNOSTICS_FIXED_COLUMNS, PARTICLE_COLUMNS, SNAPSHOT_INDEX_COLUMNS, SnapshotEntry,
-    read_diagnostics_csv, read_particle_table_csv, read_particles_csv,
+    DIAGNOSTICS_FIXED_COLUMNS, SNAPSHOT_INDEX_COLUMNS, SnapshotEntry, read_diagnostics_csv,
+    read_particle_table_csv,
 };
 pub use loads::{BODIES_COLUMNS, BODIES_FILE, BodyLoadRow};
 pub use output_dir::{
     DIAGNOSTICS_FILE, FINAL_FILE, OutputDir, OutputOptions, PVD_FILE, SNAPSHOT_INDEX_FILE,
     snapshot_stem,
 };
-pub use table::{POSITION, ParticleTable, TableColumn};
+pub use table::{
+    DENSITY, INTERNAL_ENERGY, MASS, POSITION, PRESSURE, ParticleRow, ParticleTable,
+    SMOOTHING_LENGTH, STANDARD_COLUMNS, TableColumn, VELOCITY,
+};
 pub use vtk::{ArrayValues, ImageGrid, VtkArray, VtkEncoding, ZLIB_BLOCK, write_vti};
-pub use vtp_read::{read_particle_table_vtp, read_particles_vtp};
+pub use vtp_read::read_particle_table_vtp;
 
 /// Floating-point type of all written quantities.
 pub type Real = f64;
-
-/// One particle as written in snapshots. 1-D/2-D runs fill unused components with 0.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct ParticleRecord {
-    /// Stable particle identifier.
-    pub id: u64,
-    /// Position.
-    pub pos: [Real; 3],
-    /// Velocity.
-    pub vel: [Real; 3],
-    /// Mass.
-    pub mass: Real,
-    /// Density.
-    pub rho: Real,
-    /// Pressure.
-    pub p: Real,
-    /// Specific internal energy.
-    pub e: Real,
-    /// Smoothing length.
-    pub h: Real,
-}
 
 /// One diagnostics row: fixed columns
 /// `t,step,dt,n,mass,px,py,pz,lz,e_kin,e_int,e_pot,e_tot`, then `extra` values
@@ -116,6 +98,24 @@ pub struct DiagnosticsRow {
     pub e_tot: Real,
     /// Values of the extra columns, same order and count as the column names.
     pub extra: Vec<Real>,
+}
+
+/// Reads a particle file this crate wrote: a `.vtp` snapshot (its arrays by name, the points
+/// as [`POSITION`]) or a particle CSV (snapshot or `final.csv`), whose labels of the
+/// [`STANDARD_COLUMNS`] are grouped into those columns (`vx, vy, vz` → `velocity`) and every
+/// other label kept as a one-component column of that name. Values come back bit for bit.
+pub fn read_particles(path: &Path) -> Result<ParticleTable, OutputError> {
+    let vtp = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("vtp"));
+    if vtp {
+        return read_particle_table_vtp(path);
+    }
+    let groups: Vec<(String, Vec<String>)> = STANDARD_COLUMNS
+        .iter()
+        .map(|(n, l)| (n.to_string(), l.iter().map(|l| l.to_string()).collect()))
+        .collect();
+    Ok(read_particle_table_csv(path)?.grouped(&groups))
 }
 
 /// Error of an output operation; every variant names the file or directory

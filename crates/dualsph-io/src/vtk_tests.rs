@@ -3,8 +3,9 @@
 
 use std::io::Read;
 
+use crate::tests::{Particle, table_of};
 use crate::vtk::{self, ArrayValues, ImageGrid, VtkArray, VtkEncoding, ZLIB_BLOCK};
-use crate::{ParticleRecord, ParticleTable, TableColumn};
+use crate::{ParticleTable, TableColumn};
 
 /// One decoded `<DataArray>`: name (`Points` when unnamed), type, components and its values
 /// as little-endian bytes.
@@ -130,10 +131,10 @@ pub(crate) fn read_arrays(file: &[u8]) -> Vec<Decoded> {
 }
 
 fn table(n: usize) -> ParticleTable {
-    let records: Vec<ParticleRecord> = (0..n)
+    let records: Vec<Particle> = (0..n)
         .map(|i| {
             let x = i as f64;
-            ParticleRecord {
+            Particle {
                 id: 3 * i as u64 + 1,
                 pos: [x / 7.0, -x * 1e-300, f64::MAX / (x + 1.0)],
                 vel: [x.sin(), f64::NAN, -0.0],
@@ -145,7 +146,7 @@ fn table(n: usize) -> ParticleTable {
             }
         })
         .collect();
-    let mut t = ParticleTable::from_records(&records);
+    let mut t = table_of(&records);
     t.columns.push(TableColumn {
         name: "stress".into(),
         labels: ["a", "b", "c", "d"].map(String::from).into(),

@@ -3,21 +3,10 @@
 //! text (`ascii`) or from the raw appended section (UInt64 byte count, or the zlib block
 //! header and blocks); values come back bit for bit.
 
-use crate::{OutputError, POSITION, ParticleRecord, ParticleTable, Real, TableColumn};
+use crate::{OutputError, POSITION, ParticleTable, Real, TableColumn};
 use flate2::read::ZlibDecoder;
 use std::io::Read;
 use std::path::Path;
-
-/// The point-data arrays read into a [`ParticleRecord`] and whether each must be present:
-/// `(VTK name, components, required)`; the points give the position.
-const ARRAYS: [(&str, usize, bool); 6] = [
-    ("velocity", 3, true),
-    ("mass", 1, true),
-    ("density", 1, true),
-    ("pressure", 1, false),
-    ("internal_energy", 1, false),
-    ("smoothing_length", 1, true),
-];
 
 /// The parts of the file: its XML text (up to the appended section) and the appended bytes
 /// after the `_` that opens them (empty without the section).
@@ -34,53 +23,6 @@ fn split(bytes: &[u8]) -> (&[u8], &[u8]) {
         }
         None => (bytes, &[]),
     }
-}
-
-/// Reads a particle file written as VTK XML PolyData by this crate: `id` (Int64) and the
-/// point data `velocity`, `mass`, `density`, `smoothing_length` (and `pressure`,
-/// `internal_energy` when present, 0 otherwise; other arrays are ignored), the points as
-/// the position. Errors give the line of the XML element concerned.
-pub fn read_particles_vtp(path: &Path) -> Result<Vec<ParticleRecord>, OutputError> {
-    let (table, piece) = vtp_table(path)?;
-    let n = table.len();
-    let mut cols: Vec<&[Real]> = Vec::new();
-    for (name, comps, required) in ARRAYS {
-        match table.column(name) {
-            Some(c) if c.width() == comps => cols.push(&c.values),
-            Some(c) => {
-                return Err(OutputError::Parse {
-                    path: path.to_path_buf(),
-                    line: piece,
-                    msg: format!(
-                        "point data `{name}` has {} components, not {comps}",
-                        c.width()
-                    ),
-                });
-            }
-            None if required => {
-                return Err(OutputError::Parse {
-                    path: path.to_path_buf(),
-                    line: piece,
-                    msg: format!("no point data `{name}`"),
-                });
-            }
-            None => cols.push(&[]),
-        }
-    }
-    let pos = &table.columns[0].values;
-    let at = |c: &[Real], i: usize| c.get(i).copied().unwrap_or(0.0);
-    Ok((0..n)
-        .map(|i| ParticleRecord {
-            id: table.ids[i],
-            pos: [pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]],
-            vel: [cols[0][3 * i], cols[0][3 * i + 1], cols[0][3 * i + 2]],
-            mass: cols[1][i],
-            rho: cols[2][i],
-            p: at(cols[3], i),
-            e: at(cols[4], i),
-            h: cols[5][i],
-        })
-        .collect())
 }
 
 /// Reads every array of a particle file written as VTK XML PolyData by this crate as a
@@ -285,13 +227,14 @@ impl File<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{ParticleTable, VtkEncoding, vtk};
+    use crate::tests::{Particle, particles_of, table_of};
+    use crate::{VtkEncoding, vtk};
 
-    fn records(n: usize) -> Vec<ParticleRecord> {
+    fn records(n: usize) -> Vec<Particle> {
         (0..n)
             .map(|i| {
                 let x = i as f64 / 7.0;
-                ParticleRecord {
+                Particle {
                     id: 3 * i as u64 + 1,
                     pos: [x, -x * 1e-300, 0.1 + x],
                     vel: [-0.0, 1.0 / (x + 1.0), x.sin()],
@@ -305,7 +248,7 @@ mod tests {
             .collect()
     }
 
-    fn bits(r: &ParticleRecord) -> Vec<u64> {
+    fn bits(r: &Particle) -> Vec<u64> {
         let mut v: Vec<f64> = r.pos.iter().chain(&r.vel).copied().collect();
         v.extend([r.mass, r.rho, r.p, r.e, r.h]);
         v.into_iter().map(f64::to_bits).collect()
@@ -315,12 +258,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("p.vtp");
         let mut bytes = Vec::new();
-        vtk::write_vtp(
-            &mut bytes,
-            &ParticleTable::from_records(&records(n)),
-            encoding,
-        )
-        .unwrap();
+        vtk::write_vtp(&mut bytes, &table_of(&records(n)), encoding).unwrap();
         std::fs::write(&path, bytes).unwrap();
         (dir, path)
     }
@@ -335,7 +273,7 @@ mod tests {
             // 5000 particles: the velocity is 120 000 bytes, four zlib blocks
             for n in [1, 17, 5000] {
                 let (_dir, path) = written(n, encoding);
-                let back = read_particles_vtp(&path).unwrap();
+                let back = particles_of(&crate::read_particles(&path).unwrap());
                 let want = records(n);
                 assert_eq!(back.len(), n);
                 for (a, b) in back.iter().zip(&want) {
@@ -349,7 +287,7 @@ mod tests {
     /// Every column, the plugins' too, comes back by name (VTK) or label (CSV).
     #[test]
     fn tables_read_back_every_column_bitwise() {
-        let mut t = ParticleTable::from_records(&records(40));
+        let mut t = table_of(&records(40));
         t.columns.push(crate::TableColumn {
             name: "stress".into(),
             labels: ["sa", "sb", "sc", "sd"].map(String::from).into(),
@@ -395,7 +333,7 @@ mod tests {
         let bytes = std::fs::read(&path).unwrap();
         // cut inside the appended data
         std::fs::write(&path, &bytes[..bytes.len() - 200]).unwrap();
-        let e = read_particles_vtp(&path).unwrap_err().to_string();
+        let e = read_particle_table_vtp(&path).unwrap_err().to_string();
         assert!(
             e.contains("the appended data end early") || e.contains("zlib"),
             "{e}"
@@ -403,12 +341,16 @@ mod tests {
         let (_dir, path) = written(3, VtkEncoding::Ascii);
         let text = std::fs::read_to_string(&path).unwrap();
         std::fs::write(&path, text.replace("Name=\"mass\"", "Name=\"weight\"")).unwrap();
-        let e = read_particles_vtp(&path).unwrap_err().to_string();
-        assert!(e.contains("line 4: no point data `mass`"), "{e}");
+        let t = read_particle_table_vtp(&path).unwrap();
+        let e = t.require(&["position", "mass"]).unwrap_err();
+        assert!(
+            e.contains("no column `mass`") && e.contains("weight"),
+            "{e}"
+        );
         std::fs::write(&path, text.replace("<PolyData>", "<PolyDat>")).unwrap();
-        let e = read_particles_vtp(&path).unwrap_err().to_string();
+        let e = read_particle_table_vtp(&path).unwrap_err().to_string();
         assert!(e.contains("p.vtp, line"), "{e}");
         std::fs::write(&path, "not xml at all").unwrap();
-        assert!(read_particles_vtp(&path).is_err());
+        assert!(read_particle_table_vtp(&path).is_err());
     }
 }

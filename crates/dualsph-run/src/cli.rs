@@ -97,11 +97,12 @@ enum Command {
         /// The run's output directory (default: out/<scene name>).
         #[arg(long)]
         dir: Option<PathBuf>,
-        /// Particle file in DIR (final.csv or a particles_NNNNNN.csv snapshot).
+        /// Particle file in DIR (final.csv, or a particles_NNNNNN.csv or .vtp snapshot).
         #[arg(long, default_value = "final.csv")]
         file: String,
-        /// Density | Pressure | VelocityX | VelocityY | VelocityZ | Speed | InternalEnergy | ShepardSum
-        #[arg(long, default_value = "Density")]
+        /// The quantity, named as in the probes: a scalar column (density, pressure, a
+        /// plugin's own), a component (velocity.x), speed or shepard_sum.
+        #[arg(long, default_value = "density")]
         field: String,
         /// Grid spacing (m).
         #[arg(long)]
@@ -123,19 +124,17 @@ fn grid_command(
     dx: f64,
 ) -> Result<(), String> {
     let dir = dir.unwrap_or_else(|| runner::default_out_dir(scene_path));
-    let q: dualsph_probes::Quantity = ron::from_str(field).map_err(|_| {
-        format!("--field {field:?}: expected Density, Pressure, VelocityX, VelocityY, VelocityZ, Speed, InternalEnergy or ShepardSum")
-    })?;
+    let q = dualsph_probes::Quantity::parse(field).map_err(|e| format!("--field: {e}"))?;
     let path = dir.join(file);
-    let records = dualsph_io::read_particles_csv(&path).map_err(|e| e.to_string())?;
+    let table = crate::gridded::read_particles(s, &path).map_err(|e| e.to_string())?;
     let mut lo = [0.0; 3];
     let mut hi = [0.0; 3];
     lo[..s.dimension].copy_from_slice(&s.domain.min);
     hi[..s.dimension].copy_from_slice(&s.domain.max);
-    let f = crate::gridded::sample_records(&records, s.dimension, s.kernel, q, dx, Some((lo, hi)))
-        .map_err(|e| e.to_string())?;
-    let stem = format!("{}_grid", field.to_lowercase());
-    let title = format!("{} — {field} from {file}", s.name);
+    let f = crate::gridded::sample_table(&table, s.dimension, s.kernel, &q, dx, Some((lo, hi)))
+        .map_err(|e| format!("--field {field}: {e}"))?;
+    let stem = format!("{}_grid", q.name().replace('.', "_"));
+    let title = format!("{} — {q} from {file}", s.name);
     let encoding = runner::snapshots::output_options(&s.output).encoding;
     let (vti, png) = crate::gridded::write_field(&f, &dir, &stem, &title, encoding)
         .map_err(|e| e.to_string())?;

@@ -1,7 +1,9 @@
 //! Fields sampled on a regular grid: a VTK ImageData file (`.vti`, written by
 //! [`dualsph_io::write_vti`] in any [`VtkEncoding`]) for ParaView and a filled contour PNG.
 //!
-//! Every grid point gets the Shepard-normalised SPH interpolant of the chosen quantity,
+//! Every grid point gets the Shepard-normalised SPH interpolant of the chosen quantity (named
+//! as the probes name it, [`dualsph_probes::quantity`]: a scalar column `density`, a component
+//! `velocity.x`, `speed`, `shepard_sum`, …),
 //! `A(x) = Σ_j A_j V_j W_j / Σ_j V_j W_j`, with each particle's own kernel and support radius
 //! (see [`dualsph_core::sampling`]), and the Shepard sum `σ(x) = Σ_j V_j W_j`. Points with
 //! `σ < 0.5` are outside the fluid (σ = ½ at a flat free surface): they are white in the PNG
@@ -12,18 +14,20 @@
 //!
 //! ```no_run
 //! # fn main() -> Result<(), Box<dyn std::error::Error>> {
-//! let records = dualsph_io::read_particles_csv("out/dam_break_2d/final.csv".as_ref())?;
+//! let table = dualsph_io::read_particle_table_vtp("out/dam_break_2d/particles_000100.vtp".as_ref())?;
 //! let kernel = dualsph_core::kernels::KernelKind::CubicSpline;
 //! let (vti, png) =
-//!     dualsph_run::gridded::write_density_grid(&records, 2, kernel, 0.01, "out/dam_break_2d".as_ref())?;
+//!     dualsph_run::gridded::write_density_grid(&table, 2, kernel, 0.01, "out/dam_break_2d".as_ref())?;
 //! # Ok(()) }
 //! ```
 
 use dualsph_core::sampling::SamplingCloud;
 use dualsph_fluid::prelude::*;
-use dualsph_io::{ArrayValues, ImageGrid, ParticleRecord, VtkArray, VtkEncoding};
+use dualsph_io::{ArrayValues, ImageGrid, POSITION, ParticleTable, VtkArray, VtkEncoding};
 use dualsph_probes::Quantity;
 use std::path::{Path, PathBuf};
+
+mod field;
 
 /// Points with a Shepard sum below this are outside the fluid.
 pub const INSIDE_SHEPARD: Real = 0.5;
@@ -83,7 +87,7 @@ impl Grid {
 /// A quantity sampled on a grid.
 #[derive(Clone, Debug)]
 pub struct GriddedField {
-    /// Quantity name (as in the probes: `Density`, `Pressure`, …).
+    /// Quantity name (as in the probes: `density`, `velocity.x`, …).
     pub name: String,
     /// The grid.
     pub grid: Grid,
@@ -109,43 +113,30 @@ pub enum GridError {
     Plot(#[from] dualsph_plot::PlotError),
 }
 
-fn quantity_values(records: &[ParticleRecord], q: Quantity) -> Vec<Real> {
-    records
-        .iter()
-        .map(|r| match q {
-            Quantity::Density | Quantity::ShepardSum => r.rho,
-            Quantity::Pressure => r.p,
-            Quantity::VelocityX => r.vel[0],
-            Quantity::VelocityY => r.vel[1],
-            Quantity::VelocityZ => r.vel[2],
-            Quantity::Speed => (r.vel[0].powi(2) + r.vel[1].powi(2) + r.vel[2].powi(2)).sqrt(),
-            Quantity::InternalEnergy => r.e,
-        })
-        .collect()
-}
-
+/// The particles' positions (first `d` components), masses, densities and support radii.
 fn sample_dim<V: Vector>(
-    records: &[ParticleRecord],
+    table: &ParticleTable,
     kernel: KernelKind,
-    q: Quantity,
+    a: &[Real],
+    shepard_only: bool,
     grid: Grid,
-) -> (Vec<Option<Real>>, Vec<Real>) {
-    let to_v = |p: [Real; 3]| V::from_slice(&p[..V::DIM]).unwrap_or_else(V::zero);
+) -> Result<(Vec<Option<Real>>, Vec<Real>), GridError> {
+    let col = |name: &str| field::column(table, name, V::DIM).map(|c| c.values.as_slice());
+    let to_v = |p: &[Real]| V::from_slice(&p[..V::DIM]).unwrap_or_else(V::zero);
     let cloud = SamplingCloud::from_particles(
         Kernel::new(kernel, V::DIM),
-        records.iter().map(|r| to_v(r.pos)).collect(),
-        &records.iter().map(|r| r.mass).collect::<Vec<_>>(),
-        &records.iter().map(|r| r.rho).collect::<Vec<_>>(),
-        records.iter().map(|r| r.h).collect(),
+        col(POSITION)?.chunks_exact(3).map(to_v).collect(),
+        col("mass")?,
+        col("density")?,
+        col("smoothing_length")?.to_vec(),
     );
-    let points: Vec<V> = (0..grid.len()).map(|n| to_v(grid.point(n))).collect();
-    let a = quantity_values(records, q);
-    let samples = cloud.sample_many(&points, &a);
+    let points: Vec<V> = (0..grid.len()).map(|n| to_v(&grid.point(n))).collect();
+    let samples = cloud.sample_many(&points, a);
     let values = samples
         .iter()
         .map(|s| {
             (s.shepard_sum >= INSIDE_SHEPARD).then(|| {
-                if q == Quantity::ShepardSum {
+                if shepard_only {
                     s.shepard_sum
                 } else {
                     s.shepard.unwrap_or(0.0)
@@ -153,17 +144,34 @@ fn sample_dim<V: Vector>(
             })
         })
         .collect();
-    (values, samples.iter().map(|s| s.shepard_sum).collect())
+    Ok((values, samples.iter().map(|s| s.shepard_sum).collect()))
 }
 
-/// Samples quantity `q` of particle records (as read from a snapshot or `final.csv`) on the
-/// grid of spacing `dx` covering `bounds` (default: the particles' bounding box grown by the
-/// largest h). `dim` and `kernel` must be those of the run (the records do not carry them).
-pub fn sample_records(
-    records: &[ParticleRecord],
+/// The particles' bounding box grown by the largest h.
+fn bounding_box(table: &ParticleTable, dim: usize) -> Result<([Real; 3], [Real; 3]), GridError> {
+    let h = field::column(table, "smoothing_length", dim)?;
+    let h = h.values.iter().copied().fold(0.0, Real::max);
+    let (mut lo, mut hi) = ([Real::INFINITY; 3], [Real::NEG_INFINITY; 3]);
+    for r in field::column(table, POSITION, dim)?.values.chunks_exact(3) {
+        for k in 0..3 {
+            lo[k] = lo[k].min(r[k] - h);
+            hi[k] = hi[k].max(r[k] + h);
+        }
+    }
+    Ok((lo, hi))
+}
+
+/// Samples quantity `q` of a particle table (as written to a snapshot or `final.csv` and
+/// read back; it needs the columns `position`, `mass`, `density` and `smoothing_length`) on
+/// the grid of spacing `dx` covering `bounds` (default: the particles' bounding box grown by
+/// the largest h). `dim` and `kernel` must be those of the run (the table does not carry
+/// them). The error says what is wrong: an argument, or a column the table lacks (with the
+/// quantities it has).
+pub fn sample_table(
+    table: &ParticleTable,
     dim: usize,
     kernel: KernelKind,
-    q: Quantity,
+    q: &Quantity,
     dx: Real,
     bounds: Option<([Real; 3], [Real; 3])>,
 ) -> Result<GriddedField, GridError> {
@@ -175,20 +183,14 @@ pub fn sample_records(
     if !(dx.is_finite() && dx > 0.0) {
         return Err(GridError::Invalid(format!("dx must be > 0, got {dx}")));
     }
-    if records.is_empty() {
+    if table.is_empty() {
         return Err(GridError::Invalid("no particles to sample".into()));
     }
-    let (lo, hi) = bounds.unwrap_or_else(|| {
-        let h = records.iter().map(|r| r.h).fold(0.0, Real::max);
-        let (mut lo, mut hi) = ([Real::INFINITY; 3], [Real::NEG_INFINITY; 3]);
-        for r in records {
-            for k in 0..3 {
-                lo[k] = lo[k].min(r.pos[k] - h);
-                hi[k] = hi[k].max(r.pos[k] + h);
-            }
-        }
-        (lo, hi)
-    });
+    let a = field::values(table, q, dim)?;
+    let (lo, hi) = match bounds {
+        Some(b) => b,
+        None => bounding_box(table, dim)?,
+    };
     let grid = Grid::covering(lo, hi, dx, dim);
     if grid.len() > 50_000_000 || grid.dims[..dim].iter().any(|&n| n < 2) {
         return Err(GridError::Invalid(format!(
@@ -196,13 +198,14 @@ pub fn sample_records(
             &grid.dims[..dim]
         )));
     }
+    let shepard_only = q.name() == dualsph_probes::quantity::SHEPARD_SUM;
     let (values, shepard) = match dim {
-        1 => sample_dim::<Vec1>(records, kernel, q, grid),
-        2 => sample_dim::<glam::DVec2>(records, kernel, q, grid),
-        _ => sample_dim::<glam::DVec3>(records, kernel, q, grid),
+        1 => sample_dim::<Vec1>(table, kernel, &a, shepard_only, grid)?,
+        2 => sample_dim::<glam::DVec2>(table, kernel, &a, shepard_only, grid)?,
+        _ => sample_dim::<glam::DVec3>(table, kernel, &a, shepard_only, grid)?,
     };
     Ok(GriddedField {
-        name: format!("{q:?}"),
+        name: q.name().to_string(),
         grid,
         dim,
         values,
@@ -214,14 +217,38 @@ pub fn sample_records(
 /// on the grid of spacing `dx` covering the domain box.
 pub fn sample_sim<V: Vector>(
     sim: &mut Sim<V>,
-    q: Quantity,
+    q: &Quantity,
     dx: Real,
 ) -> Result<GriddedField, GridError> {
     let kernel = sim.world.resource::<KernelRes>().0.kind;
     let domain = *sim.world.resource::<Domain<V>>();
-    let records = crate::runner::particle_records(sim);
+    let table = crate::runner::column_table(sim);
     let bounds = (domain.min.to_xyz(), domain.max.to_xyz());
-    sample_records(&records, V::DIM, kernel, q, dx, Some(bounds))
+    sample_table(&table, V::DIM, kernel, q, dx, Some(bounds))
+}
+
+/// The particles of a file a run of `scene` wrote (a `.vtp` snapshot, or a particle CSV:
+/// `final.csv`, `particles_NNNNNN.csv`) as a table whose columns are named as in snapshots
+/// (`velocity`, not `vx, vy, vz`): the CSV's labels are grouped by the scene's registered
+/// columns, which this builds the scene's simulation to know.
+pub fn read_particles(scene: &dualsph_scene::Scene, path: &Path) -> Result<ParticleTable, String> {
+    let vtp = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("vtp"));
+    if vtp {
+        return dualsph_io::read_particle_table_vtp(path).map_err(|e| e.to_string());
+    }
+    let table = dualsph_io::read_particle_table_csv(path).map_err(|e| e.to_string())?;
+    let groups = crate::with_dimension!(scene.dimension, V => {
+        let sim = crate::build_sim::<V>(scene).map_err(|e| e.to_string())?;
+        let columns = sim.world.resource::<dualsph_core::columns::Columns>();
+        columns
+            .iter()
+            .filter(|c| c.shape != dualsph_core::columns::Shape::Record)
+            .map(|c| (c.spec.name.to_string(), c.labels(V::DIM)))
+            .collect::<Vec<_>>()
+    });
+    Ok(table.grouped(&groups))
 }
 
 /// Writes the field as VTK XML ImageData (`.vti`, point data `<name>` and `shepard_sum`
@@ -248,10 +275,10 @@ pub fn write_vti(path: &Path, f: &GriddedField, encoding: VtkEncoding) -> Result
 
 fn unit(name: &str) -> &'static str {
     match name {
-        "Density" => "density (kg/m³)",
-        "Pressure" => "pressure (Pa)",
-        "VelocityX" | "VelocityY" | "VelocityZ" | "Speed" => "velocity (m/s)",
-        "InternalEnergy" => "internal energy (J/kg)",
+        "density" => "density (kg/m³)",
+        "pressure" => "pressure (Pa)",
+        "velocity.x" | "velocity.y" | "velocity.z" | "speed" => "velocity (m/s)",
+        "internal_energy" => "internal energy (J/kg)",
         _ => "value",
     }
 }
@@ -280,17 +307,17 @@ pub fn write_png(path: &Path, f: &GriddedField, title: &str) -> Result<(), GridE
     Ok(())
 }
 
-/// The density of particle records on a grid of spacing `dx` (bounds: the particles'
+/// The density of a particle table on a grid of spacing `dx` (bounds: the particles'
 /// box grown by h) written as `DIR/density_grid.vti` (binary) and `DIR/density_grid.png`;
 /// returns the two paths.
 pub fn write_density_grid(
-    records: &[ParticleRecord],
+    table: &ParticleTable,
     dim: usize,
     kernel: KernelKind,
     dx: Real,
     out_dir: &Path,
 ) -> Result<(PathBuf, PathBuf), GridError> {
-    let f = sample_records(records, dim, kernel, Quantity::Density, dx, None)?;
+    let f = sample_table(table, dim, kernel, &Quantity::density(), dx, None)?;
     write_field(
         &f,
         out_dir,
@@ -306,7 +333,7 @@ pub fn write_density_grid_sim<V: Vector>(
     dx: Real,
     out_dir: &Path,
 ) -> Result<(PathBuf, PathBuf), GridError> {
-    let f = sample_sim(sim, Quantity::Density, dx)?;
+    let f = sample_sim(sim, &Quantity::density(), dx)?;
     let t = sim.clock().t;
     write_field(
         &f,

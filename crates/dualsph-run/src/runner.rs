@@ -13,14 +13,15 @@ pub use snapshots::SnapshotSchedule;
 
 use crate::checkpoint::{self, Checkpoint, CheckpointError};
 use crate::{build_sim, with_dimension};
+use dualsph_core::bevy_ecs::world::World;
 use dualsph_core::bodies::Bodies;
-use dualsph_core::columns::Column;
+use dualsph_core::columns::{Column, Columns};
 use dualsph_core::neighbours::Neighbours;
 use dualsph_core::population::Population;
-use dualsph_diagnostics::{Diagnostics, Health, HealthBounds, SimDiagnostics};
+use dualsph_diagnostics::{Diagnostics, DiagnosticsLog, Health, HealthBounds, SimDiagnostics};
 use dualsph_fluid::prelude::*;
 use dualsph_integrator::time_step::{CFL_LIMIT, TimeStepCheck};
-use dualsph_io::{OutputDir, ParticleRecord, ParticleTable, TableColumn};
+use dualsph_io::{OutputDir, ParticleTable, TableColumn};
 use dualsph_scene::Scene;
 use keeper::Keeper;
 use rows::DiagnosticsOutput;
@@ -153,14 +154,29 @@ pub fn interrupted() -> bool {
 /// run chose some, see [`snapshots::select_columns`]) as a table, rows in id order: what
 /// snapshots and `final.csv` hold. Vectors are padded to three components.
 pub fn particle_table<V: Vector>(sim: &mut Sim<V>) -> ParticleTable {
-    let world = &mut sim.world;
+    let columns = snapshots::chosen_columns(&sim.world);
+    table_of::<V>(&mut sim.world, &columns)
+}
+
+/// Every registered column but the records (integrator registers) as a table, rows in id
+/// order, named as in snapshots: what the probes and the grid can read by name. Vectors are
+/// padded to three components.
+pub fn column_table<V: Vector>(sim: &mut Sim<V>) -> ParticleTable {
+    let columns: Vec<Column> = (sim.world.resource::<Columns>().iter())
+        .filter(|c| c.shape != Shape::Record)
+        .cloned()
+        .collect();
+    table_of::<V>(&mut sim.world, &columns)
+}
+
+/// `columns` of the particles of `world` as a table, rows in id order.
+fn table_of<V: Vector>(world: &mut World, columns: &[Column]) -> ParticleTable {
     let mut ids: Vec<u64> = world
         .query::<&ParticleId>()
         .iter(world)
         .map(|id| u64::from(id.0))
         .collect();
     ids.sort_unstable();
-    let columns: Vec<Column> = snapshots::chosen_columns(world);
     let columns = columns
         .iter()
         .map(|c| {
@@ -183,36 +199,6 @@ fn padded(v: &[Real]) -> [Real; 3] {
     let mut xyz = [0.0; 3];
     xyz[..v.len()].copy_from_slice(v);
     xyz
-}
-
-/// The particles as output records, in id order.
-pub fn particle_records<V: Vector>(sim: &mut Sim<V>) -> Vec<ParticleRecord> {
-    let world = &mut sim.world;
-    let mut q = world.query::<(
-        &ParticleId,
-        &Position<V>,
-        &Velocity<V>,
-        &Mass,
-        &Density,
-        &SmoothingLength,
-        Option<&Pressure>,
-        Option<&InternalEnergy>,
-    )>();
-    let mut out: Vec<ParticleRecord> = q
-        .iter(world)
-        .map(|(id, r, v, m, rho, h, p, e)| ParticleRecord {
-            id: id.0 as u64,
-            pos: r.0.to_xyz(),
-            vel: v.0.to_xyz(),
-            mass: m.0,
-            rho: rho.0,
-            p: p.map_or(0.0, |p| p.0),
-            e: e.map_or(0.0, |e| e.0),
-            h: h.0,
-        })
-        .collect();
-    out.sort_unstable_by_key(|r| r.id);
-    out
 }
 
 /// The usual cause of an unphysical `quantity` (as named by [`Health`]).
@@ -310,6 +296,10 @@ pub fn run_dim_with<V: Vector>(
             if snapshots.initial() {
                 out.write_snapshot(0, 0.0, &particle_table(&mut sim))?;
             }
+            sim.world.insert_resource(DiagnosticsLog {
+                initial: initial.clone(),
+                last_written: 0,
+            });
             (out, initial, 0)
         }
         Some(path) => {
@@ -321,11 +311,8 @@ pub fn run_dim_with<V: Vector>(
             })?;
             let mut out = OutputDir::reopen(&opts.out, extra, ck.step, formats)?;
             rows.open(&mut out)?;
-            (
-                out,
-                checkpoint::initial_diagnostics(&ck, sim.world.resource::<Bodies>().0.len()),
-                ck.last_diagnostics_step,
-            )
+            let log = sim.world.get_resource_or_init::<DiagnosticsLog>().clone();
+            (out, log.initial, log.last_written)
         }
     };
     snapshots.resume_at(sim.clock().t);
@@ -333,7 +320,7 @@ pub fn run_dim_with<V: Vector>(
         sim.enable_profile()?;
     }
     let mut keeper = Keeper::new(scene, restart, &opts.out);
-    keeper.keep(&mut sim, &initial, last_written);
+    keeper.keep(&mut sim);
     let diag_every = scene.output.diagnostics_every.max(1);
     let mut particle_steps = 0u64;
     let end = scene.end_time;
@@ -364,18 +351,19 @@ pub fn run_dim_with<V: Vector>(
         if c.step % diag_every == 0 {
             rows.push(&mut out, &sim.diagnostics())?;
             last_written = c.step;
+            sim.world.resource_mut::<DiagnosticsLog>().last_written = c.step;
         }
         if snapshots.after_step(c.step, c.t) {
             out.write_snapshot(c.step, c.t, &particle_table(&mut sim))?;
         }
-        keeper.after_step(&mut sim, &initial, last_written)?;
+        keeper.after_step(&mut sim)?;
         if interrupted() {
             if let Some(b) = &bar {
                 b.finish_and_clear();
             }
             // no diagnostics row off the cadence: the resumed run's file is then the
             // uninterrupted run's
-            let checkpoint = keeper.write_now(&mut sim, &initial, last_written)?;
+            let checkpoint = keeper.write_now(&mut sim)?;
             return Err(RunError::Interrupted {
                 step: c.step,
                 t: c.t,

@@ -82,7 +82,7 @@ pub(crate) fn estimate_count(g: &Generator, d: usize) -> f64 {
     }
     match g {
         Generator::Shape(s) => return shapes::estimate_count(s, d),
-        Generator::File(f) => return f.records().len() as f64,
+        Generator::File(f) => return f.particles().len() as f64,
         _ => {}
     }
     let n: f64 = index_ranges(g, d).iter().map(|(a, b)| b - a).product();
@@ -132,7 +132,7 @@ pub(crate) fn for_each_position(g: &Generator, d: usize, mut f: impl FnMut([f64;
     }
     let disk = match g {
         Generator::Shape(s) => return shapes::for_each_position(s, d, f),
-        Generator::File(file) => return file.records().iter().for_each(|r| f(r.pos)),
+        Generator::File(file) => return file.particles().rows().for_each(|r| f(r.pos())),
         Generator::Disk(disk) => {
             let centre: Vec<f64> = (0..d).map(|k| comp(&disk.center, k)).collect();
             Some((centre, disk.radius * disk.radius * (1.0 + 1e-12)))

@@ -5,7 +5,7 @@
 use crate::error::Problem;
 use crate::generate::ParticleSpec;
 use crate::schema::Generator;
-use dualsph_io::{ParticleRecord, ParticleTable};
+use dualsph_io::ParticleTable;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 use std::sync::Arc;
@@ -37,7 +37,7 @@ pub struct ReadParticles(Option<Arc<Read>>);
 
 #[derive(Debug, PartialEq)]
 struct Read {
-    records: Vec<ParticleRecord>,
+    particles: ParticleTable,
     table: ParticleTable,
     vtk: bool,
     spacing: f64,
@@ -45,12 +45,14 @@ struct Read {
 }
 
 impl FileParticles {
-    /// The particles read (empty before the file is read).
-    pub fn records(&self) -> &[ParticleRecord] {
-        self.particles
-            .0
-            .as_deref()
-            .map_or(&[], |r| r.records.as_slice())
+    /// The particles read, their columns by name (`position`, `velocity`, `mass`, …, see
+    /// [`dualsph_io::read_particles`]); empty before the file is read.
+    pub fn particles(&self) -> &ParticleTable {
+        static EMPTY: ParticleTable = ParticleTable {
+            ids: Vec::new(),
+            columns: Vec::new(),
+        };
+        self.particles.0.as_deref().map_or(&EMPTY, |r| &r.particles)
     }
 
     /// Every column of the file, in its rows' order, and whether its columns are named as
@@ -75,21 +77,30 @@ impl FileParticles {
 
     /// The particles as generated, of `generator` and `body`.
     pub(crate) fn specs(&self, generator: u32, body: u16) -> Vec<ParticleSpec> {
-        self.records()
-            .iter()
+        self.particles()
+            .rows()
             .map(|r| ParticleSpec {
-                pos: r.pos,
-                vel: r.vel,
-                mass: r.mass,
-                density: r.rho,
-                h: r.h,
-                internal_energy: r.e,
+                pos: r.pos(),
+                vel: r.vel(),
+                mass: r.mass(),
+                density: r.rho(),
+                h: r.h(),
+                internal_energy: r.e(),
                 body,
                 generator,
             })
             .collect()
     }
 }
+
+/// The columns a particle file must hold (the internal energy is 0 when absent).
+const REQUIRED: [&str; 5] = [
+    dualsph_io::POSITION,
+    dualsph_io::VELOCITY,
+    dualsph_io::MASS,
+    dualsph_io::DENSITY,
+    dualsph_io::SMOOTHING_LENGTH,
+];
 
 /// Reads the files of the `File` generators of `particles` in a `d`-dimensional scene,
 /// relative to `dir`.
@@ -101,22 +112,25 @@ pub(crate) fn load(particles: &mut [Generator], dir: &Path, d: usize) -> Result<
             let vtp = path
                 .extension()
                 .is_some_and(|e| e.eq_ignore_ascii_case("vtp"));
-            let read = if vtp {
-                dualsph_io::read_particles_vtp(&path)
-                    .and_then(|r| Ok((r, dualsph_io::read_particle_table_vtp(&path)?)))
-            } else {
-                dualsph_io::read_particles_csv(&path)
-                    .and_then(|r| Ok((r, dualsph_io::read_particle_table_csv(&path)?)))
-            };
-            let (records, table) =
+            let read = dualsph_io::read_particles(&path).and_then(|p| {
+                let table = match vtp {
+                    true => p.clone(),
+                    false => dualsph_io::read_particle_table_csv(&path)?,
+                };
+                Ok((p, table))
+            });
+            let (particles, table) =
                 read.map_err(|e| Problem::new(&at, format!("cannot read particles: {e}")))?;
-            let spacing = records
-                .iter()
-                .map(|r| (r.mass / r.rho).powf(1.0 / d.clamp(1, 3) as f64))
+            particles
+                .require(&REQUIRED)
+                .map_err(|e| Problem::new(&at, format!("cannot read particles: {e}")))?;
+            let spacing = particles
+                .rows()
+                .map(|r| (r.mass() / r.rho()).powf(1.0 / d.clamp(1, 3) as f64))
                 .fold(f64::INFINITY, f64::min);
-            let h = records.iter().map(|r| r.h).fold(0.0, f64::max);
+            let h = particles.rows().map(|r| r.h()).fold(0.0, f64::max);
             f.particles = ReadParticles(Some(Arc::new(Read {
-                records,
+                particles,
                 table,
                 vtk: vtp,
                 spacing,
@@ -139,10 +153,10 @@ pub(crate) fn check(i: usize, f: &FileParticles, d: usize) -> Result<(), Problem
              Scene::parse_only",
         ));
     }
-    if f.records().is_empty() {
+    if f.particles().is_empty() {
         return Err(Problem::new(at, format!("`{}` holds no particles", f.path)));
     }
-    for (k, r) in f.records().iter().enumerate() {
+    for (k, r) in f.particles().rows().enumerate() {
         let bad = |what: String| {
             Problem::new(
                 &at,
@@ -150,31 +164,29 @@ pub(crate) fn check(i: usize, f: &FileParticles, d: usize) -> Result<(), Problem
                     "`{}`, line {} (particle id {}): {what}",
                     f.path,
                     k + 2,
-                    r.id
+                    r.id()
                 ),
             )
         };
-        let vectors = r.pos.iter().chain(&r.vel);
-        if let Some(x) = vectors.clone().find(|x| !x.is_finite()) {
+        let (pos, vel) = (r.pos(), r.vel());
+        if let Some(x) = pos.iter().chain(&vel).find(|x| !x.is_finite()) {
             return Err(bad(format!("a position or velocity is not finite ({x})")));
         }
-        if let Some(k) = (d..3).find(|&k| r.pos[k] != 0.0 || r.vel[k] != 0.0) {
+        if let Some(k) = (d..3).find(|&k| pos[k] != 0.0 || vel[k] != 0.0) {
             return Err(bad(format!(
                 "component {k} of the position or velocity is not 0 in a {d}-D scene"
             )));
         }
-        for (name, x) in [("m", r.mass), ("rho", r.rho), ("h", r.h)] {
+        for (name, x) in [("m", r.mass()), ("rho", r.rho()), ("h", r.h())] {
             if !(x.is_finite() && x > 0.0) {
                 return Err(bad(format!(
                     "`{name}` must be a finite number > 0, got {x}"
                 )));
             }
         }
-        if !(r.e.is_finite() && r.e >= 0.0) {
-            return Err(bad(format!(
-                "`e` must be a finite number >= 0, got {}",
-                r.e
-            )));
+        let e = r.e();
+        if !(e.is_finite() && e >= 0.0) {
+            return Err(bad(format!("`e` must be a finite number >= 0, got {e}")));
         }
     }
     Ok(())

@@ -22,6 +22,7 @@ pub use balance::{PairBalance, pair_balance, track_pair_balance};
 pub use health::*;
 pub use totals::*;
 
+use dualsph_core::bevy_ecs::prelude::Resource;
 use dualsph_core::bevy_ecs::system::RunSystemOnce;
 use dualsph_fluid::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -43,10 +44,25 @@ impl SimPlugin for DiagnosticsPlugin {
     }
 }
 
-/// Adds the resources, the [`InitialDensity`] column and the systems, in `Diagnostics`:
-/// [`capture_initial_density`], [`check_health`] and [`compute_diagnostics`].
+/// What a run has written of its diagnostics: the totals at t = 0 (the reference of the
+/// conservation errors) and the step of the last row of `diagnostics.csv`. The runner sets
+/// it; it is kept in checkpoints (key `diagnostics`), so a resumed run measures its drift
+/// from the same start and writes the rows an uninterrupted run would.
+#[derive(Resource, Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct DiagnosticsLog {
+    /// The diagnostics at t = 0.
+    pub initial: Diagnostics,
+    /// The step of the last row written.
+    pub last_written: u64,
+}
+
+/// Adds the resources (the [`DiagnosticsLog`] kept in checkpoints), the [`InitialDensity`]
+/// column and the systems, in `Diagnostics`: [`capture_initial_density`], [`check_health`]
+/// and [`compute_diagnostics`].
 pub fn install<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimError> {
     sim.world.init_resource::<Diagnostics>();
+    sim.world.init_resource::<DiagnosticsLog>();
+    sim.keep_resource::<DiagnosticsLog>("diagnostics");
     sim.world.init_resource::<Health>();
     sim.world.init_resource::<HealthBounds>();
     sim.world.init_resource::<DiagnosticsEvery>();

@@ -20,9 +20,10 @@ use dualsph_core::potentials::ExternalPotentials;
 use dualsph_core::sim::SimClock;
 use dualsph_fluid::components::*;
 use glam::DVec3;
+use serde::{Deserialize, Serialize};
 
 /// Totals of the current state.
-#[derive(Resource, Clone, Debug, Default, PartialEq)]
+#[derive(Resource, Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Diagnostics {
     /// Simulated time.
     pub t: Real,
@@ -76,7 +77,7 @@ pub struct Diagnostics {
 /// `AveragedKernel`, the pair forces are not opposite and that balance holds only to the
 /// formulation's error). The sign convention: the force *on* the body. In 2-D the moment is
 /// about the z axis (`moment[2]`), in 1-D there is none.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct BodyLoad {
     /// The body (its [`BodyId`]).
     pub body: usize,
@@ -112,7 +113,7 @@ impl BodyLoad {
 }
 
 /// Mass, momentum and energies of one body's particles.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct BodyTotals {
     /// Σ m.
     pub mass: Real,

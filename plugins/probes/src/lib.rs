@@ -5,12 +5,18 @@
 //! Probes(
 //!     every: 20,
 //!     probes: [
-//!         Point(name: "P1", at: [4.0, 0.16], quantity: Pressure),
-//!         Line(name: "rho", start: [-0.5], end: [0.5], n: 101, quantity: Density),
+//!         Point(name: "P1", at: [4.0, 0.16], quantity: "pressure"),
+//!         Line(name: "u", start: [0.0, 0.1], end: [1.0, 0.1], n: 101, quantity: "velocity.x"),
 //!         WaterHeight(name: "H1", at: [0.3]),          // 2-D: at = [x]; 3-D: [x, y]
 //!     ],
 //! )
 //! ```
+//!
+//! A point or line measures a `quantity` named like the snapshot columns: any registered
+//! scalar column (`"density"`, `"pressure"`, a plugin's own), one component of a vector or
+//! matrix column (`"velocity.x"`, `"velocity_gradient.xy"`), or the derived `"speed"` and
+//! `"shepard_sum"` (see [`quantity`] for the spellings). The names are checked when the
+//! simulation is built: an unknown one is an error that lists those the scene has.
 //!
 //! The probes sample the particles of the fluid bodies (or of the bodies named in `bodies`),
 //! so that a sensor next to a wall of particles reads the fluid.
@@ -33,49 +39,32 @@
 //!   after it, a line of n points is n columns `name[0]` … `name[n-1]`. One row per sample
 //!   (steps that are multiples of `every`, step 0, and the last step: `t_end` or the
 //!   runner's [`StepLimit`]).
-//! * `probes_points.csv`: `column,probe,kind,quantity,x,y,z`, the position of every column.
+//! * `probes_points.csv`: `column,probe,kind,quantity,x,y,z`, the position of every column
+//!   (`quantity`: the quantity's name, `water_height` for a gauge).
 //!
-//! Both are rewritten whole and atomically at every sample ([`dualsph_io::write_atomic_with`],
+//! The samples so far ([`ProbeSamples`]) are kept in checkpoints, so a resumed run rewrites
+//! the whole table. Both files are rewritten whole and atomically at every sample ([`dualsph_io::write_atomic_with`],
 //! like `diagnostics.csv`), so they are complete, parseable tables at any moment.
 //! [`plot_probes`] turns them into PNG charts.
 #![warn(missing_docs)]
 
 mod plot;
+pub mod quantity;
+mod sample;
 
 pub use plot::{ProbeTable, plot_probes, read_probes};
+pub use quantity::Quantity;
+pub use sample::{sample_probes, water_height};
 
 use dualsph_core::bevy_ecs::prelude::*;
-use dualsph_core::sampling::SamplingCloud;
+
 use dualsph_fluid::prelude::*;
 use serde::{Deserialize, Serialize};
-use std::fmt::Write as _;
-use std::path::PathBuf;
 
 /// File name of the probe table.
 pub const PROBES_FILE: &str = "probes.csv";
 /// File name of the probe positions.
 pub const PROBE_POINTS_FILE: &str = "probes_points.csv";
-
-/// What a point or line probe measures.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
-pub enum Quantity {
-    /// Density ρ.
-    Density,
-    /// Pressure p (needs an equation of state).
-    Pressure,
-    /// Velocity component x.
-    VelocityX,
-    /// Velocity component y (2-D and 3-D).
-    VelocityY,
-    /// Velocity component z (3-D).
-    VelocityZ,
-    /// Speed |v|.
-    Speed,
-    /// Specific internal energy ε (needs the energy equation).
-    InternalEnergy,
-    /// The Shepard sum σ = Σ V_j W_j itself (≈ 1 in the fluid, 0 outside).
-    ShepardSum,
-}
 
 /// One probe of the scene.
 #[derive(Debug, Clone, Deserialize, Serialize)]
@@ -145,14 +134,14 @@ pub struct Column {
     pub probe: String,
     /// `point`, `line` or `water_height`.
     pub kind: &'static str,
-    /// Quantity name (`Density`, …, or `WaterHeight`).
+    /// Quantity name (`density`, `velocity.x`, …, or `water_height`).
     pub quantity: String,
     /// Position (x, y, z; unused components 0; for a gauge, the vertical one is the bottom).
     pub pos: [Real; 3],
     what: What,
 }
 
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 enum What {
     Value(Quantity),
     Height { threshold: Real, dy: Option<Real> },
@@ -169,7 +158,8 @@ fn check_inside(field: &str, x: &[Real], info: &SceneInfo) -> Result<(), String>
     ))
 }
 
-/// The plugin's state: columns, sampled rows, and the last write error (if any).
+/// The plugin's settings once built: columns, where their values come from, and the last
+/// write error (if any). The samples are [`ProbeSamples`].
 #[derive(Resource, Debug)]
 pub struct ProbeState<V: Vector> {
     /// Sample cadence.
@@ -181,8 +171,8 @@ pub struct ProbeState<V: Vector> {
     /// Output columns in file order.
     pub columns: Vec<Column>,
     points: Vec<V>,
-    /// `(step, t, values)` of every sample so far, in step order.
-    pub rows: Vec<(u64, Real, Vec<Real>)>,
+    /// Every quantity sampled and the values it reads (set when the simulation is finished).
+    sources: Vec<(Quantity, quantity::Source)>,
     /// The last error writing the files (the run goes on; the message says which file).
     pub write_error: Option<String>,
 }
@@ -207,12 +197,34 @@ fn check_vec(field: &str, v: &[Real], d: usize) -> Result<(), String> {
     Ok(())
 }
 
-fn check_quantity(field: &str, q: Quantity, d: usize) -> Result<(), String> {
-    match q {
-        Quantity::VelocityY if d < 2 => Err(format!("{field}: VelocityY needs dimension >= 2")),
-        Quantity::VelocityZ if d < 3 => Err(format!("{field}: VelocityZ needs dimension 3")),
-        _ => Ok(()),
+/// The probes' samples so far: `(step, t, values)` in step order, one value per column of
+/// [`ProbeState`]. Kept in checkpoints (key `probes`), so a resumed run goes on with them.
+#[derive(Resource, Debug, Default, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ProbeSamples {
+    /// The samples.
+    pub rows: Vec<(u64, Real, Vec<Real>)>,
+}
+
+/// Resolves the probes' quantity names against the registered columns (a finish hook: every
+/// plugin has registered its columns by then); the error names the probe and lists the
+/// quantities the scene has.
+fn resolve_quantities<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimError> {
+    let Some(state) = sim.world.get_resource::<ProbeState<V>>() else {
+        return Ok(());
+    };
+    let columns = sim.world.resource::<dualsph_core::columns::Columns>();
+    let mut sources: Vec<(Quantity, quantity::Source)> = Vec::new();
+    for c in &state.columns {
+        let What::Value(q) = &c.what else { continue };
+        if sources.iter().any(|s| &s.0 == q) {
+            continue;
+        }
+        let source = quantity::resolve(q, columns, V::DIM)
+            .map_err(|e| SimError::Build(format!("Probes: probe `{}`: {e}", c.probe)))?;
+        sources.push((q.clone(), source));
     }
+    sim.world.resource_mut::<ProbeState<V>>().sources = sources;
+    Ok(())
 }
 
 impl Probes {
@@ -229,9 +241,9 @@ impl Probes {
                     name: name.clone(),
                     probe: name.clone(),
                     kind: "point",
-                    quantity: format!("{quantity:?}"),
+                    quantity: quantity.to_string(),
                     pos: xyz(at),
-                    what: What::Value(*quantity),
+                    what: What::Value(quantity.clone()),
                 }),
                 Probe::Line {
                     name,
@@ -251,9 +263,9 @@ impl Probes {
                             name: format!("{name}[{k}]"),
                             probe: name.clone(),
                             kind: "line",
-                            quantity: format!("{quantity:?}"),
+                            quantity: quantity.to_string(),
                             pos: xyz(&at),
-                            what: What::Value(*quantity),
+                            what: What::Value(quantity.clone()),
                         });
                     }
                 }
@@ -266,7 +278,7 @@ impl Probes {
                     name: name.clone(),
                     probe: name.clone(),
                     kind: "water_height",
-                    quantity: "WaterHeight".into(),
+                    quantity: "water_height".into(),
                     pos: xyz(at),
                     what: What::Height {
                         threshold: threshold.unwrap_or(0.5),
@@ -305,10 +317,9 @@ impl SimPlugin for Probes {
         for (i, p) in self.probes.iter().enumerate() {
             let f = |s: &str| format!("probes[{i}].{s}");
             let name = match p {
-                Probe::Point { name, at, quantity } => {
+                Probe::Point { name, at, .. } => {
                     check_vec(&f("at"), at, d)?;
                     check_inside(&f("at"), at, info)?;
-                    check_quantity(&f("quantity"), *quantity, d)?;
                     name
                 }
                 Probe::Line {
@@ -316,13 +327,12 @@ impl SimPlugin for Probes {
                     start,
                     end,
                     n,
-                    quantity,
+                    ..
                 } => {
                     check_vec(&f("start"), start, d)?;
                     check_vec(&f("end"), end, d)?;
                     check_inside(&f("start"), start, info)?;
                     check_inside(&f("end"), end, info)?;
-                    check_quantity(&f("quantity"), *quantity, d)?;
                     if !(2..=10_000).contains(n) {
                         return Err(format!("{}: must be between 2 and 10000, got {n}", f("n")));
                     }
@@ -375,17 +385,6 @@ impl SimPlugin for Probes {
             .iter()
             .map(|c| V::from_slice(&c.pos[..V::DIM]).unwrap_or_else(V::zero))
             .collect();
-        let wants = |q: Quantity| columns.iter().any(|c| c.what == What::Value(q));
-        if wants(Quantity::Pressure) {
-            sim.require::<dualsph_fluid::EquationOfState>(
-                "Probes: a Pressure probe needs an equation of state (TaitEos or IdealGas)",
-            );
-        }
-        if wants(Quantity::InternalEnergy) {
-            sim.require::<dualsph_fluid::EnergyEquation>(
-                "Probes: an InternalEnergy probe needs a plugin that solves the energy equation",
-            );
-        }
         let bodies = &sim.world.resource::<dualsph_core::bodies::Bodies>().0;
         let sampled = bodies
             .iter()
@@ -400,209 +399,15 @@ impl SimPlugin for Probes {
             sampled,
             columns,
             points,
-            rows: Vec::new(),
+            sources: Vec::new(),
             write_error: None,
         });
+        sim.world.insert_resource(ProbeSamples::default());
+        sim.keep_resource::<ProbeSamples>("probes");
+        sim.add_finish_hook("probes", resolve_quantities::<V>);
         sim.add_system(StepSet::Diagnostics, "probes", sample_probes::<V>);
         Ok(())
     }
-}
-
-/// Per-particle arrays in id order.
-struct Snapshot<V: Vector> {
-    pos: Vec<V>,
-    vel: Vec<V>,
-    mass: Vec<Real>,
-    rho: Vec<Real>,
-    h: Vec<Real>,
-    p: Vec<Real>,
-    e: Vec<Real>,
-}
-
-/// Samples every probe when the step is a multiple of `every` (and at step 0 and the end),
-/// then rewrites `probes.csv` if the run has an output directory.
-pub fn sample_probes<V: Vector>(
-    clock: Res<SimClock>,
-    kernel: Res<KernelRes>,
-    domain: Res<Domain<V>>,
-    out: Option<Res<RunOutputDir>>,
-    limit: Option<Res<StepLimit>>,
-    mut state: ResMut<ProbeState<V>>,
-    q: Query<(
-        &BodyId,
-        &Position<V>,
-        &Velocity<V>,
-        &Mass,
-        &Density,
-        &SmoothingLength,
-        Option<&Pressure>,
-        Option<&InternalEnergy>,
-    )>,
-) {
-    let at_end = clock.t >= clock.t_end * (1.0 - 1e-12) || limit.is_some_and(|l| clock.step >= l.0);
-    if !(clock.step.is_multiple_of(state.every) || at_end) {
-        return;
-    }
-    let sampled = |b: &BodyId| state.sampled[b.0 as usize];
-    let n = q.iter().filter(|row| sampled(row.0)).count();
-    let mut s = Snapshot {
-        pos: vec![V::zero(); n],
-        vel: vec![V::zero(); n],
-        mass: vec![0.0; n],
-        rho: vec![1.0; n],
-        h: vec![0.0; n],
-        p: vec![0.0; n],
-        e: vec![0.0; n],
-    };
-    // by row (the one table's order): every sampled particle, whatever its id
-    let rows = q.iter().filter(|row| sampled(row.0));
-    for (i, (_, r, v, m, rho, h, p, e)) in rows.enumerate() {
-        s.pos[i] = r.0;
-        s.vel[i] = v.0;
-        s.mass[i] = m.0;
-        s.rho[i] = rho.0;
-        s.h[i] = h.0;
-        s.p[i] = p.map_or(0.0, |p| p.0);
-        s.e[i] = e.map_or(0.0, |e| e.0);
-    }
-    let values = sample_columns(&state, &s, kernel.0, &domain);
-    let step = clock.step;
-    let keep = state.rows.partition_point(|r| r.0 < step);
-    state.rows.truncate(keep);
-    state.rows.push((step, clock.t, values));
-    if let Some(dir) = out {
-        let res = write_files(&dir.0, &state);
-        state.write_error = res.err();
-        if let Some(e) = &state.write_error {
-            eprintln!("dualsph probes: {e}");
-        }
-    }
-}
-
-fn sample_columns<V: Vector>(
-    state: &ProbeState<V>,
-    s: &Snapshot<V>,
-    kernel: Kernel,
-    domain: &Domain<V>,
-) -> Vec<Real> {
-    let cloud = SamplingCloud::from_particles(kernel, s.pos.clone(), &s.mass, &s.rho, s.h.clone());
-    let mut cache: Vec<(Quantity, Vec<Real>)> = Vec::new();
-    let mut array = |q: Quantity| -> Vec<Real> {
-        if let Some((_, a)) = cache.iter().find(|c| c.0 == q) {
-            return a.clone();
-        }
-        let a: Vec<Real> = match q {
-            Quantity::Density | Quantity::ShepardSum => s.rho.clone(),
-            Quantity::Pressure => s.p.clone(),
-            Quantity::VelocityX => s.vel.iter().map(|v| v.get(0)).collect(),
-            Quantity::VelocityY => s.vel.iter().map(|v| v.get(1)).collect(),
-            Quantity::VelocityZ => s.vel.iter().map(|v| v.get(2)).collect(),
-            Quantity::Speed => s.vel.iter().map(|v| v.length()).collect(),
-            Quantity::InternalEnergy => s.e.clone(),
-        };
-        cache.push((q, a.clone()));
-        a
-    };
-    let h_min = s.h.iter().copied().fold(Real::INFINITY, Real::min);
-    state
-        .columns
-        .iter()
-        .zip(&state.points)
-        .map(|(c, &x)| match c.what {
-            What::Value(qty) => {
-                let smp = cloud.sample(x, &array(qty));
-                if qty == Quantity::ShepardSum {
-                    smp.shepard_sum
-                } else if smp.shepard_sum > state.min_shepard {
-                    smp.shepard.unwrap_or(Real::NAN)
-                } else {
-                    Real::NAN
-                }
-            }
-            What::Height { threshold, dy } => water_height(
-                &cloud,
-                &s.pos,
-                x,
-                domain,
-                threshold,
-                dy.unwrap_or(0.25 * h_min),
-            ),
-        })
-        .collect()
-}
-
-/// Height above `domain.min` of the highest point on the vertical through `x` with
-/// `σ ≥ threshold`, interpolated between samples `dy` apart; 0 if there is none.
-pub fn water_height<V: Vector>(
-    cloud: &SamplingCloud<V>,
-    pos: &[V],
-    x: V,
-    domain: &Domain<V>,
-    threshold: Real,
-    dy: Real,
-) -> Real {
-    let k = V::DIM - 1;
-    let lo = domain.min.get(k);
-    let top_particle = pos.iter().map(|p| p.get(k)).fold(lo, Real::max);
-    let hi = domain.max.get(k).min(top_particle + cloud.h_max());
-    if !(dy > 0.0 && dy.is_finite()) || hi <= lo {
-        return 0.0;
-    }
-    let steps = ((hi - lo) / dy).ceil().min(1e6) as usize;
-    let mut pts = Vec::with_capacity(steps + 1);
-    for i in 0..=steps {
-        let mut p = x;
-        p.set(k, (lo + i as Real * dy).min(hi));
-        pts.push(p);
-    }
-    let sigma = cloud.shepard_sums(&pts);
-    match sigma.iter().rposition(|&s| s >= threshold) {
-        None => 0.0,
-        Some(i) if i == steps => pts[i].get(k) - lo,
-        Some(i) => {
-            let (s0, s1) = (sigma[i], sigma[i + 1]);
-            let (y0, y1) = (pts[i].get(k), pts[i + 1].get(k));
-            let f = if s0 > s1 {
-                (s0 - threshold) / (s0 - s1)
-            } else {
-                0.0
-            };
-            y0 + f * (y1 - y0) - lo
-        }
-    }
-}
-
-fn write_files<V: Vector>(dir: &std::path::Path, state: &ProbeState<V>) -> Result<(), String> {
-    std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
-    let points = dir.join(PROBE_POINTS_FILE);
-    if state.rows.len() <= 1 || !points.exists() {
-        let mut text = String::from("column,probe,kind,quantity,x,y,z\n");
-        for c in &state.columns {
-            let _ = writeln!(
-                text,
-                "{},{},{},{},{},{},{}",
-                c.name, c.probe, c.kind, c.quantity, c.pos[0], c.pos[1], c.pos[2]
-            );
-        }
-        dualsph_io::write_atomic(&points, text.as_bytes()).map_err(|e| e.to_string())?;
-    }
-    let path: PathBuf = dir.join(PROBES_FILE);
-    dualsph_io::write_atomic_with(&path, |w| {
-        write!(w, "t,step")?;
-        for c in &state.columns {
-            write!(w, ",{}", c.name)?;
-        }
-        writeln!(w)?;
-        for (step, t, values) in &state.rows {
-            write!(w, "{t},{step}")?;
-            for v in values {
-                write!(w, ",{v}")?;
-            }
-            writeln!(w)?;
-        }
-        Ok(())
-    })
-    .map_err(|e| e.to_string())
 }
 
 #[cfg(test)]

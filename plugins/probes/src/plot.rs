@@ -112,17 +112,17 @@ pub fn read_probes(dir: &Path) -> Result<ProbeTable, String> {
 
 fn unit(quantity: &str) -> &'static str {
     match quantity {
-        "Density" => "density (kg/m³)",
-        "Pressure" => "pressure (Pa)",
-        "VelocityX" | "VelocityY" | "VelocityZ" | "Speed" => "velocity (m/s)",
-        "InternalEnergy" => "specific internal energy (J/kg)",
-        "WaterHeight" => "water height (m)",
+        "density" => "density (kg/m³)",
+        "pressure" => "pressure (Pa)",
+        "velocity.x" | "velocity.y" | "velocity.z" | "speed" => "velocity (m/s)",
+        "internal_energy" => "specific internal energy (J/kg)",
+        "water_height" => "water height (m)",
         _ => "value",
     }
 }
 
 /// Plots the probes of `DIR` into PNGs next to them and returns their paths:
-/// * `probes_<Quantity>.png`: the time series of every point probe and gauge of that quantity;
+/// * `probes_<quantity>.png`: the time series of every point probe and gauge of that quantity;
 /// * `probe_<line>.png`: each line's profile along its length at up to six times.
 ///
 /// `NaN` values (dry sensors) are left out of the curves.

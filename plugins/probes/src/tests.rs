@@ -1,4 +1,5 @@
 use super::*;
+use dualsph_core::sampling::SamplingCloud;
 use glam::DVec2;
 
 fn parse(text: &str) -> Result<Probes, String> {
@@ -86,7 +87,8 @@ fn samples_a_resting_block_against_its_known_state() {
     }
     let state = sim.world.resource::<ProbeState<DVec2>>();
     assert!(state.write_error.is_none());
-    let steps: Vec<u64> = state.rows.iter().map(|r| r.0).collect();
+    let samples = sim.world.resource::<ProbeSamples>();
+    let steps: Vec<u64> = samples.rows.iter().map(|r| r.0).collect();
     assert_eq!(steps, vec![0, 2]);
     let table = read_probes(dir.path()).unwrap();
     assert_eq!(table.step, vec![0, 2]);
@@ -104,7 +106,9 @@ fn samples_a_resting_block_against_its_known_state() {
     }
     assert_eq!(table.meta[5].3, [0.25, 0.15, 0.0]);
     let pngs = plot_probes(dir.path()).unwrap();
-    assert_eq!(pngs.len(), 4); // Density, VelocityY, WaterHeight, line "col"
+    assert_eq!(pngs.len(), 4); // density, velocity.y, water_height, line "col"
+    assert_eq!(table.meta[1].2, "velocity.y");
+    assert!(dir.path().join("probes_water_height.png").exists());
     for p in pngs {
         assert!(
             std::fs::metadata(&p).unwrap().len() > 1000,
@@ -129,7 +133,7 @@ fn probes_read_the_fluid_not_the_walls() {
         );
         parse(&text).unwrap().build(&mut sim).unwrap();
         sim.initialize().unwrap();
-        sim.world.resource::<ProbeState<DVec2>>().rows[0].2.clone()
+        sim.world.resource::<ProbeSamples>().rows[0].2.clone()
     };
     let fluid = sample("");
     assert!((fluid[0] - 0.3).abs() < 1e-12, "u = {}", fluid[0]);
@@ -153,7 +157,7 @@ fn water_height_follows_the_depth() {
             .build(&mut sim)
             .unwrap();
         sim.initialize().unwrap();
-        let h = sim.world.resource::<ProbeState<DVec2>>().rows[0].2[0];
+        let h = sim.world.resource::<ProbeSamples>().rows[0].2[0];
         assert!((h - depth).abs() < 0.006, "depth {depth}: H = {h}");
     }
 }
@@ -198,11 +202,6 @@ fn bad_settings_name_the_field() {
             "probes[0].name",
         ),
         (
-            r#"(every: 1, probes: [Point(name: "a", at: [0.0], quantity: VelocityY)])"#,
-            1,
-            "VelocityY",
-        ),
-        (
             r#"(every: 1, probes: [WaterHeight(name: "a", at: [])])"#,
             1,
             "dimension 2 or 3",
@@ -228,13 +227,161 @@ fn bad_settings_name_the_field() {
         let err = SimPlugin::validate(&parse(text).unwrap(), &info(d)).unwrap_err();
         assert!(err.contains(expect), "{text}: {err}");
     }
-    // unknown fields and quantities are parse errors
+    // unknown fields and malformed quantity names are parse errors
     assert!(
-        parse(r#"(every: 1, probes: [Point(name: "a", at: [0.0], quantity: Temperature)])"#)
-            .is_err()
+        parse(r#"(every: 1, probes: [Point(name: "a", at: [0.0], quantity: "a b")])"#).is_err()
     );
+    assert!(parse(r#"(every: 1, probes: [Point(name: "a", at: [0.0], quantity: 3)])"#).is_err());
     assert!(
         parse(r#"(every: 1, probes: [Point(name: "a", at: [0.0], quantity: Density, x: 1)])"#)
             .is_err()
     );
+}
+
+#[test]
+fn old_and_new_spellings_name_the_same_quantities() {
+    let q = |text: &str| {
+        let p = parse(&format!(
+            r#"(every: 1, probes: [Point(name: "a", at: [0.0], quantity: {text})])"#
+        ))
+        .unwrap();
+        match &p.probes[0] {
+            Probe::Point { quantity, .. } => quantity.name().to_string(),
+            _ => unreachable!(),
+        }
+    };
+    assert_eq!(q("Density"), "density");
+    assert_eq!(q("density"), "density");
+    assert_eq!(q(r#""density""#), "density");
+    assert_eq!(q("VelocityX"), "velocity.x");
+    assert_eq!(q(r#""velocity.x""#), "velocity.x");
+    assert_eq!(q("ShepardSum"), "shepard_sum");
+    assert_eq!(q("Speed"), "speed");
+    assert_eq!(q("InternalEnergy"), "internal_energy");
+    assert_eq!(q(r#""tracer""#), "tracer");
+}
+
+/// The error of building `quantity` on the resting block.
+fn build_error(quantity: &str) -> String {
+    let mut sim = block_sim(0.2, 0.05);
+    let text =
+        format!(r#"(every: 1, probes: [Point(name: "p", at: [0.5, 0.1], quantity: {quantity})])"#);
+    parse(&text).unwrap().build(&mut sim).unwrap();
+    sim.initialize().unwrap_err().to_string()
+}
+
+#[test]
+fn an_unknown_quantity_is_a_build_error_listing_the_columns() {
+    let err = build_error(r#""temperature""#);
+    assert!(err.contains("probe `p`"), "{err}");
+    assert!(err.contains("no column `temperature`"), "{err}");
+    for name in [
+        "density",
+        "velocity.{x,y}",
+        "smoothing_length",
+        "speed",
+        "shepard_sum",
+    ] {
+        assert!(err.contains(name), "{name} missing from: {err}");
+    }
+    let err = build_error(r#""velocity""#);
+    assert!(err.contains("vector") && err.contains(".x"), "{err}");
+    let err = build_error(r#""velocity.z""#);
+    assert!(err.contains("2-D"), "{err}");
+    let err = build_error(r#""density.x""#);
+    assert!(err.contains("scalar"), "{err}");
+}
+
+/// Every value is the Shepard interpolant of the particles' own values, computed here from a
+/// query of the store as the sampler's definition says, bit for bit.
+#[test]
+fn values_are_the_shepard_interpolant_bit_for_bit() {
+    let mut sim = block_sim(0.4, 0.02);
+    let text = r#"(every: 1, probes: [
+        Point(name: "rho", at: [0.31, 0.17], quantity: Density),
+        Point(name: "u", at: [0.31, 0.17], quantity: "velocity.x"),
+        Point(name: "v", at: [0.31, 0.17], quantity: VelocityY),
+        Point(name: "s", at: [0.31, 0.17], quantity: Speed),
+        Point(name: "sigma", at: [0.31, 0.39], quantity: "shepard_sum"),
+    ])"#;
+    parse(text).unwrap().build(&mut sim).unwrap();
+    sim.initialize().unwrap();
+    // make the fields vary from particle to particle
+    let mut q = sim
+        .world
+        .query::<(&Position<DVec2>, &mut Velocity<DVec2>, &mut Density)>();
+    for (r, mut v, mut rho) in q.iter_mut(&mut sim.world) {
+        v.0 = DVec2::new(r.0.x.sin(), r.0.y * r.0.x);
+        rho.0 = 1000.0 + 7.0 * r.0.y + r.0.x * r.0.x;
+    }
+    sim.step().unwrap();
+    let got = sim.world.resource::<ProbeSamples>().rows[1].2.clone();
+    let mut q = sim.world.query::<(
+        &Position<DVec2>,
+        &Velocity<DVec2>,
+        &Mass,
+        &Density,
+        &SmoothingLength,
+    )>();
+    let rows: Vec<_> = q.iter(&sim.world).collect();
+    let kernel = sim.world.resource::<KernelRes>().0;
+    let cloud = SamplingCloud::from_particles(
+        kernel,
+        rows.iter().map(|r| r.0.0).collect(),
+        &rows.iter().map(|r| r.2.0).collect::<Vec<_>>(),
+        &rows.iter().map(|r| r.3.0).collect::<Vec<_>>(),
+        rows.iter().map(|r| r.4.0).collect(),
+    );
+    let x = DVec2::new(0.31, 0.17);
+    let at = |values: Vec<Real>| cloud.sample(x, &values).shepard.unwrap();
+    let want = [
+        at(rows.iter().map(|r| r.3.0).collect()),
+        at(rows.iter().map(|r| r.1.0.x).collect()),
+        at(rows.iter().map(|r| r.1.0.y).collect()),
+        at(rows.iter().map(|r| r.1.0.length()).collect()),
+        cloud
+            .sample(DVec2::new(0.31, 0.39), &vec![0.0; rows.len()])
+            .shepard_sum,
+    ];
+    for (g, w) in got.iter().zip(want) {
+        assert_eq!(g.to_bits(), w.to_bits(), "{g} against {w}");
+    }
+}
+
+/// A column of a user's plugin.
+#[derive(Component, Clone, Copy, Debug)]
+struct Tracer(Real);
+dualsph_core::scalar_column!(Tracer);
+
+/// A user's plugin that registers the column `tracer` = 2 + x.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+struct TracerPlugin;
+
+impl SimPlugin for TracerPlugin {
+    const NAME: &'static str = "Tracer";
+    const SUMMARY: &'static str = "a tracer column for the probes' tests";
+    fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
+        let spec = dualsph_core::columns::ColumnSpec::state("tracer", "c");
+        sim.add_column(spec, |seed| Tracer(2.0 + seed.init.pos.get(0)))
+    }
+}
+
+#[test]
+fn a_plugins_own_column_can_be_probed() {
+    let mut sim = block_sim(0.4, 0.02);
+    // the probes may come before the plugin that registers the column
+    let text = r#"(every: 1, probes: [
+        Line(name: "c", start: [0.2, 0.2], end: [0.8, 0.2], n: 4, quantity: "tracer"),
+    ])"#;
+    parse(text).unwrap().build(&mut sim).unwrap();
+    TracerPlugin.build(&mut sim).unwrap();
+    sim.initialize().unwrap();
+    let row = &sim.world.resource::<ProbeSamples>().rows[0].2;
+    for (k, v) in row.iter().enumerate() {
+        let x = 0.2 + 0.2 * k as Real;
+        // Shepard interpolation of a linear field is exact in the bulk
+        assert!((v - (2.0 + x)).abs() < 1e-9, "c[{k}] = {v}");
+    }
+    let state = sim.world.resource::<ProbeState<DVec2>>();
+    assert_eq!(state.columns[0].quantity, "tracer");
 }

@@ -2,10 +2,10 @@
 //! resolution coarsened), run in-process while time series and snapshots are recorded.
 
 use dualsph::prelude::*;
-use dualsph::runner::particle_records;
+use dualsph::runner::column_table;
 use dualsph::{build_sim, with_dimension};
 use dualsph_diagnostics::{Diagnostics, SimDiagnostics};
-use dualsph_io::ParticleRecord;
+use dualsph_io::ParticleTable;
 use dualsph_scene::{Formulation as SceneFormulation, Generator, Scene};
 use std::time::Instant;
 
@@ -41,11 +41,11 @@ pub struct CaseRun {
     /// `(t, largest x)` when `Recording::front` is set.
     pub front: Vec<(Real, Real)>,
     /// The particles at t = 0.
-    pub initial: Vec<ParticleRecord>,
+    pub initial: ParticleTable,
     /// `(requested time, actual time, particles)`.
-    pub snapshots: Vec<(Real, Real, Vec<ParticleRecord>)>,
+    pub snapshots: Vec<(Real, Real, ParticleTable)>,
     /// The particles at the end.
-    pub last: Vec<ParticleRecord>,
+    pub last: ParticleTable,
     /// Why the run stopped before its end time (a blow-up), if it did; the series above
     /// then end at the last good step.
     pub failure: Option<String>,
@@ -172,7 +172,7 @@ fn run_dim<V: Vector>(spec: &CaseSpec, rec: &Recording) -> Result<CaseRun, SimEr
     }
     sim.initialize()?;
     health(&sim, &spec.label)?;
-    let initial = particle_records(&mut sim);
+    let initial = column_table(&mut sim);
     let mut run = CaseRun {
         label: spec.label.clone(),
         particles: sim.particle_count() as u64,
@@ -183,7 +183,7 @@ fn run_dim<V: Vector>(spec: &CaseSpec, rec: &Recording) -> Result<CaseRun, SimEr
         front: Vec::new(),
         initial,
         snapshots: Vec::new(),
-        last: Vec::new(),
+        last: ParticleTable::default(),
         failure: None,
     };
     if rec.front {
@@ -208,7 +208,7 @@ fn run_dim<V: Vector>(spec: &CaseSpec, rec: &Recording) -> Result<CaseRun, SimEr
         }
         while pending.last().is_some_and(|&t| c.t >= t * (1.0 - 1e-12)) {
             let t = pending.pop().unwrap_or(c.t);
-            run.snapshots.push((t, c.t, particle_records(&mut sim)));
+            run.snapshots.push((t, c.t, column_table(&mut sim)));
         }
     }
     run.cpu_seconds = process_cpu_seconds() - cpu0;
@@ -221,7 +221,7 @@ fn run_dim<V: Vector>(spec: &CaseSpec, rec: &Recording) -> Result<CaseRun, SimEr
             run.front.push((sim.clock().t, largest_x(&mut sim)));
         }
     }
-    run.last = particle_records(&mut sim);
+    run.last = column_table(&mut sim);
     Ok(run)
 }
 

@@ -186,14 +186,14 @@ pub fn run(opts: &ReportOptions) -> Result<(Section, Vec<DamBreakCase>), ReportE
                 continue;
             };
             let band_of = |id: u64| {
-                let y0 = c.run.initial[id as usize].pos[1];
+                let y0 = c.run.initial.row(id as usize).pos()[1];
                 ((y0 / BAND) as usize).min(3)
             };
             let plot = ScatterPlot {
                 title: format!("{} — t = {actual:.3} s", c.run.label),
                 points: particles
-                    .iter()
-                    .map(|p| (p.pos[0], p.pos[1], band_of(p.id)))
+                    .rows()
+                    .map(|p| (p.pos()[0], p.pos()[1], band_of(p.id())))
                     .collect(),
                 x_range: (0.0, 4.0),
                 y_range: (0.0, 2.2),

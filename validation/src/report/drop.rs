@@ -7,7 +7,7 @@ use super::{
     COST_HEADERS, CaseRun, CaseSpec, ReportError, ReportOptions, Section, Table, cost_cells, image,
 };
 use super::{failures, final_particles};
-use dualsph_io::ParticleRecord;
+use dualsph_io::ParticleTable;
 use dualsph_plot::{LinePlot, Series, SeriesStyle};
 use dualsph_reference::drop::semi_axes;
 
@@ -33,20 +33,20 @@ pub struct DropCase {
 
 /// Semi-axes of a uniform elliptical patch from its second moments: for an ellipse
 /// `⟨(x − x̄)²⟩ = a²/4` and `⟨(y − ȳ)²⟩ = b²/4`, the averages weighted by the volumes m/ρ.
-pub fn moment_axes(particles: &[ParticleRecord]) -> (f64, f64) {
-    let w: f64 = particles.iter().map(|p| p.mass / p.rho).sum();
+pub fn moment_axes(particles: &ParticleTable) -> (f64, f64) {
+    let w: f64 = particles.rows().map(|p| p.mass() / p.rho()).sum();
     let mean = |k: usize| {
         particles
-            .iter()
-            .map(|p| p.mass / p.rho * p.pos[k])
+            .rows()
+            .map(|p| p.mass() / p.rho() * p.pos()[k])
             .sum::<f64>()
             / w
     };
     let (cx, cy) = (mean(0), mean(1));
     let var = |k: usize, c: f64| {
         particles
-            .iter()
-            .map(|p| p.mass / p.rho * (p.pos[k] - c).powi(2))
+            .rows()
+            .map(|p| p.mass() / p.rho() * (p.pos()[k] - c).powi(2))
             .sum::<f64>()
             / w
     };
@@ -179,7 +179,7 @@ pub fn run(opts: &ReportOptions) -> Result<(Section, Vec<DropCase>), ReportError
     shape.series.extend(final_particles(
         graded.iter().map(|c| &c.run),
         |_| true,
-        |p| (p.pos[0], p.pos[1]),
+        |p| (p.pos()[0], p.pos()[1]),
     ));
     shape.x_range = Some((-1.25, 1.25));
     shape.y_range = Some((-2.25, 2.25));

@@ -61,11 +61,11 @@ pub fn grade(run: CaseRun) -> HeatCase {
     let energy_change = (run.final_diagnostics().e_tot - e0) / e0;
     let exact: Vec<f64> = run
         .last
-        .iter()
-        .map(|p| REFERENCE.energy(p.pos[0], t))
+        .rows()
+        .map(|p| REFERENCE.energy(p.pos()[0], t))
         .collect();
-    let values: Vec<f64> = run.last.iter().map(|p| p.e).collect();
-    let volumes: Vec<f64> = run.last.iter().map(|p| p.mass / p.rho).collect();
+    let values: Vec<f64> = run.last.rows().map(|p| p.e()).collect();
+    let volumes: Vec<f64> = run.last.rows().map(|p| p.mass() / p.rho()).collect();
     let l2 = relative_l2(&values, &exact, &volumes);
     let max_relative = values
         .iter()
@@ -106,8 +106,8 @@ pub fn run(opts: &ReportOptions) -> Result<(Section, Vec<HeatCase>), ReportError
     let runs = graded.iter().map(|c| &c.run);
     plot.series.extend(final_particles(
         runs,
-        |p| (0.1..=0.4).contains(&p.pos[0]),
-        |p| (p.pos[0], p.e),
+        |p| (0.1..=0.4).contains(&p.pos()[0]),
+        |p| (p.pos()[0], p.e()),
     ));
     let png = opts.file("heat_profile.png");
     plot.write_png(&png)?;

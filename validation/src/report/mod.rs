@@ -364,13 +364,18 @@ pub(crate) fn failures<'a>(runs: impl IntoIterator<Item = &'a CaseRun>) -> Strin
 /// palette colour of the run's index.
 pub(crate) fn final_particles<'a>(
     runs: impl IntoIterator<Item = &'a CaseRun>,
-    keep: impl Fn(&dualsph_io::ParticleRecord) -> bool,
-    at: impl Fn(&dualsph_io::ParticleRecord) -> (f64, f64),
+    keep: impl Fn(&dualsph_io::ParticleRow<'_>) -> bool,
+    at: impl Fn(&dualsph_io::ParticleRow<'_>) -> (f64, f64),
 ) -> Vec<dualsph_plot::Series> {
     runs.into_iter()
         .enumerate()
         .map(|(k, run)| {
-            let pts = run.last.iter().filter(|p| keep(p)).map(&at).collect();
+            let pts = run
+                .last
+                .rows()
+                .filter(|p| keep(p))
+                .map(|p| at(&p))
+                .collect();
             dualsph_plot::Series::new(
                 run.label.clone(),
                 pts,

@@ -60,19 +60,19 @@ pub fn cases(opts: &ReportOptions, file: &str) -> Result<Vec<CaseSpec>, ReportEr
 }
 
 /// The distance of a particle from the origin.
-fn radius(p: &dualsph_io::ParticleRecord) -> f64 {
-    (p.pos[0] * p.pos[0] + p.pos[1] * p.pos[1] + p.pos[2] * p.pos[2]).sqrt()
+fn radius(p: &dualsph_io::ParticleRow<'_>) -> f64 {
+    (p.pos()[0] * p.pos()[0] + p.pos()[1] * p.pos()[1] + p.pos()[2] * p.pos()[2]).sqrt()
 }
 
 /// `(r of the peak, peak)` of the density averaged in radial bins of width `dr` (by volume).
-fn binned_peak(particles: &[dualsph_io::ParticleRecord], dr: f64, r_max: f64) -> (f64, f64) {
+fn binned_peak(particles: &dualsph_io::ParticleTable, dr: f64, r_max: f64) -> (f64, f64) {
     let n = (r_max / dr).ceil() as usize + 1;
     let (mut mass, mut vol) = (vec![0.0; n], vec![0.0; n]);
-    for p in particles {
-        let k = (radius(p) / dr) as usize;
+    for p in particles.rows() {
+        let k = (radius(&p) / dr) as usize;
         if k < n {
-            mass[k] += p.mass;
-            vol[k] += p.mass / p.rho;
+            mass[k] += p.mass();
+            vol[k] += p.mass() / p.rho();
         }
     }
     (0..n)
@@ -90,15 +90,15 @@ pub fn grade(run: CaseRun, dimension: usize, dr: f64) -> SedovCase {
     let r_exact = sedov.shock_radius(e, RHO0, t);
     let inside: Vec<_> = run
         .last
-        .iter()
+        .rows()
         .filter(|p| radius(p) <= WINDOW * r_exact)
         .collect();
-    let sim: Vec<f64> = inside.iter().map(|p| p.rho).collect();
+    let sim: Vec<f64> = inside.iter().map(|p| p.rho()).collect();
     let reference: Vec<f64> = inside
         .iter()
         .map(|p| sedov.sample(e, RHO0, t, radius(p)).rho)
         .collect();
-    let volumes: Vec<f64> = inside.iter().map(|p| p.mass / p.rho).collect();
+    let volumes: Vec<f64> = inside.iter().map(|p| p.mass() / p.rho()).collect();
     let (r_peak, peak) = binned_peak(&run.last, dr, WINDOW * r_exact);
     let energy_drift = run
         .diagnostics
@@ -206,7 +206,7 @@ fn density_plot(
     plot.series.extend(final_particles(
         c.iter().map(|x| &x.run),
         |p| radius(p) <= r_max,
-        |p| (radius(p), p.rho),
+        |p| (radius(p), p.rho()),
     ));
     let png = opts.file(&format!("sedov_{dimension}d_density.png"));
     plot.write_png(&png)?;

@@ -78,23 +78,23 @@ pub fn wave_windows(r: &Riemann, t: f64) -> [(f64, f64, f64); 3] {
 /// m/ρ): the width by which the wave is smeared or displaced; and the share of the graded
 /// window's `∫|ρ − ρ_exact| dx` in the contact and shock windows.
 pub fn wave_errors(
-    particles: &[&dualsph_io::ParticleRecord],
+    particles: &[dualsph_io::ParticleRow<'_>],
     r: &Riemann,
     t: f64,
 ) -> ([f64; 3], f64) {
     let windows = wave_windows(r, t);
-    let err = |p: &dualsph_io::ParticleRecord| {
-        p.mass / p.rho * (p.rho - r.at(p.pos[0], t, 0.0).rho).abs()
+    let err = |p: &dualsph_io::ParticleRow<'_>| {
+        p.mass() / p.rho() * (p.rho() - r.at(p.pos()[0], t, 0.0).rho).abs()
     };
     let within = |k: usize| {
         let (a, b, _) = windows[k];
         particles
             .iter()
-            .filter(|p| (a..=b).contains(&p.pos[0]))
-            .map(|p| err(p))
+            .filter(|p| (a..=b).contains(&p.pos()[0]))
+            .map(&err)
             .sum::<f64>()
     };
-    let total: f64 = particles.iter().map(|p| err(p)).sum();
+    let total: f64 = particles.iter().map(err).sum();
     let deltas = [0, 1, 2].map(|k| within(k) / windows[k].2.abs());
     (deltas, (within(1) + within(2)) / total)
 }
@@ -126,20 +126,19 @@ pub fn grade_against(run: CaseRun, r: &Riemann) -> SodCase {
     let t = run.final_diagnostics().t;
     let inside: Vec<_> = run
         .last
-        .iter()
-        .filter(|p| p.pos[0].abs() <= WINDOW)
+        .rows()
+        .filter(|p| p.pos()[0].abs() <= WINDOW)
         .collect();
-    let reference: Vec<Sample> = inside.iter().map(|p| r.at(p.pos[0], t, 0.0)).collect();
+    let reference: Vec<Sample> = inside.iter().map(|p| r.at(p.pos()[0], t, 0.0)).collect();
     let col = |f: &dyn Fn(&Sample) -> f64| reference.iter().map(f).collect::<Vec<_>>();
-    let sim = |f: &dyn Fn(&dualsph_io::ParticleRecord) -> f64| {
-        inside.iter().map(|p| f(p)).collect::<Vec<_>>()
-    };
-    let volumes = sim(&|p| p.mass / p.rho);
+    let sim =
+        |f: &dyn Fn(&dualsph_io::ParticleRow<'_>) -> f64| inside.iter().map(f).collect::<Vec<_>>();
+    let volumes = sim(&|p| p.mass() / p.rho());
     let l1 = [
-        l1_error(&sim(&|p| p.rho), &col(&|s| s.rho), &volumes),
-        l1_error(&sim(&|p| p.vel[0]), &col(&|s| s.u), &volumes),
-        l1_error(&sim(&|p| p.p), &col(&|s| s.p), &volumes),
-        l1_error(&sim(&|p| p.e), &col(&|s| s.e), &volumes),
+        l1_error(&sim(&|p| p.rho()), &col(&|s| s.rho), &volumes),
+        l1_error(&sim(&|p| p.vel()[0]), &col(&|s| s.u), &volumes),
+        l1_error(&sim(&|p| p.p()), &col(&|s| s.p), &volumes),
+        l1_error(&sim(&|p| p.e()), &col(&|s| s.e), &volumes),
     ];
     let (waves, contact_shock_share) = wave_errors(&inside, r, t);
     SodCase {
@@ -160,12 +159,12 @@ pub fn run(opts: &ReportOptions) -> Result<(Section, Vec<SodCase>), ReportError>
         &str,
         &str,
         fn(&Sample) -> f64,
-        fn(&dualsph_io::ParticleRecord) -> f64,
+        fn(&dualsph_io::ParticleRow<'_>) -> f64,
     ); 4] = [
-        ("density", "ρ", |s| s.rho, |p| p.rho),
-        ("velocity", "u", |s| s.u, |p| p.vel[0]),
-        ("pressure", "p", |s| s.p, |p| p.p),
-        ("energy", "e", |s| s.e, |p| p.e),
+        ("density", "ρ", |s| s.rho, |p| p.rho()),
+        ("velocity", "u", |s| s.u, |p| p.vel()[0]),
+        ("pressure", "p", |s| s.p, |p| p.p()),
+        ("energy", "e", |s| s.e, |p| p.e()),
     ];
     let mut images = String::new();
     for (name, sym, exact_of, sim_of) in quantities {
@@ -183,8 +182,8 @@ pub fn run(opts: &ReportOptions) -> Result<(Section, Vec<SodCase>), ReportError>
         let runs = graded.iter().map(|c| &c.run);
         plot.series.extend(final_particles(
             runs,
-            |p| p.pos[0].abs() <= WINDOW,
-            |p| (p.pos[0], sim_of(p)),
+            |p| p.pos()[0].abs() <= WINDOW,
+            |p| (p.pos()[0], sim_of(p)),
         ));
         let png = opts.file(&format!("sod_{name}.png"));
         plot.write_png(&png)?;

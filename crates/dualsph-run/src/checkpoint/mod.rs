@@ -5,7 +5,8 @@
 //! order of the neighbour lists), the next particle id, the clock (t, step, dt), the
 //! neighbour lists with the state of their rebuild rule (positions and smallest h of the
 //! last build, the dirty flag, the build count, the steps since that build), the resources
-//! plugins keep (`dualsph_core::restart`), the probes' samples so far and the step of the last diagnostics row. A run whose particles were
+//! plugins keep (`dualsph_core::restart`: among them the probes' samples so far, and the
+//! diagnostics at t = 0 with the step of the last diagnostics row). A run whose particles were
 //! added or removed resumes with the checkpoint's particles, in its row order. The
 //! h-update (every m steps) and the output cadences are functions of the step counter, and
 //! settings come from the scene, so nothing else is needed to take the same decisions again.
@@ -18,7 +19,6 @@
 
 mod state;
 
-pub(crate) use state::initial_diagnostics;
 pub use state::{capture, restore};
 
 use dualsph_io::write_atomic;
@@ -30,7 +30,7 @@ use std::path::{Path, PathBuf};
 pub const MAGIC: &[u8; 8] = b"DSPHCKPT";
 /// Version of the layout written by this build (of the file and of the columns it carries); a
 /// file of another version is refused.
-pub const FORMAT_VERSION: u32 = 5;
+pub const FORMAT_VERSION: u32 = 6;
 const HEADER_LEN: usize = 8 + 4 + 8 + 8;
 
 /// One particle component: `width` reals per particle, particles in row order.
@@ -99,15 +99,6 @@ pub struct Checkpoint {
     pub neighbours: NeighbourData,
     /// The plugins' kept resources (`dualsph_core::restart`): key and encoded bytes.
     pub resources: Vec<(String, Vec<u8>)>,
-    /// Probe samples so far `(step, t, values)`, when the scene has probes.
-    pub probe_rows: Option<Vec<(u64, f64, Vec<f64>)>>,
-    /// Step of the last row written to `diagnostics.csv`.
-    pub last_diagnostics_step: u64,
-    /// Diagnostics at t = 0 (see [`crate::runner::RunSummary::initial`]), as
-    /// `[t, dt, mass, p(3), L(3), e_kin, e_int, e_pot, e_tot, max_rho_var, p_scale, dissipated]`,
-    /// then each body's `BodyTotals::values`, then each load's body, force (3) and moment (3)
-    /// (`BodyLoad`).
-    pub initial_diagnostics: Vec<f64>,
 }
 
 /// Why a checkpoint cannot be read or used.
@@ -229,7 +220,9 @@ impl Checkpoint {
         let version = u32::from_le_bytes(v);
         if version != FORMAT_VERSION {
             return Err(bad(format!(
-                "checkpoint format version {version}; this dualsph reads version {FORMAT_VERSION}"
+                "checkpoint format version {version}; this dualsph reads version {FORMAT_VERSION} \
+                 only (a checkpoint of another version cannot be resumed: run the scene again \
+                 from the start)"
             )));
         }
         let (len, sum) = (word(12), word(20));
@@ -388,9 +381,6 @@ mod tests {
             ids: vec![0, 1, 2],
             next_id: 3,
             resources: vec![("inlet".into(), vec![0, 255, 7])],
-            probe_rows: Some(vec![(5, 0.5, awkward)]),
-            last_diagnostics_step: 6,
-            initial_diagnostics: vec![1.0; 15],
         }
     }
 

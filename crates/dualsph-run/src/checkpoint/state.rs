@@ -6,9 +6,7 @@ use dualsph_core::columns::{Column, Columns, ids_by_row, put_vector, take_vector
 use dualsph_core::neighbours::{Csr, Neighbours};
 use dualsph_core::population::{NextId, Seed, replace_particles};
 use dualsph_core::restart::KeptResources;
-use dualsph_diagnostics::{BodyLoad, BodyTotals, Diagnostics};
 use dualsph_fluid::prelude::*;
-use dualsph_probes::ProbeState;
 
 /// The registered columns kept in checkpoints, in registration order.
 fn restart_columns(world: &World) -> Vec<Column> {
@@ -64,80 +62,8 @@ fn restore_columns(world: &mut World, data: &[ComponentData], n: usize) -> Resul
     Ok(())
 }
 
-fn diagnostics_values(d: &Diagnostics) -> Vec<f64> {
-    let mut v = vec![d.t, d.dt, d.mass];
-    v.extend(d.momentum);
-    v.extend(d.angular_momentum);
-    v.extend([
-        d.e_kin,
-        d.e_int,
-        d.e_pot,
-        d.e_tot,
-        d.max_density_variation,
-        d.momentum_scale,
-        d.dissipated,
-    ]);
-    v.extend(d.per_body.iter().flat_map(BodyTotals::values));
-    for l in &d.loads {
-        v.push(l.body as f64);
-        v.extend(l.force.iter().chain(&l.moment));
-    }
-    v
-}
-
-/// How many reals [`diagnostics_values`] stores per load: the body, the force, the moment.
-const LOAD: usize = 7;
-
-/// How many reals [`diagnostics_values`] stores before the per-body totals.
-const TOTALS: usize = 16;
-
-/// The diagnostics at t = 0 stored in a checkpoint of a simulation of `bodies` bodies (zeros
-/// where missing).
-pub(crate) fn initial_diagnostics(c: &Checkpoint, bodies: usize) -> Diagnostics {
-    let v = |k: usize| c.initial_diagnostics.get(k).copied().unwrap_or(0.0);
-    let rest = c.initial_diagnostics.get(TOTALS..).unwrap_or_default();
-    let (per_body, loads) = rest.split_at((bodies * BodyTotals::NAMES.len()).min(rest.len()));
-    Diagnostics {
-        t: v(0),
-        step: 0,
-        dt: v(1),
-        n: c.particles,
-        mass: v(2),
-        momentum: [v(3), v(4), v(5)],
-        angular_momentum: [v(6), v(7), v(8)],
-        e_kin: v(9),
-        e_int: v(10),
-        e_pot: v(11),
-        e_tot: v(12),
-        max_density_variation: v(13),
-        momentum_scale: v(14),
-        dissipated: v(15),
-        per_body: per_body
-            .chunks_exact(BodyTotals::NAMES.len())
-            .map(|b| {
-                BodyTotals::from_values(b.try_into().expect("chunks of BodyTotals::NAMES.len()"))
-            })
-            .collect(),
-        loads: loads
-            .chunks_exact(LOAD)
-            .map(|l| BodyLoad {
-                body: l[0] as usize,
-                force: [l[1], l[2], l[3]],
-                moment: [l[4], l[5], l[6]],
-            })
-            .collect(),
-    }
-}
-
-/// The complete state of `sim` after its last step. `initial` is the diagnostics at t = 0 and
-/// `last_diagnostics_step` the step of the last diagnostics row written.
-pub fn capture<V: Vector>(
-    sim: &mut Sim<V>,
-    scene_name: &str,
-    fingerprint: u64,
-    initial: &Diagnostics,
-    last_diagnostics_step: u64,
-) -> Checkpoint {
+/// The complete state of `sim` after its last step.
+pub fn capture<V: Vector>(sim: &mut Sim<V>, scene_name: &str, fingerprint: u64) -> Checkpoint {
     let clock = sim.clock();
     let n = sim.particle_count();
     let world = &mut sim.world;
@@ -169,9 +95,6 @@ pub fn capture<V: Vector>(
         .iter()
         .filter_map(|k| Some((k.key.to_string(), k.save(world)?)))
         .collect();
-    let probe_rows = world
-        .get_resource::<ProbeState<V>>()
-        .map(|p| p.rows.clone());
     Checkpoint {
         scene_name: scene_name.into(),
         fingerprint,
@@ -185,9 +108,6 @@ pub fn capture<V: Vector>(
         resources,
         components,
         neighbours,
-        probe_rows,
-        last_diagnostics_step,
-        initial_diagnostics: diagnostics_values(initial),
     }
 }
 
@@ -278,22 +198,9 @@ pub fn restore<V: Vector>(sim: &mut Sim<V>, c: &Checkpoint) -> Result<(), String
         replace_particles(&mut sim.world, &seeds)?;
     }
     let world = &mut sim.world;
-    match (
-        world
-            .get_resource::<ProbeState<V>>()
-            .map(|p| p.columns.len()),
-        &c.probe_rows,
-    ) {
-        (None, None) => {}
-        (Some(cols), Some(rows)) if rows.iter().all(|r| r.2.len() == cols) => {}
-        _ => return Err("its probe samples do not match the scene's probes".into()),
-    }
     restore_columns(world, &c.components, n)?;
     restore_resources(world, &c.resources)?;
     restore_neighbours(&mut world.resource_mut::<Neighbours<V>>(), &c.neighbours, n)?;
-    if let (Some(mut p), Some(rows)) = (world.get_resource_mut::<ProbeState<V>>(), &c.probe_rows) {
-        p.rows = rows.clone();
-    }
     let mut clock = world.resource_mut::<SimClock>();
     clock.t = c.t;
     clock.step = c.step;

@@ -1,36 +1,44 @@
 use super::*;
 
-/// Records of a resting 2-D block [0, 1] × [0, 0.5], spacing 0.02, ρ = 1000 + 100 y.
-fn block() -> Vec<ParticleRecord> {
+/// A resting 2-D block [0, 1] × [0, 0.5], spacing 0.02, ρ = 1000 + 100 y, v = (y, 2y).
+fn block() -> ParticleTable {
     let dx = 0.02;
-    let mut out = Vec::new();
+    let (mut pos, mut vel, mut rho) = (Vec::new(), Vec::new(), Vec::new());
     for j in 0..25 {
         for i in 0..50 {
             let (x, y) = ((i as Real + 0.5) * dx, (j as Real + 0.5) * dx);
-            out.push(ParticleRecord {
-                id: out.len() as u64,
-                pos: [x, y, 0.0],
-                vel: [0.0; 3],
-                mass: 1000.0 * dx * dx,
-                rho: 1000.0 + 100.0 * y,
-                p: 0.0,
-                e: 0.0,
-                h: 2.0 * dx,
-            });
+            pos.extend([x, y, 0.0]);
+            vel.extend([y, 2.0 * y, 0.0]);
+            rho.push(1000.0 + 100.0 * y);
         }
     }
-    out
+    let n = rho.len();
+    let column = |name: &str, labels: &[&str], values: Vec<Real>| dualsph_io::TableColumn {
+        name: name.into(),
+        labels: labels.iter().map(|l| l.to_string()).collect(),
+        values,
+    };
+    ParticleTable {
+        ids: (0..n as u64).collect(),
+        columns: vec![
+            column(POSITION, &["x", "y", "z"], pos),
+            column("velocity", &["vx", "vy", "vz"], vel),
+            column("mass", &["m"], vec![1000.0 * dx * dx; n]),
+            column("density", &["rho"], rho),
+            column("smoothing_length", &["h"], vec![2.0 * dx; n]),
+        ],
+    }
 }
 
 #[test]
 fn grid_of_a_block_is_inside_where_the_fluid_is() {
     let recs = block();
     let bounds = Some(([0.0, 0.0, 0.0], [2.0, 1.0, 0.0]));
-    let f = sample_records(
+    let f = sample_table(
         &recs,
         2,
         KernelKind::CubicSpline,
-        Quantity::Density,
+        &Quantity::density(),
         0.05,
         bounds,
     )
@@ -59,11 +67,11 @@ fn vti_and_png_are_written() {
     let binary = std::fs::read(&vti).unwrap();
     assert!(String::from_utf8_lossy(&binary).contains("<AppendedData encoding=\"raw\">"));
     // the same field in ASCII, to read its values
-    let f = sample_records(
+    let f = sample_table(
         &block(),
         2,
         KernelKind::CubicSpline,
-        Quantity::Density,
+        &Quantity::density(),
         0.02,
         None,
     )
@@ -79,7 +87,7 @@ fn vti_and_png_are_written() {
         &text[..300]
     );
     let density: Vec<Real> = text
-        .split("Name=\"Density\" format=\"ascii\">")
+        .split("Name=\"density\" format=\"ascii\">")
         .nth(1)
         .unwrap()
         .split("</DataArray>")
@@ -97,20 +105,91 @@ fn vti_and_png_are_written() {
 fn bad_arguments_are_errors() {
     let r = block();
     let k = KernelKind::CubicSpline;
-    assert!(sample_records(&r, 2, k, Quantity::Density, 0.0, None).is_err());
-    assert!(sample_records(&r, 2, k, Quantity::Density, 10.0, None).is_err());
-    assert!(sample_records(&[], 2, k, Quantity::Density, 0.1, None).is_err());
+    assert!(sample_table(&r, 2, k, &Quantity::density(), 0.0, None).is_err());
+    assert!(sample_table(&r, 2, k, &Quantity::density(), 10.0, None).is_err());
     assert!(
-        sample_records(
-            &r,
-            1,
-            KernelKind::MullerViscosity,
-            Quantity::Density,
+        sample_table(
+            &ParticleTable::default(),
+            2,
+            k,
+            &Quantity::density(),
             0.1,
             None
         )
         .is_err()
     );
-    let f1 = sample_records(&r, 1, k, Quantity::Density, 0.01, None).unwrap();
+    assert!(
+        sample_table(
+            &r,
+            1,
+            KernelKind::MullerViscosity,
+            &Quantity::density(),
+            0.1,
+            None
+        )
+        .is_err()
+    );
+    let f1 = sample_table(&r, 1, k, &Quantity::density(), 0.01, None).unwrap();
     assert!(write_png(Path::new("/nonexistent/x.png"), &f1, "t").is_err());
+}
+
+#[test]
+fn fields_are_named_like_the_columns() {
+    let t = block();
+    let k = KernelKind::CubicSpline;
+    let bounds = Some(([0.2, 0.1, 0.0], [0.8, 0.4, 0.0]));
+    let q = |name: &str| Quantity::parse(name).unwrap();
+    let vy = sample_table(&t, 2, k, &q("velocity.y"), 0.1, bounds).unwrap();
+    let speed = sample_table(&t, 2, k, &q("Speed"), 0.1, bounds).unwrap();
+    assert_eq!(vy.name, "velocity.y");
+    for n in 0..vy.grid.len() {
+        let y = vy.grid.point(n)[1];
+        let v = vy.values[n].unwrap();
+        assert!((v - 2.0 * y).abs() < 2e-3, "v_y({y}) = {v}");
+        let s = speed.values[n].unwrap();
+        assert!((s - 5f64.sqrt() * y).abs() < 3e-3, "|v|({y}) = {s}");
+    }
+    let sigma = sample_table(&t, 2, k, &q("shepard_sum"), 0.1, bounds).unwrap();
+    assert_eq!(sigma.values[0], Some(sigma.shepard[0]));
+    for (bad, expect) in [
+        ("pressure", "no column `pressure`"),
+        ("velocity.z", "no such component"),
+        ("density.x", "no such component"),
+    ] {
+        let e = sample_table(&t, 2, k, &q(bad), 0.1, bounds)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains(expect) && e.contains("velocity.{x,y}"),
+            "{bad}: {e}"
+        );
+    }
+}
+
+#[test]
+fn a_csv_table_is_grouped_by_the_scenes_columns() {
+    let t = block();
+    let flat = ParticleTable {
+        ids: t.ids.clone(),
+        columns: t
+            .columns
+            .iter()
+            .flat_map(|c| {
+                c.labels
+                    .iter()
+                    .enumerate()
+                    .map(|(k, l)| dualsph_io::TableColumn {
+                        name: l.clone(),
+                        labels: vec![l.clone()],
+                        values: (0..t.len()).map(|r| c.row(r)[k]).collect(),
+                    })
+            })
+            .collect(),
+    };
+    let groups: Vec<(String, Vec<String>)> = t
+        .columns
+        .iter()
+        .map(|c| (c.name.clone(), c.labels.clone()))
+        .collect();
+    assert_eq!(flat.grouped(&groups), t);
 }

@@ -4,7 +4,6 @@
 
 use super::{RunError, particle_table};
 use crate::checkpoint::{self, Checkpoint, LAST_GOOD_STEM, checkpoint_file_name, fingerprint};
-use dualsph_diagnostics::Diagnostics;
 use dualsph_fluid::prelude::*;
 use dualsph_io::OutputDir;
 use dualsph_scene::Scene;
@@ -50,37 +49,21 @@ impl Keeper {
     }
 
     /// Copies the current (checked) state as the last good one.
-    pub(crate) fn keep<V: Vector>(
-        &mut self,
-        sim: &mut Sim<V>,
-        initial: &Diagnostics,
-        last_diagnostics_step: u64,
-    ) -> &Checkpoint {
-        let ck = checkpoint::capture(
-            sim,
-            &self.scene_name,
-            self.fingerprint,
-            initial,
-            last_diagnostics_step,
-        );
+    pub(crate) fn keep<V: Vector>(&mut self, sim: &mut Sim<V>) -> &Checkpoint {
+        let ck = checkpoint::capture(sim, &self.scene_name, self.fingerprint);
         self.last_good.insert(ck)
     }
 
     /// After a checked step: keeps a copy every [`DEFAULT_KEEP_EVERY`] steps and writes a
     /// checkpoint file every `checkpoint_every` steps.
-    pub(crate) fn after_step<V: Vector>(
-        &mut self,
-        sim: &mut Sim<V>,
-        initial: &Diagnostics,
-        last_diagnostics_step: u64,
-    ) -> Result<(), RunError> {
+    pub(crate) fn after_step<V: Vector>(&mut self, sim: &mut Sim<V>) -> Result<(), RunError> {
         let step = sim.clock().step;
         let write = self.every.is_some_and(|e| step.is_multiple_of(e));
         if !(write || step.is_multiple_of(DEFAULT_KEEP_EVERY)) {
             return Ok(());
         }
         let path = self.dir.join(checkpoint_file_name(step));
-        let ck = self.keep(sim, initial, last_diagnostics_step);
+        let ck = self.keep(sim);
         if write {
             ck.write(&path)?;
             self.written.push_back(path);
@@ -95,15 +78,9 @@ impl Keeper {
 
     /// Writes a checkpoint of the current state now, whatever the cadence, and returns its
     /// path (an interrupted run's).
-    pub(crate) fn write_now<V: Vector>(
-        &mut self,
-        sim: &mut Sim<V>,
-        initial: &Diagnostics,
-        last_diagnostics_step: u64,
-    ) -> Result<PathBuf, RunError> {
+    pub(crate) fn write_now<V: Vector>(&mut self, sim: &mut Sim<V>) -> Result<PathBuf, RunError> {
         let path = self.dir.join(checkpoint_file_name(sim.clock().step));
-        self.keep(sim, initial, last_diagnostics_step)
-            .write(&path)?;
+        self.keep(sim).write(&path)?;
         Ok(path)
     }
 

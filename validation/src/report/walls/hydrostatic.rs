@@ -203,9 +203,9 @@ pub struct TankCase {
 pub fn grade(run: CaseRun) -> TankCase {
     let water: Vec<[f64; 4]> = run
         .last
-        .iter()
-        .filter(|p| p.pos[0] > 0.0 && p.pos[0] < 1.0 && p.pos[1] > 0.0)
-        .map(|p| [p.pos[0], p.pos[1], p.p, p.vel[0].hypot(p.vel[1])])
+        .rows()
+        .filter(|p| p.pos()[0] > 0.0 && p.pos()[0] < 1.0 && p.pos()[1] > 0.0)
+        .map(|p| [p.pos()[0], p.pos()[1], p.p(), p.vel()[0].hypot(p.vel()[1])])
         .collect();
     let e0 = run.diagnostics[0].e_tot;
     let energy_change = (run.final_diagnostics().e_tot - e0) / e0;

@@ -40,11 +40,11 @@ pub fn profile_error(water: impl IntoIterator<Item = (f64, f64)>, t: f64) -> f64
 }
 
 /// The water's `(y, v_x)`: the particles between the plates (0 < y < L).
-fn water(particles: &[dualsph_io::ParticleRecord]) -> Vec<(f64, f64)> {
+fn water(particles: &dualsph_io::ParticleTable) -> Vec<(f64, f64)> {
     particles
-        .iter()
-        .filter(|p| p.pos[1] > 0.0 && p.pos[1] < MORRIS.width)
-        .map(|p| (p.pos[1], p.vel[0]))
+        .rows()
+        .filter(|p| p.pos()[1] > 0.0 && p.pos()[1] < MORRIS.width)
+        .map(|p| (p.pos()[1], p.vel()[0]))
         .collect()
 }
 

@@ -80,8 +80,8 @@ pub fn grade(run: CaseRun) -> VortexCase {
         .iter()
         .map(|(_, t, ps)| {
             let a = mode_amplitude(
-                ps.iter()
-                    .map(|p| (p.pos[0], p.pos[1], p.vel[0], p.vel[1], p.mass)),
+                ps.rows()
+                    .map(|p| (p.pos()[0], p.pos()[1], p.vel()[0], p.vel()[1], p.mass())),
             );
             (*t, a)
         })

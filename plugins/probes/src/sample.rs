@@ -1,0 +1,221 @@
+//! Sampling the probes and writing `probes.csv` and `probes_points.csv`.
+
+use crate::quantity::Source;
+use crate::{PROBE_POINTS_FILE, PROBES_FILE, ProbeSamples, ProbeState, Quantity, What};
+use dualsph_core::bevy_ecs::prelude::*;
+use dualsph_core::columns::{Columns, take_vector};
+use dualsph_core::sampling::SamplingCloud;
+use dualsph_sweep::prelude::*;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// The sampled particles' core values, in row order.
+struct Sampled<V: Vector> {
+    /// Whether each row (of every particle) is sampled.
+    keep: Vec<bool>,
+    pos: Vec<V>,
+    mass: Vec<Real>,
+    rho: Vec<Real>,
+    h: Vec<Real>,
+}
+
+impl<V: Vector> Sampled<V> {
+    /// The particles of the sampled bodies.
+    fn of(world: &mut World, sampled: &[bool]) -> Self {
+        let mut q = world.query::<(&BodyId, &Position<V>, &Mass, &Density, &SmoothingLength)>();
+        let mut s = Sampled {
+            keep: Vec::new(),
+            pos: Vec::new(),
+            mass: Vec::new(),
+            rho: Vec::new(),
+            h: Vec::new(),
+        };
+        // by row (the one table's order): every sampled particle, whatever its id
+        for (b, r, m, rho, h) in q.iter(world) {
+            let keep = sampled[b.0 as usize];
+            s.keep.push(keep);
+            if keep {
+                s.pos.push(r.0);
+                s.mass.push(m.0);
+                s.rho.push(rho.0);
+                s.h.push(h.0);
+            }
+        }
+        s
+    }
+
+    /// The values of `source` of the sampled particles.
+    fn values(&self, world: &mut World, source: &Source) -> Vec<Real> {
+        match source {
+            Source::ShepardSum => self.rho.clone(),
+            Source::Speed => {
+                let v = world.resource::<Columns>().of::<Velocity<V>>().cloned();
+                let v = v.map_or(Vec::new(), |c| c.values_by_row(world));
+                self.kept(&v, V::DIM)
+                    .map(|row| take_vector::<V>(row).length())
+                    .collect()
+            }
+            Source::Column { column, k } => {
+                let all = column.values_by_row(world);
+                self.kept(&all, column.width).map(|row| row[*k]).collect()
+            }
+        }
+    }
+
+    /// The rows of the sampled particles in `values` (`w` reals per particle).
+    fn kept<'a>(&'a self, values: &'a [Real], w: usize) -> impl Iterator<Item = &'a [Real]> {
+        values
+            .chunks_exact(w)
+            .zip(&self.keep)
+            .filter_map(|(row, &k)| k.then_some(row))
+    }
+}
+
+/// Samples every probe when the step is a multiple of `every` (and at step 0 and the end),
+/// then rewrites `probes.csv` if the run has an output directory.
+pub fn sample_probes<V: Vector>(world: &mut World) {
+    let clock = *world.resource::<SimClock>();
+    let limit = world.get_resource::<StepLimit>().map(|l| l.0);
+    let at_end = clock.t >= clock.t_end * (1.0 - 1e-12) || limit.is_some_and(|l| clock.step >= l);
+    let every = world.resource::<ProbeState<V>>().every;
+    if !(clock.step.is_multiple_of(every) || at_end) {
+        return;
+    }
+    world.resource_scope(|world, mut state: Mut<ProbeState<V>>| {
+        let values = sample_columns(world, &state);
+        let mut samples = world.resource_mut::<ProbeSamples>();
+        let keep = samples.rows.partition_point(|r| r.0 < clock.step);
+        samples.rows.truncate(keep);
+        samples.rows.push((clock.step, clock.t, values));
+        if let Some(dir) = world.get_resource::<RunOutputDir>() {
+            let res = write_files(&dir.0, &state, &world.resource::<ProbeSamples>().rows);
+            state.write_error = res.err();
+            if let Some(e) = &state.write_error {
+                eprintln!("dualsph probes: {e}");
+            }
+        }
+    });
+}
+
+/// The value of every probe column now.
+fn sample_columns<V: Vector>(world: &mut World, state: &ProbeState<V>) -> Vec<Real> {
+    let kernel = world.resource::<KernelRes>().0;
+    let domain = *world.resource::<Domain<V>>();
+    let s = Sampled::<V>::of(world, &state.sampled);
+    let cloud = SamplingCloud::from_particles(kernel, s.pos.clone(), &s.mass, &s.rho, s.h.clone());
+    let mut cache: Vec<(&Quantity, Vec<Real>)> = Vec::new();
+    for (q, source) in &state.sources {
+        cache.push((q, s.values(world, source)));
+    }
+    let array = |q: &Quantity| cache.iter().find(|c| c.0 == q).map(|c| &c.1);
+    let h_min = s.h.iter().copied().fold(Real::INFINITY, Real::min);
+    state
+        .columns
+        .iter()
+        .zip(&state.points)
+        .map(|(c, &x)| match &c.what {
+            What::Value(q) => {
+                let Some(values) = array(q) else {
+                    // unresolved (the simulation was not finished): no value
+                    return Real::NAN;
+                };
+                let smp = cloud.sample(x, values);
+                if q.name() == crate::quantity::SHEPARD_SUM {
+                    smp.shepard_sum
+                } else if smp.shepard_sum > state.min_shepard {
+                    smp.shepard.unwrap_or(Real::NAN)
+                } else {
+                    Real::NAN
+                }
+            }
+            What::Height { threshold, dy } => water_height(
+                &cloud,
+                &s.pos,
+                x,
+                &domain,
+                *threshold,
+                dy.unwrap_or(0.25 * h_min),
+            ),
+        })
+        .collect()
+}
+
+/// Height above `domain.min` of the highest point on the vertical through `x` with
+/// `σ ≥ threshold`, interpolated between samples `dy` apart; 0 if there is none.
+pub fn water_height<V: Vector>(
+    cloud: &SamplingCloud<V>,
+    pos: &[V],
+    x: V,
+    domain: &Domain<V>,
+    threshold: Real,
+    dy: Real,
+) -> Real {
+    let k = V::DIM - 1;
+    let lo = domain.min.get(k);
+    let top_particle = pos.iter().map(|p| p.get(k)).fold(lo, Real::max);
+    let hi = domain.max.get(k).min(top_particle + cloud.h_max());
+    if !(dy > 0.0 && dy.is_finite()) || hi <= lo {
+        return 0.0;
+    }
+    let steps = ((hi - lo) / dy).ceil().min(1e6) as usize;
+    let mut pts = Vec::with_capacity(steps + 1);
+    for i in 0..=steps {
+        let mut p = x;
+        p.set(k, (lo + i as Real * dy).min(hi));
+        pts.push(p);
+    }
+    let sigma = cloud.shepard_sums(&pts);
+    match sigma.iter().rposition(|&s| s >= threshold) {
+        None => 0.0,
+        Some(i) if i == steps => pts[i].get(k) - lo,
+        Some(i) => {
+            let (s0, s1) = (sigma[i], sigma[i + 1]);
+            let (y0, y1) = (pts[i].get(k), pts[i + 1].get(k));
+            let f = if s0 > s1 {
+                (s0 - threshold) / (s0 - s1)
+            } else {
+                0.0
+            };
+            y0 + f * (y1 - y0) - lo
+        }
+    }
+}
+
+/// Rewrites `probes_points.csv` (at the first sample, or when it is missing) and
+/// `probes.csv` in `dir`.
+fn write_files<V: Vector>(
+    dir: &Path,
+    state: &ProbeState<V>,
+    rows: &[(u64, Real, Vec<Real>)],
+) -> Result<(), String> {
+    std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    let points = dir.join(PROBE_POINTS_FILE);
+    if rows.len() <= 1 || !points.exists() {
+        let mut text = String::from("column,probe,kind,quantity,x,y,z\n");
+        for c in &state.columns {
+            let _ = writeln!(
+                text,
+                "{},{},{},{},{},{},{}",
+                c.name, c.probe, c.kind, c.quantity, c.pos[0], c.pos[1], c.pos[2]
+            );
+        }
+        dualsph_io::write_atomic(&points, text.as_bytes()).map_err(|e| e.to_string())?;
+    }
+    let path: PathBuf = dir.join(PROBES_FILE);
+    dualsph_io::write_atomic_with(&path, |w| {
+        write!(w, "t,step")?;
+        for c in &state.columns {
+            write!(w, ",{}", c.name)?;
+        }
+        writeln!(w)?;
+        for (step, t, values) in rows {
+            write!(w, "{t},{step}")?;
+            for v in values {
+                write!(w, ",{v}")?;
+            }
+            writeln!(w)?;
+        }
+        Ok(())
+    })
+    .map_err(|e| e.to_string())
+}
