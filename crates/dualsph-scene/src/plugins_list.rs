@@ -35,9 +35,14 @@ pub(crate) fn with_registry<T>(registry: &Registry, f: impl FnOnce() -> T) -> T 
     f()
 }
 
+/// Runs `f` with the registry of the parse call running on this thread, if any.
+pub(crate) fn with_current<T>(f: impl FnOnce(Option<&Registry>) -> T) -> T {
+    REGISTRY.with(|r| f(r.borrow().as_ref()))
+}
+
 /// What the registry says about a name: the entry, or the list of registered names.
 fn lookup(name: &str) -> Result<PluginEntry, String> {
-    REGISTRY.with(|r| match r.borrow().as_ref() {
+    with_current(|r| match r {
         None => Err(format!(
             "cannot parse plugin `{name}`: no plugin registry is installed \
              (parse scenes with `Scene::from_str` or `Scene::load`)"

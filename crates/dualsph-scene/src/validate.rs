@@ -3,7 +3,7 @@
 use crate::Scene;
 use crate::error::Problem;
 use crate::generate::{self, MAX_PARTICLES};
-use crate::schema::{BodyKind, BoxRegion, Generator, MotionSettings, TimeStep, Velocity};
+use crate::schema::{BodyKind, BoxRegion, Generator, MotionSettings, Velocity};
 use crate::shapes;
 use dualsph_core::plugin::{Role, SceneInfo};
 use std::cmp::Ordering;
@@ -131,14 +131,6 @@ fn generator(i: usize, g: &Generator, d: usize) -> Check {
     Ok(())
 }
 
-fn fraction(field: &str, x: f64) -> Check {
-    if x > 0.0 && x <= 1.0 {
-        Ok(())
-    } else {
-        Err(Problem::new(field, format!("must lie in (0, 1], got {x}")))
-    }
-}
-
 /// One periodic flag per axis, and every support fitting its period: a pair must meet one
 /// image only, so `2 h (1 + skin) < L` on each periodic axis for the largest generated h.
 fn periodic(s: &Scene) -> Check {
@@ -214,30 +206,18 @@ fn settings(s: &Scene) -> Check {
             shapes::check_generator(i, shape, d, &s.domain)?;
         }
     }
-    match s.integrator.dt {
-        TimeStep::Fixed(dt) => positive("integrator.dt", dt)?,
-        TimeStep::Adaptive {
-            courant,
-            force,
-            viscous,
-        } => {
-            fraction("integrator.dt.courant", courant)?;
-            let limit = dualsph_integrator::time_step::CFL_LIMIT;
-            if courant > limit {
-                return Err(Problem::new(
-                    "integrator.dt.courant",
-                    format!(
-                        "{courant} is above the CFL limit {limit} (on the support radius h, = {} on the classical h/2)",
-                        2.0 * limit
-                    ),
-                ));
-            }
-            fraction("integrator.dt.force", force)?;
-            fraction("integrator.dt.viscous", viscous)?;
-        }
-    }
-    if let Some(max_dt) = s.integrator.max_dt {
-        positive("integrator.max_dt", max_dt)?;
+    let info = SceneInfo {
+        dimension: d,
+        bodies: s.body_list().into_iter().map(|b| b.name).collect(),
+        domain: (s.domain.min.clone(), s.domain.max.clone()),
+    };
+    for section in [Some(&s.integrator), s.health.as_ref()]
+        .into_iter()
+        .flatten()
+    {
+        section
+            .validate(&info)
+            .map_err(|p| Problem::new(p.field, p.message))?;
     }
     positive("end_time", s.end_time)?;
     if s.max_steps == Some(0) {
@@ -245,11 +225,6 @@ fn settings(s: &Scene) -> Check {
     }
     s.output.check()?;
     bodies(s)?;
-    let info = SceneInfo {
-        dimension: d,
-        bodies: s.body_list().into_iter().map(|b| b.name).collect(),
-        domain: (s.domain.min.clone(), s.domain.max.clone()),
-    };
     for (i, p) in s.plugins.iter().enumerate() {
         p.validate(&info)
             .map_err(|m| Problem::new(format!("plugins[{i}] ({})", p.name()), m))?;
