@@ -64,9 +64,14 @@
 //! a body in a scene of several.
 #![warn(missing_docs)]
 
+mod checks;
+mod de;
 mod error;
+mod files;
 mod generate;
+mod lattice;
 mod output;
+mod particle;
 mod particles_file;
 mod plugins_list;
 mod schema;
@@ -77,12 +82,14 @@ mod validate;
 pub use dualsph_core::kernels::KernelKind;
 pub use dualsph_core::plugin::{PluginConfig, Registry, SceneSection, SectionConfig};
 pub use error::SceneError;
-pub use generate::{MAX_PARTICLES, ParticleSpec};
+pub use generate::MAX_PARTICLES;
+pub use lattice::{BoxRegion, Lattice, Velocity};
 pub use output::{DEFAULT_SNAPSHOT_EVERY, OutputFormat, OutputSettings, VtkEncoding};
+pub use particle::ParticleSpec;
 pub use particles_file::{FileParticles, ReadParticles};
 pub use schema::{
-    Block, BodyKind, BodySettings, BoxRegion, Disk, Domain, Formulation, Generator, Lattice,
-    MotionSettings, NeighbourSettings, Velocity,
+    Block, BodyKind, BodySettings, Disk, Domain, Formulation, Generator, MotionSettings,
+    NeighbourSettings,
 };
 pub use shapes::{Fill, Geometry, Outline, Region, Shape, ShapeGenerator, Side, StlMesh};
 
@@ -98,7 +105,7 @@ pub struct Scene {
     /// Human-readable name.
     pub name: String,
     /// Spatial dimension: 1, 2 or 3.
-    #[serde(deserialize_with = "schema::int::de")]
+    #[serde(deserialize_with = "de::int::de")]
     pub dimension: usize,
     /// The simulation box.
     pub domain: Domain,
@@ -126,7 +133,7 @@ pub struct Scene {
     /// Simulated time at which the run stops (> 0).
     pub end_time: f64,
     /// Optional cap on the number of steps.
-    #[serde(default, deserialize_with = "schema::int::de_opt")]
+    #[serde(default, deserialize_with = "de::int::de_opt")]
     pub max_steps: Option<u64>,
     /// Output cadence (optional section).
     #[serde(default)]
@@ -196,9 +203,7 @@ impl Scene {
             plugins_list::with_registry(registry, || ron_options().from_str::<Scene>(text))
                 .map_err(|e| SceneError::from_ron(path, text, e))?;
         let dir = path.parent().unwrap_or(Path::new(""));
-        shapes::load_files(&mut scene.particles, dir, scene.dimension)
-            .and_then(|()| particles_file::load(&mut scene.particles, dir, scene.dimension))
-            .map_err(|p| p.into_error(path))?;
+        files::load(&mut scene.particles, dir, scene.dimension).map_err(|p| p.into_error(path))?;
         Ok(scene)
     }
 

@@ -3,8 +3,7 @@
 //! mass, density, h and internal energy, bit for bit as written.
 
 use crate::error::Problem;
-use crate::generate::ParticleSpec;
-use crate::schema::Generator;
+use crate::particle::ParticleSpec;
 use dualsph_io::{ParticleRecord, ParticleTable};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -91,39 +90,35 @@ impl FileParticles {
     }
 }
 
-/// Reads the files of the `File` generators of `particles` in a `d`-dimensional scene,
-/// relative to `dir`.
-pub(crate) fn load(particles: &mut [Generator], dir: &Path, d: usize) -> Result<(), Problem> {
-    for (i, g) in particles.iter_mut().enumerate() {
-        if let Generator::File(f) = g {
-            let path = dir.join(&f.path);
-            let at = format!("particles[{i}].path");
-            let vtp = path
-                .extension()
-                .is_some_and(|e| e.eq_ignore_ascii_case("vtp"));
-            let read = if vtp {
-                dualsph_io::read_particles_vtp(&path)
-                    .and_then(|r| Ok((r, dualsph_io::read_particle_table_vtp(&path)?)))
-            } else {
-                dualsph_io::read_particles_csv(&path)
-                    .and_then(|r| Ok((r, dualsph_io::read_particle_table_csv(&path)?)))
-            };
-            let (records, table) =
-                read.map_err(|e| Problem::new(&at, format!("cannot read particles: {e}")))?;
-            let spacing = records
-                .iter()
-                .map(|r| (r.mass / r.rho).powf(1.0 / d.clamp(1, 3) as f64))
-                .fold(f64::INFINITY, f64::min);
-            let h = records.iter().map(|r| r.h).fold(0.0, f64::max);
-            f.particles = ReadParticles(Some(Arc::new(Read {
-                records,
-                table,
-                vtk: vtp,
-                spacing,
-                h_factor: h / spacing,
-            })));
-        }
-    }
+/// Reads the file of `f` (generator number `i`) in a `d`-dimensional scene, relative to
+/// `dir`; a problem names `particles[{i}].path`.
+pub(crate) fn read(i: usize, f: &mut FileParticles, dir: &Path, d: usize) -> Result<(), Problem> {
+    let path = dir.join(&f.path);
+    let at = format!("particles[{i}].path");
+    let vtp = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("vtp"));
+    let read = if vtp {
+        dualsph_io::read_particles_vtp(&path)
+            .and_then(|r| Ok((r, dualsph_io::read_particle_table_vtp(&path)?)))
+    } else {
+        dualsph_io::read_particles_csv(&path)
+            .and_then(|r| Ok((r, dualsph_io::read_particle_table_csv(&path)?)))
+    };
+    let (records, table) =
+        read.map_err(|e| Problem::new(&at, format!("cannot read particles: {e}")))?;
+    let spacing = records
+        .iter()
+        .map(|r| (r.mass / r.rho).powf(1.0 / d.clamp(1, 3) as f64))
+        .fold(f64::INFINITY, f64::min);
+    let h = records.iter().map(|r| r.h).fold(0.0, f64::max);
+    f.particles = ReadParticles(Some(Arc::new(Read {
+        records,
+        table,
+        vtk: vtp,
+        spacing,
+        h_factor: h / spacing,
+    })));
     Ok(())
 }
 

@@ -8,7 +8,7 @@
 //! outside [`crate::Scene::from_str`] / [`crate::Scene::parse_only`] fails with a clear error
 //! instead of guessing.
 
-use crate::schema::Ident;
+use crate::de::Ident;
 use dualsph_core::plugin::{PluginConfig, PluginEntry, Registry};
 use serde::de::{
     self, DeserializeSeed, Deserializer, EnumAccess, SeqAccess, VariantAccess, Visitor,

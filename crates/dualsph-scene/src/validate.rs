@@ -1,62 +1,18 @@
 //! Semantic checks of a parsed scene; the first problem found is reported.
 
 use crate::Scene;
+use crate::checks::{Check, ordered, positive, vector};
 use crate::error::Problem;
 use crate::generate::{self, MAX_PARTICLES};
-use crate::schema::{BodyKind, BoxRegion, Generator, MotionSettings, Velocity};
+use crate::lattice::{BoxRegion, Velocity};
+use crate::schema::{BodyKind, Generator, MotionSettings};
 use crate::shapes;
 use dualsph_core::plugin::{Role, SceneInfo};
-use std::cmp::Ordering;
 
 mod overlap;
 mod support;
 
 use overlap::{fmt_point, overlaps};
-
-pub(crate) type Check = Result<(), Problem>;
-
-/// A vector with exactly `d` finite components.
-pub(crate) fn vector(field: &str, v: &[f64], d: usize) -> Check {
-    if v.len() != d {
-        return Err(Problem::new(
-            field,
-            format!("expected {d} components for dimension {d}, got {}", v.len()),
-        ));
-    }
-    match v.iter().position(|x| !x.is_finite()) {
-        Some(k) => Err(Problem::new(
-            field,
-            format!("component {k} is not finite ({})", v[k]),
-        )),
-        None => Ok(()),
-    }
-}
-
-/// A finite number `> 0`.
-pub(crate) fn positive(field: &str, x: f64) -> Check {
-    if x.is_finite() && x > 0.0 {
-        Ok(())
-    } else {
-        Err(Problem::new(
-            field,
-            format!("must be a finite number > 0, got {x}"),
-        ))
-    }
-}
-
-/// `max > min` on every axis (both already checked to have `d` components).
-pub(crate) fn ordered(field: &str, min: &[f64], max: &[f64]) -> Check {
-    match (0..min.len()).find(|&k| max[k].partial_cmp(&min[k]) != Some(Ordering::Greater)) {
-        Some(k) => Err(Problem::new(
-            field,
-            format!(
-                "max must exceed min on every axis; on axis {k} max is {} and min is {}",
-                max[k], min[k]
-            ),
-        )),
-        None => Ok(()),
-    }
-}
 
 fn boxes(field: &str, b: &BoxRegion, d: usize) -> Check {
     vector(&format!("{field}.min"), &b.min, d)?;
@@ -203,7 +159,8 @@ fn settings(s: &Scene) -> Check {
     for (i, g) in s.particles.iter().enumerate() {
         generator(i, g, d)?;
         if let Generator::Shape(shape) = g {
-            shapes::check_generator(i, shape, d, &s.domain)?;
+            let domain = (&s.domain.min[..], &s.domain.max[..]);
+            shapes::check_generator(i, shape, d, domain)?;
         }
     }
     let info = SceneInfo {
