@@ -21,17 +21,6 @@ use dualsph_integrator::IntegratorSettings;
 use dualsph_scene::Scene;
 use dualsph_sweep::prelude::*;
 
-/// Maps the scene's formulation to the engine's.
-pub fn formulation_of(f: dualsph_scene::Formulation) -> Formulation {
-    match f {
-        dualsph_scene::Formulation::DualSupport => Formulation::DualSupport,
-        dualsph_scene::Formulation::SingleSupport => Formulation::SingleSupport,
-        dualsph_scene::Formulation::ConstantH => Formulation::ConstantH,
-        dualsph_scene::Formulation::AveragedKernel => Formulation::AveragedKernel,
-        dualsph_scene::Formulation::GradH => Formulation::GradH,
-    }
-}
-
 fn vector<V: Vector>(x: &[Real], what: &str) -> Result<V, SimError> {
     V::from_slice(x).ok_or_else(|| {
         SimError::Build(format!(
@@ -93,7 +82,7 @@ pub fn build_sim<V: Vector>(scene: &Scene) -> Result<Sim<V>, SimError> {
     };
     let time_stepping = integrator_settings(scene)?.time_stepping();
     let health = health_settings(scene)?;
-    let formulation = formulation_of(scene.formulation);
+    let formulation = scene.formulation;
     let roles = RolePlugins::of(scene)?;
     let mut sim = Sim::<V>::new(SimConfig {
         kernel: scene.kernel,

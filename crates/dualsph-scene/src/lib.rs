@@ -81,6 +81,7 @@ mod validate;
 
 pub use dualsph_core::kernels::KernelKind;
 pub use dualsph_core::plugin::{PluginConfig, Registry, SceneSection, SectionConfig};
+pub use dualsph_core::sim::Formulation;
 pub use error::SceneError;
 pub use generate::MAX_PARTICLES;
 pub use lattice::{BoxRegion, Lattice, Velocity};
@@ -88,8 +89,7 @@ pub use output::{DEFAULT_SNAPSHOT_EVERY, OutputFormat, OutputSettings, VtkEncodi
 pub use particle::ParticleSpec;
 pub use particles_file::{FileParticles, ReadParticles};
 pub use schema::{
-    Block, BodyKind, BodySettings, Disk, Domain, Formulation, Generator, MotionSettings,
-    NeighbourSettings,
+    Block, BodyKind, BodySettings, Disk, Domain, Generator, MotionSettings, NeighbourSettings,
 };
 pub use shapes::{Fill, Geometry, Outline, Region, Shape, ShapeGenerator, Side, StlMesh};
 

@@ -6,27 +6,6 @@ use crate::particles_file::FileParticles;
 use crate::shapes::{Region, ShapeGenerator};
 use serde::{Deserialize, Serialize};
 
-/// Which SPH formulation the engine runs (mapped onto the core's sweep by the engine).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Deserialize, Serialize)]
-pub enum Formulation {
-    /// Dual-support SPH: every pair interacts through the support of one particle and the
-    /// dual-support of the other, so momentum and energy are conserved exactly (§5 of Ren, Dai,
-    /// Zhuang & Rabczuk, *Dual-support Smoothed Particle Hydrodynamics*, preprint; RenDSSPH in
-    /// docs/references.md).
-    DualSupport,
-    /// Variable-h SPH that uses only each particle's own support (not exactly conservative).
-    SingleSupport,
-    /// Classical SPH with one common smoothing length.
-    ConstantH,
-    /// Variable-h SPH symmetrised by averaging the two kernels of a pair.
-    AveragedKernel,
-    /// Grad-h SPH (Springel & Hernquist 2002; Price 2012): h tied to the summation density at
-    /// every step, `h_i = n (m_i/ρ_i)^{1/d}` with `ρ_i = Σ_j m_j W(r_ij, h_i)` solved together
-    /// (n from the scene's `SmoothingLengthUpdate`), and the Ω terms in the pressure and
-    /// viscous forces. Needs `SummationDensity()` and `SmoothingLengthUpdate(...)`.
-    GradH,
-}
-
 /// The simulation box `[min, max]` (one component per axis).
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
