@@ -7,7 +7,7 @@
 //! ([`Registry::register_section`](super::Registry::register_section)); the scene parser
 //! looks the section up by its key and parses it in place, so a bad value is reported at its
 //! line and column. The crate that builds the simulation reads the typed settings back with
-//! [`section`](dyn SectionConfig::section).
+//! `<dyn SectionConfig>::section`.
 
 use super::SceneInfo;
 use serde::Serialize;

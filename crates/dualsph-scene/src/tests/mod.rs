@@ -80,7 +80,7 @@ impl SceneSection for Steps {
     const KEY: &'static str = "integrator";
     fn validate(&self, _info: &SceneInfo) -> Result<(), SectionProblem> {
         match self.dt {
-            Dt::Fixed(dt) if !(dt > 0.0) => Err(SectionProblem::new(
+            Dt::Fixed(dt) if dt <= 0.0 || dt.is_nan() => Err(SectionProblem::new(
                 "integrator.dt",
                 format!("must be > 0, got {dt}"),
             )),
