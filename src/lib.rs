@@ -34,6 +34,6 @@ pub use dualsph_diagnostics::{Diagnostics, SimDiagnostics};
 
 pub use dualsph_builtin::{default_registry, fuse_builtin_terms, plugins};
 
-pub use dualsph_run::{add_default_plugins, build_sim, build_sim_with, formulation_of};
+pub use dualsph_run::{add_default_plugins, build_sim, build_sim_with};
 pub use dualsph_run::{checkpoint, cli, gridded, runner};
 pub use dualsph_run::{say, with_dimension};

@@ -3,6 +3,10 @@
 //! A plugin is a settings struct that deserializes from the scene (`Gravity(g: [0.0, -9.81])`)
 //! and builds its components, systems and pair terms into a [`Sim`]. Plugins from outside the
 //! engine register exactly like the built-in ones: `registry.register::<MyPlugin>()`.
+//! Settings a plugin crate owns that a scene gives as a section of its own (`integrator:`,
+//! `health:`) register with `registry.register_section::<Settings>()` (see [`section`]).
+
+pub mod section;
 
 use crate::math::{Real, Vec1, Vector};
 use crate::sim::{Sim, SimError};
@@ -11,6 +15,8 @@ use serde::Serialize;
 use serde::de::DeserializeOwned;
 use std::any::Any;
 use std::fmt::Debug;
+
+pub use section::{SceneSection, SectionConfig, SectionEntry, SectionProblem};
 
 /// What a plugin may check about the scene it is used in.
 #[derive(Clone, Debug, PartialEq)]
@@ -189,10 +195,12 @@ fn parse_plugin<P: SimPlugin>(
     Ok(Box::new(p))
 }
 
-/// Name → constructor map for plugins.
+/// Name → constructor map for plugins, and key → parser map for the scene sections plugin
+/// crates own.
 #[derive(Clone, Debug, Default)]
 pub struct Registry {
     entries: Vec<PluginEntry>,
+    sections: Vec<SectionEntry>,
 }
 
 impl Registry {
@@ -226,6 +234,22 @@ impl Registry {
     /// All entries.
     pub fn entries(&self) -> &[PluginEntry] {
         &self.entries
+    }
+
+    /// Registers the scene section `S` under `S::KEY` (a later registration of the same key
+    /// replaces it).
+    pub fn register_section<S: SceneSection>(&mut self) -> &mut Self {
+        self.sections.retain(|e| e.key != S::KEY);
+        self.sections.push(SectionEntry {
+            key: S::KEY,
+            parse: section::parse_section::<S>,
+        });
+        self
+    }
+
+    /// The section registered under `key`.
+    pub fn section(&self, key: &str) -> Option<&SectionEntry> {
+        self.sections.iter().find(|e| e.key == key)
     }
 }
 

@@ -51,25 +51,43 @@ struct Cli {
     command: Command,
 }
 
-/// Formulations selectable on the command line.
-#[derive(Clone, Copy, clap::ValueEnum)]
-enum FormulationArg {
-    DualSupport,
-    SingleSupport,
-    ConstantH,
-    AveragedKernel,
-    GradH,
+/// A formulation on the command line: one of the engine's ([`Formulation::ALL`]), written in
+/// kebab case (`single-support`) or as in a scene (`SingleSupport`).
+#[derive(Clone, Copy, Debug)]
+struct FormulationArg(Formulation);
+
+/// [`Formulation::ALL`] as command-line values.
+const FORMULATION_ARGS: [FormulationArg; Formulation::ALL.len()] = {
+    let mut out = [FormulationArg(Formulation::DualSupport); Formulation::ALL.len()];
+    let mut k = 0;
+    while k < out.len() {
+        out[k] = FormulationArg(Formulation::ALL[k]);
+        k += 1;
+    }
+    out
+};
+
+/// `SingleSupport` → `single-support`.
+fn kebab(name: &str) -> String {
+    let mut out = String::new();
+    for (k, c) in name.chars().enumerate() {
+        if c.is_uppercase() && k > 0 {
+            out.push('-');
+        }
+        out.extend(c.to_lowercase());
+    }
+    out
 }
 
-impl From<FormulationArg> for Formulation {
-    fn from(f: FormulationArg) -> Self {
-        match f {
-            FormulationArg::DualSupport => Formulation::DualSupport,
-            FormulationArg::SingleSupport => Formulation::SingleSupport,
-            FormulationArg::ConstantH => Formulation::ConstantH,
-            FormulationArg::AveragedKernel => Formulation::AveragedKernel,
-            FormulationArg::GradH => Formulation::GradH,
-        }
+impl clap::ValueEnum for FormulationArg {
+    fn value_variants<'a>() -> &'a [Self] {
+        &FORMULATION_ARGS
+    }
+    fn to_possible_value(&self) -> Option<clap::builder::PossibleValue> {
+        static KEBAB: std::sync::OnceLock<Vec<String>> = std::sync::OnceLock::new();
+        let kebab = KEBAB.get_or_init(|| Formulation::ALL.map(|f| kebab(f.name())).to_vec());
+        let k = Formulation::ALL.iter().position(|f| *f == self.0)?;
+        Some(clap::builder::PossibleValue::new(kebab[k].as_str()).alias(self.0.name()))
     }
 }
 
@@ -248,5 +266,34 @@ pub fn main(registry: Registry) -> ExitCode {
             eprintln!("error: {}", f.message);
             ExitCode::from(f.code)
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::ValueEnum;
+
+    #[test]
+    fn the_formulation_values_are_the_engines_in_both_spellings() {
+        let listed: Vec<String> = FormulationArg::value_variants()
+            .iter()
+            .filter_map(|f| f.to_possible_value())
+            .map(|v| v.get_name().to_string())
+            .collect();
+        let want = [
+            "dual-support",
+            "single-support",
+            "constant-h",
+            "averaged-kernel",
+            "grad-h",
+        ];
+        assert_eq!(listed, want);
+        for f in Formulation::ALL {
+            let by_name = FormulationArg::from_str(f.name(), false).unwrap();
+            let by_kebab = FormulationArg::from_str(&kebab(f.name()), false).unwrap();
+            assert_eq!((by_name.0, by_kebab.0), (f, f));
+        }
+        assert!(FormulationArg::from_str("Single", false).is_err());
     }
 }

@@ -16,20 +16,10 @@ pub use dualsph_core as __core;
 
 use dualsph_builtin::{fuse_builtin_terms, plugins};
 use dualsph_core::bodies::{Bodies, Body, install_bodies};
-use dualsph_diagnostics::SimDiagnostics;
+use dualsph_diagnostics::{HealthSettings, SimDiagnostics};
+use dualsph_integrator::IntegratorSettings;
 use dualsph_fluid::prelude::*;
 use dualsph_scene::Scene;
-
-/// Maps the scene's formulation to the engine's.
-pub fn formulation_of(f: dualsph_scene::Formulation) -> Formulation {
-    match f {
-        dualsph_scene::Formulation::DualSupport => Formulation::DualSupport,
-        dualsph_scene::Formulation::SingleSupport => Formulation::SingleSupport,
-        dualsph_scene::Formulation::ConstantH => Formulation::ConstantH,
-        dualsph_scene::Formulation::AveragedKernel => Formulation::AveragedKernel,
-        dualsph_scene::Formulation::GradH => Formulation::GradH,
-    }
-}
 
 fn vector<V: Vector>(x: &[Real], what: &str) -> Result<V, SimError> {
     V::from_slice(x).ok_or_else(|| {
@@ -100,20 +90,9 @@ pub fn build_sim_with<V: Vector>(
         max: vector::<V>(&scene.domain.max, "domain.max")?,
         periodic: scene.domain.periodic_axes(),
     };
-    let time_stepping = match scene.integrator.dt {
-        dualsph_scene::TimeStep::Fixed(dt) => TimeStepping::Fixed(dt),
-        dualsph_scene::TimeStep::Adaptive {
-            courant,
-            force,
-            viscous,
-        } => TimeStepping::Adaptive {
-            courant,
-            force,
-            viscous,
-            max_dt: scene.integrator.max_dt.unwrap_or(Real::INFINITY),
-        },
-    };
-    let formulation = formulation_of(scene.formulation);
+    let time_stepping = integrator_settings(scene)?.time_stepping();
+    let health = health_settings(scene)?;
+    let formulation = scene.formulation;
     let roles = RolePlugins::of(scene)?;
     let mut sim = Sim::<V>::new(SimConfig {
         kernel: scene.kernel,
@@ -164,18 +143,13 @@ pub fn build_sim_with<V: Vector>(
         moment_about: b.moment_about.as_deref().map_or([0.0; 3], padded3),
     });
     install_bodies(&mut sim, Bodies(bodies.collect()))?;
+    let h_range = particles.iter().fold(None, |r, p| match r {
+        None => Some((p.h, p.h)),
+        Some((lo, hi)) => Some((p.h.min(lo), p.h.max(hi))),
+    });
+    sim.world.insert_resource(health.bounds(h_range));
     sim.world
-        .insert_resource(dualsph_diagnostics::HealthBounds {
-            density: (scene.health.density_below, scene.health.density_above),
-            h: (scene.health.h_below, scene.health.h_above),
-            rho_range: None,
-            h_range: particles.iter().fold(None, |r, p| match r {
-                None => Some((p.h, p.h)),
-                Some((lo, hi)) => Some((p.h.min(lo), p.h.max(hi))),
-            }),
-        });
-    sim.world
-        .insert_resource(runner::DtFloor::new(scene.health.dt_below));
+        .insert_resource(runner::DtFloor::new(health.dt_below));
     sim.keep_resource::<runner::DtFloor>(runner::DT_FLOOR_KEY);
     sim.set_diagnostics_every(scene.output.diagnostics_every);
     {
@@ -190,6 +164,31 @@ pub fn build_sim_with<V: Vector>(
     sim.finish()?;
     file_columns::apply(&mut sim, scene)?;
     Ok(sim)
+}
+
+/// The scene's `integrator` section as the integrator's settings (an error when the
+/// registry that parsed it held other settings under that key).
+pub fn integrator_settings(scene: &Scene) -> Result<&IntegratorSettings, SimError> {
+    scene.section::<IntegratorSettings>().ok_or_else(|| {
+        SimError::Build(format!(
+            "the scene's integrator section is not dualsph-integrator's settings: {:?}",
+            scene.integrator
+        ))
+    })
+}
+
+/// The scene's `health` section as the diagnostics' settings, or their defaults when the
+/// scene has none (an error when the registry that parsed it held other settings under that
+/// key).
+pub fn health_settings(scene: &Scene) -> Result<HealthSettings, SimError> {
+    match &scene.health {
+        None => Ok(HealthSettings::default()),
+        Some(h) => h.section::<HealthSettings>().cloned().ok_or_else(|| {
+            SimError::Build(format!(
+                "the scene's health section is not dualsph-diagnostics' settings: {h:?}"
+            ))
+        }),
+    }
 }
 
 /// Builds the default integrator ([`LeapfrogPC`](plugins::LeapfrogPC)) and diagnostics

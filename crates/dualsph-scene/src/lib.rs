@@ -29,17 +29,20 @@
 //! Optional: `neighbours` (`skin: 0.15, tune_skin: true`: the first build's skin, then one chosen
 //! from the measured motion), `plugins` (none), `max_steps` (None), `output`
 //! (`diagnostics_every: 10, snapshot_every: 200, snapshot_dt: None, formats: [Csv, Vtk],
-//! vtk_encoding: Binary, columns: None`; see [`OutputSettings`]), `health` (`density_below: 300,
-//! density_above: 10, h_below: 10, h_above: 300`: the run stops when a density or h leaves its
-//! initial range widened by those factors; each must be > 1, refused at its position), `integrator.max_dt` (None), and
-//! on every generator `clip`, `cut` (plain boxes `(min: .., max: ..)` or [`Shape`]s),
+//! vtk_encoding: Binary, columns: None`; see [`OutputSettings`]), `health` (the sane ranges of
+//! the blow-up check), and on every generator `clip`, `cut` (plain boxes `(min: .., max: ..)` or [`Shape`]s),
 //! `velocity` (`Uniform([..])` or `Linear(G)`, `v = G·x`;
 //! zero when absent), `internal_energy` (0) and `body` (the generator's body).
 //!
 //! Plugins are `Name(field: value, ...)` or `Name()` and are looked up in a [`Registry`] while
 //! parsing: the registry is installed in a thread-local for exactly the duration of the parse
-//! call, because serde's `Deserialize` cannot take arguments. Parsing never panics, and every
-//! error names the file and, for syntax errors, the line and column.
+//! call, because serde's `Deserialize` cannot take arguments. The sections `integrator`
+//! (required) and `health` (optional) belong to plugin crates too: the settings type the
+//! registry holds under the section's key ([`SceneSection`]) parses the section in place,
+//! with its own defaults, and checks it during validation (in the default registry,
+//! `dualsph_integrator::IntegratorSettings` and `dualsph_diagnostics::HealthSettings`); read
+//! them with [`Scene::section`]. Parsing never panics, and every error names the file and,
+//! for syntax errors, the line and column.
 //!
 //! # Validation
 //!
@@ -47,11 +50,12 @@
 //! block corners, disk centre, clip/cut corners, shape centres, corners, axes and polygon
 //! vertices, uniform velocity, rows of a linear velocity
 //! matrix) without exactly `dimension` finite components; domain or block `max <= min` on an
-//! axis; non-positive or non-finite spacing, density, h_factor, radius, length, end_time or
-//! fixed dt; a shape of the wrong dimension (a polygon or circle outside 2-D, a ball or
+//! axis; non-positive or non-finite spacing, density, h_factor, radius, length or end_time; a
+//! shape of the wrong dimension (a polygon or circle outside 2-D, a ball or
 //! cylinder or STL mesh outside 3-D); a polygon with fewer than 3 vertices, crossing edges or
 //! zero area; an STL `scale` not > 0; a zero cylinder axis; `Layers` with `n: 0`; a shape whose extent (with its outside layers,
-//! narrowed to its clip box) leaves the domain; adaptive coefficients outside (0, 1]; negative skin; `diagnostics_every == 0`; both
+//! narrowed to its clip box) leaves the domain; a section's own `validate` (the
+//! `integrator`'s, then `health`'s); negative skin; `diagnostics_every == 0`; both
 //! `snapshot_dt` and a `snapshot_every` other than its default or 0; a plugin's
 //! own `validate`; two integrators (or two diagnostics plugins), naming both; more than [`MAX_PARTICLES`] particles (estimated before generating); a
 //! generator that yields no particles; a particle outside the domain; two generators whose
@@ -60,24 +64,32 @@
 //! a body in a scene of several.
 #![warn(missing_docs)]
 
+mod checks;
+mod de;
 mod error;
+mod files;
 mod generate;
+mod lattice;
 mod output;
+mod particle;
 mod particles_file;
 mod plugins_list;
 mod schema;
+mod sections;
 mod shapes;
 mod validate;
 
 pub use dualsph_core::kernels::KernelKind;
-pub use dualsph_core::plugin::{PluginConfig, Registry};
+pub use dualsph_core::plugin::{PluginConfig, Registry, SceneSection, SectionConfig};
+pub use dualsph_core::sim::Formulation;
 pub use error::SceneError;
-pub use generate::{MAX_PARTICLES, ParticleSpec};
+pub use generate::MAX_PARTICLES;
+pub use lattice::{BoxRegion, Lattice, Velocity};
 pub use output::{DEFAULT_SNAPSHOT_EVERY, OutputFormat, OutputSettings, VtkEncoding};
+pub use particle::ParticleSpec;
 pub use particles_file::{FileParticles, ReadParticles};
 pub use schema::{
-    Block, BodyKind, BodySettings, BoxRegion, Disk, Domain, Formulation, Generator, HealthSettings,
-    IntegratorSettings, Lattice, MotionSettings, NeighbourSettings, TimeStep, Velocity,
+    Block, BodyKind, BodySettings, Disk, Domain, Generator, MotionSettings, NeighbourSettings,
 };
 pub use shapes::{Fill, Geometry, Outline, Region, Shape, ShapeGenerator, Side, StlMesh};
 
@@ -93,7 +105,7 @@ pub struct Scene {
     /// Human-readable name.
     pub name: String,
     /// Spatial dimension: 1, 2 or 3.
-    #[serde(deserialize_with = "schema::int::de")]
+    #[serde(deserialize_with = "de::int::de")]
     pub dimension: usize,
     /// The simulation box.
     pub domain: Domain,
@@ -113,19 +125,24 @@ pub struct Scene {
     /// Plugins with their settings, in order (optional, default none).
     #[serde(default, deserialize_with = "plugins_list::deserialize")]
     pub plugins: Vec<Box<dyn PluginConfig>>,
-    /// Time stepping.
-    pub integrator: IntegratorSettings,
+    /// Time stepping: the `integrator` section, parsed and checked by the settings type the
+    /// registry holds under that key (`dualsph_integrator::IntegratorSettings` in the default
+    /// registry); read it with [`Scene::section`].
+    #[serde(deserialize_with = "sections::integrator")]
+    pub integrator: Box<dyn SectionConfig>,
     /// Simulated time at which the run stops (> 0).
     pub end_time: f64,
     /// Optional cap on the number of steps.
-    #[serde(default, deserialize_with = "schema::int::de_opt")]
+    #[serde(default, deserialize_with = "de::int::de_opt")]
     pub max_steps: Option<u64>,
     /// Output cadence (optional section).
     #[serde(default)]
     pub output: OutputSettings,
-    /// Sane ranges of density and h for the blow-up check (optional section).
-    #[serde(default)]
-    pub health: HealthSettings,
+    /// Sane ranges of density, h and dt for the blow-up check: the optional `health` section,
+    /// parsed and checked like `integrator` (`dualsph_diagnostics::HealthSettings` in the
+    /// default registry; its defaults apply when the scene leaves the section out).
+    #[serde(default, deserialize_with = "sections::health")]
+    pub health: Option<Box<dyn SectionConfig>>,
 }
 
 /// ron options: variant newtypes unwrap (`Gravity(g: [..])`, not `Gravity((g: [..]))`) and
@@ -153,6 +170,16 @@ impl Scene {
         Scene::from_str(&text, path, registry)
     }
 
+    /// The settings of the section `S` (the scene's `integrator` or `health`), when the scene
+    /// gives that section and its settings are of type `S`.
+    pub fn section<S: SceneSection>(&self) -> Option<&S> {
+        [Some(&self.integrator), self.health.as_ref()]
+            .into_iter()
+            .flatten()
+            .find(|s| s.key() == S::KEY)
+            .and_then(|s| s.section::<S>())
+    }
+
     /// The plugin the scene names for an exclusive role (`Role::Integrator`,
     /// `Role::Diagnostics`), if any; two are an error naming both.
     pub fn plugin_of_role(
@@ -176,9 +203,7 @@ impl Scene {
             plugins_list::with_registry(registry, || ron_options().from_str::<Scene>(text))
                 .map_err(|e| SceneError::from_ron(path, text, e))?;
         let dir = path.parent().unwrap_or(Path::new(""));
-        shapes::load_files(&mut scene.particles, dir, scene.dimension)
-            .and_then(|()| particles_file::load(&mut scene.particles, dir, scene.dimension))
-            .map_err(|p| p.into_error(path))?;
+        files::load(&mut scene.particles, dir, scene.dimension).map_err(|p| p.into_error(path))?;
         Ok(scene)
     }
 

@@ -14,8 +14,8 @@
 use serde::Deserialize;
 use serde::de::{self, Deserializer};
 
+use crate::de::int;
 use crate::error::Problem;
-use crate::schema::int;
 
 /// A snapshot file format.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Deserialize)]

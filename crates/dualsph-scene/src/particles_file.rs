@@ -3,8 +3,7 @@
 //! mass, density, h and internal energy, bit for bit as written.
 
 use crate::error::Problem;
-use crate::generate::ParticleSpec;
-use crate::schema::Generator;
+use crate::particle::ParticleSpec;
 use dualsph_io::ParticleTable;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -102,42 +101,38 @@ const REQUIRED: [&str; 5] = [
     dualsph_io::SMOOTHING_LENGTH,
 ];
 
-/// Reads the files of the `File` generators of `particles` in a `d`-dimensional scene,
-/// relative to `dir`.
-pub(crate) fn load(particles: &mut [Generator], dir: &Path, d: usize) -> Result<(), Problem> {
-    for (i, g) in particles.iter_mut().enumerate() {
-        if let Generator::File(f) = g {
-            let path = dir.join(&f.path);
-            let at = format!("particles[{i}].path");
-            let vtp = path
-                .extension()
-                .is_some_and(|e| e.eq_ignore_ascii_case("vtp"));
-            let read = dualsph_io::read_particles(&path).and_then(|p| {
-                let table = match vtp {
-                    true => p.clone(),
-                    false => dualsph_io::read_particle_table_csv(&path)?,
-                };
-                Ok((p, table))
-            });
-            let (particles, table) =
-                read.map_err(|e| Problem::new(&at, format!("cannot read particles: {e}")))?;
-            particles
-                .require(&REQUIRED)
-                .map_err(|e| Problem::new(&at, format!("cannot read particles: {e}")))?;
-            let spacing = particles
-                .rows()
-                .map(|r| (r.mass() / r.rho()).powf(1.0 / d.clamp(1, 3) as f64))
-                .fold(f64::INFINITY, f64::min);
-            let h = particles.rows().map(|r| r.h()).fold(0.0, f64::max);
-            f.particles = ReadParticles(Some(Arc::new(Read {
-                particles,
-                table,
-                vtk: vtp,
-                spacing,
-                h_factor: h / spacing,
-            })));
-        }
-    }
+/// Reads the file of `f` (generator number `i`) in a `d`-dimensional scene, relative to
+/// `dir`; a problem names `particles[{i}].path`.
+pub(crate) fn read(i: usize, f: &mut FileParticles, dir: &Path, d: usize) -> Result<(), Problem> {
+    let path = dir.join(&f.path);
+    let at = format!("particles[{i}].path");
+    let vtp = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("vtp"));
+    let read = dualsph_io::read_particles(&path).and_then(|p| {
+        let table = match vtp {
+            true => p.clone(),
+            false => dualsph_io::read_particle_table_csv(&path)?,
+        };
+        Ok((p, table))
+    });
+    let (particles, table) =
+        read.map_err(|e| Problem::new(&at, format!("cannot read particles: {e}")))?;
+    particles
+        .require(&REQUIRED)
+        .map_err(|e| Problem::new(&at, format!("cannot read particles: {e}")))?;
+    let spacing = particles
+        .rows()
+        .map(|r| (r.mass() / r.rho()).powf(1.0 / d.clamp(1, 3) as f64))
+        .fold(f64::INFINITY, f64::min);
+    let h = particles.rows().map(|r| r.h()).fold(0.0, f64::max);
+    f.particles = ReadParticles(Some(Arc::new(Read {
+        particles,
+        table,
+        vtk: vtp,
+        spacing,
+        h_factor: h / spacing,
+    })));
     Ok(())
 }
 

@@ -8,7 +8,7 @@
 //! outside [`crate::Scene::from_str`] / [`crate::Scene::parse_only`] fails with a clear error
 //! instead of guessing.
 
-use crate::schema::Ident;
+use crate::de::Ident;
 use dualsph_core::plugin::{PluginConfig, PluginEntry, Registry};
 use serde::de::{
     self, DeserializeSeed, Deserializer, EnumAccess, SeqAccess, VariantAccess, Visitor,
@@ -35,9 +35,14 @@ pub(crate) fn with_registry<T>(registry: &Registry, f: impl FnOnce() -> T) -> T 
     f()
 }
 
+/// Runs `f` with the registry of the parse call running on this thread, if any.
+pub(crate) fn with_current<T>(f: impl FnOnce(Option<&Registry>) -> T) -> T {
+    REGISTRY.with(|r| f(r.borrow().as_ref()))
+}
+
 /// What the registry says about a name: the entry, or the list of registered names.
 fn lookup(name: &str) -> Result<PluginEntry, String> {
-    REGISTRY.with(|r| match r.borrow().as_ref() {
+    with_current(|r| match r {
         None => Err(format!(
             "cannot parse plugin `{name}`: no plugin registry is installed \
              (parse scenes with `Scene::from_str` or `Scene::load`)"

@@ -1,62 +1,18 @@
 //! Semantic checks of a parsed scene; the first problem found is reported.
 
 use crate::Scene;
+use crate::checks::{Check, ordered, positive, vector};
 use crate::error::Problem;
 use crate::generate::{self, MAX_PARTICLES};
-use crate::schema::{BodyKind, BoxRegion, Generator, MotionSettings, TimeStep, Velocity};
+use crate::lattice::{BoxRegion, Velocity};
+use crate::schema::{BodyKind, Generator, MotionSettings};
 use crate::shapes;
 use dualsph_core::plugin::{Role, SceneInfo};
-use std::cmp::Ordering;
 
 mod overlap;
 mod support;
 
 use overlap::{fmt_point, overlaps};
-
-pub(crate) type Check = Result<(), Problem>;
-
-/// A vector with exactly `d` finite components.
-pub(crate) fn vector(field: &str, v: &[f64], d: usize) -> Check {
-    if v.len() != d {
-        return Err(Problem::new(
-            field,
-            format!("expected {d} components for dimension {d}, got {}", v.len()),
-        ));
-    }
-    match v.iter().position(|x| !x.is_finite()) {
-        Some(k) => Err(Problem::new(
-            field,
-            format!("component {k} is not finite ({})", v[k]),
-        )),
-        None => Ok(()),
-    }
-}
-
-/// A finite number `> 0`.
-pub(crate) fn positive(field: &str, x: f64) -> Check {
-    if x.is_finite() && x > 0.0 {
-        Ok(())
-    } else {
-        Err(Problem::new(
-            field,
-            format!("must be a finite number > 0, got {x}"),
-        ))
-    }
-}
-
-/// `max > min` on every axis (both already checked to have `d` components).
-pub(crate) fn ordered(field: &str, min: &[f64], max: &[f64]) -> Check {
-    match (0..min.len()).find(|&k| max[k].partial_cmp(&min[k]) != Some(Ordering::Greater)) {
-        Some(k) => Err(Problem::new(
-            field,
-            format!(
-                "max must exceed min on every axis; on axis {k} max is {} and min is {}",
-                max[k], min[k]
-            ),
-        )),
-        None => Ok(()),
-    }
-}
 
 fn boxes(field: &str, b: &BoxRegion, d: usize) -> Check {
     vector(&format!("{field}.min"), &b.min, d)?;
@@ -131,14 +87,6 @@ fn generator(i: usize, g: &Generator, d: usize) -> Check {
     Ok(())
 }
 
-fn fraction(field: &str, x: f64) -> Check {
-    if x > 0.0 && x <= 1.0 {
-        Ok(())
-    } else {
-        Err(Problem::new(field, format!("must lie in (0, 1], got {x}")))
-    }
-}
-
 /// One periodic flag per axis, and every support fitting its period: a pair must meet one
 /// image only, so `2 h (1 + skin) < L` on each periodic axis for the largest generated h.
 fn periodic(s: &Scene) -> Check {
@@ -211,33 +159,22 @@ fn settings(s: &Scene) -> Check {
     for (i, g) in s.particles.iter().enumerate() {
         generator(i, g, d)?;
         if let Generator::Shape(shape) = g {
-            shapes::check_generator(i, shape, d, &s.domain)?;
+            let domain = (&s.domain.min[..], &s.domain.max[..]);
+            shapes::check_generator(i, shape, d, domain)?;
         }
     }
-    match s.integrator.dt {
-        TimeStep::Fixed(dt) => positive("integrator.dt", dt)?,
-        TimeStep::Adaptive {
-            courant,
-            force,
-            viscous,
-        } => {
-            fraction("integrator.dt.courant", courant)?;
-            let limit = dualsph_integrator::time_step::CFL_LIMIT;
-            if courant > limit {
-                return Err(Problem::new(
-                    "integrator.dt.courant",
-                    format!(
-                        "{courant} is above the CFL limit {limit} (on the support radius h, = {} on the classical h/2)",
-                        2.0 * limit
-                    ),
-                ));
-            }
-            fraction("integrator.dt.force", force)?;
-            fraction("integrator.dt.viscous", viscous)?;
-        }
-    }
-    if let Some(max_dt) = s.integrator.max_dt {
-        positive("integrator.max_dt", max_dt)?;
+    let info = SceneInfo {
+        dimension: d,
+        bodies: s.body_list().into_iter().map(|b| b.name).collect(),
+        domain: (s.domain.min.clone(), s.domain.max.clone()),
+    };
+    for section in [Some(&s.integrator), s.health.as_ref()]
+        .into_iter()
+        .flatten()
+    {
+        section
+            .validate(&info)
+            .map_err(|p| Problem::new(p.field, p.message))?;
     }
     positive("end_time", s.end_time)?;
     if s.max_steps == Some(0) {
@@ -245,11 +182,6 @@ fn settings(s: &Scene) -> Check {
     }
     s.output.check()?;
     bodies(s)?;
-    let info = SceneInfo {
-        dimension: d,
-        bodies: s.body_list().into_iter().map(|b| b.name).collect(),
-        domain: (s.domain.min.clone(), s.domain.max.clone()),
-    };
     for (i, p) in s.plugins.iter().enumerate() {
         p.validate(&info)
             .map_err(|m| Problem::new(format!("plugins[{i}] ({})", p.name()), m))?;

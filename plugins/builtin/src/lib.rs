@@ -25,11 +25,16 @@ pub mod plugins {
     pub use dualsph_walls::{SpecularWalls, WallPressure};
 }
 
-/// A registry with every built-in plugin; add your own with `register::<YourPlugin>()`.
+/// A registry with every built-in plugin and the scene sections the built-in plugins own
+/// (`integrator`: [`IntegratorSettings`](dualsph_integrator::IntegratorSettings), `health`:
+/// [`HealthSettings`](dualsph_diagnostics::HealthSettings)); add your own with
+/// `register::<YourPlugin>()`.
 pub fn default_registry() -> Registry {
     use plugins::*;
     let mut r = Registry::new();
-    r.register::<LeapfrogPC>()
+    r.register_section::<dualsph_integrator::IntegratorSettings>()
+        .register_section::<dualsph_diagnostics::HealthSettings>()
+        .register::<LeapfrogPC>()
         .register::<PositionVerlet>()
         .register::<DiagnosticsPlugin>()
         .register::<SummationDensity>()

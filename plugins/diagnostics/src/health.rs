@@ -1,5 +1,8 @@
 //! The health check of the state: the first non-finite or unphysical value, a density or h
-//! outside its sane range, or a particle far outside the domain (a blow-up).
+//! outside its sane range, or a particle far outside the domain (a blow-up). The sane ranges
+//! are set by the scene's `health` section ([`settings`]).
+
+pub mod settings;
 
 use crate::totals::InitialDensity;
 use dualsph_core::bevy_ecs::prelude::*;

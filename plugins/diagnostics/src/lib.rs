@@ -6,7 +6,8 @@
 //!   on demand, [`SimDiagnostics::diagnostics`]).
 //! * [`health`]: the first non-finite or unphysical value of the state, a density or h
 //!   outside its sane range, a particle far outside the domain ([`Health`], every step): what
-//!   the runner stops a blown-up run on.
+//!   the runner stops a blown-up run on; its sane ranges are the scene's `health` section
+//!   ([`HealthSettings`], a scene section this crate owns).
 //! * [`balance`]: the relative net force and torque of the pair sweep ([`PairBalance`], on
 //!   request).
 //!
@@ -19,6 +20,7 @@ pub mod health;
 pub mod totals;
 
 pub use balance::{PairBalance, pair_balance, track_pair_balance};
+pub use health::settings::{DEFAULT_DT_BELOW, HealthSettings};
 pub use health::*;
 pub use totals::*;
 
@@ -28,7 +30,7 @@ use dualsph_fluid::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// `Diagnostics()`: the plugin (no settings; the cadence is the scene's
-/// `output.diagnostics_every`, the health factors its `health` section).
+/// `output.diagnostics_every`, the health factors its `health` section, [`HealthSettings`]).
 #[derive(Debug, Clone, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct DiagnosticsPlugin {}

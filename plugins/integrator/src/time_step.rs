@@ -5,7 +5,8 @@
 //! below are those of the explicit second-order leapfrog family (both schemes here), where
 //! the sound-wave mode grows above a Courant number of order one. A scheme with another
 //! stability region installs its own rule instead. The rule's settings (the scene's
-//! `integrator.dt`) are the core's [`TimeStepping`] resource, and the largest viscosity the
+//! `integrator` section, [`IntegratorSettings`](crate::IntegratorSettings)) are the core's
+//! [`TimeStepping`] resource, and the largest viscosity the
 //! viscous limit needs is the core's [`MaxViscosity`], which viscosity plugins raise.
 
 use dualsph_core::bevy_ecs::prelude::*;

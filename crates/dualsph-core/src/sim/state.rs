@@ -5,6 +5,7 @@ use crate::kernels::{Kernel, KernelKind};
 use crate::math::{Real, Vector};
 use crate::neighbours::SkinRule;
 use bevy_ecs::prelude::*;
+use serde::{Deserialize, Serialize};
 
 /// Time, step counter and dt.
 #[derive(Resource, Clone, Copy, Debug, PartialEq)]
@@ -133,22 +134,76 @@ pub struct SimConfig<V: Vector> {
 }
 
 /// How pair interactions are summed: the method and the paper's comparison cases (the pair
-/// sweep of `dualsph-sweep` describes each).
-#[derive(Resource, Clone, Copy, Debug, PartialEq, Eq)]
+/// sweep of `dualsph-sweep` describes each). A scene names it by its variant
+/// (`formulation: DualSupport`).
+#[derive(Resource, Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub enum Formulation {
-    /// Support + dual-support, pair once with reaction (the DS-SPH method).
+    /// Dual-support SPH: every pair interacts through the support of one particle and the
+    /// dual-support of the other, once with its reaction, so momentum and energy are
+    /// conserved exactly (§5 of Ren, Dai, Zhuang & Rabczuk, *Dual-support Smoothed Particle
+    /// Hydrodynamics*, preprint; RenDSSPH in docs/references.md).
     DualSupport,
-    /// Variable h, own support only, no reaction (not conservative).
+    /// Variable-h SPH that uses only each particle's own support, without the reaction (not
+    /// exactly conservative).
     SingleSupport,
-    /// One h for all particles.
+    /// Classical SPH with one common smoothing length for all particles.
     ConstantH,
-    /// Averaged kernel over the union of support and dual-support (Eq. 2.13).
+    /// Variable-h SPH symmetrised by averaging the two kernels of a pair over the union of
+    /// support and dual-support (Eq. 2.13).
     AveragedKernel,
     /// Grad-h SPH (Springel & Hernquist 2002; Price 2012): h tied to the summation density at
-    /// every step, with the Ω correction. Its pair forces are support/dual-support pairs (the
-    /// owner's pressure with the owner's kernel, the reaction to the neighbour), so it runs on
-    /// the dual-support sweep; the h solve and Ω come from the smoothing-length plugin.
+    /// every step, `h_i = n (m_i/ρ_i)^{1/d}` with `ρ_i = Σ_j m_j W(r_ij, h_i)` solved together
+    /// (n from the scene's `SmoothingLengthUpdate`), and the Ω terms in the pressure and
+    /// viscous forces. Its pair forces are support/dual-support pairs (the owner's pressure
+    /// with the owner's kernel, the reaction to the neighbour), so it runs on the
+    /// dual-support sweep; the h solve and Ω come from the smoothing-length plugin. Needs
+    /// `SummationDensity()` and `SmoothingLengthUpdate(...)`.
     GradH,
+}
+
+impl Formulation {
+    /// Every formulation, in declaration order.
+    pub const ALL: [Formulation; 5] = [
+        Formulation::DualSupport,
+        Formulation::SingleSupport,
+        Formulation::ConstantH,
+        Formulation::AveragedKernel,
+        Formulation::GradH,
+    ];
+
+    /// The name a scene gives it (`DualSupport`, `GradH`, ...).
+    pub fn name(self) -> &'static str {
+        match self {
+            Formulation::DualSupport => "DualSupport",
+            Formulation::SingleSupport => "SingleSupport",
+            Formulation::ConstantH => "ConstantH",
+            Formulation::AveragedKernel => "AveragedKernel",
+            Formulation::GradH => "GradH",
+        }
+    }
+}
+
+impl std::fmt::Display for Formulation {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for Formulation {
+    type Err = String;
+    /// The formulation of a scene name (`DualSupport`).
+    fn from_str(s: &str) -> Result<Self, String> {
+        Formulation::ALL
+            .into_iter()
+            .find(|f| f.name() == s)
+            .ok_or_else(|| {
+                let names: Vec<&str> = Formulation::ALL.iter().map(|f| f.name()).collect();
+                format!(
+                    "unknown formulation `{s}`, expected one of {}",
+                    names.join(", ")
+                )
+            })
+    }
 }
 
 /// Why the last step failed, as reported by one of its systems (the population when the id
@@ -156,3 +211,22 @@ pub enum Formulation {
 /// names the step.
 #[derive(Resource, Debug, Default)]
 pub struct StepFailure(pub Option<String>);
+
+#[cfg(test)]
+mod tests {
+    use super::Formulation;
+
+    #[test]
+    fn every_formulation_is_listed_once_and_parses_from_its_name() {
+        for (k, f) in Formulation::ALL.into_iter().enumerate() {
+            // declaration order: the index is the variant's (its serialized form)
+            assert_eq!(f as usize, k);
+            assert_eq!(f.name().parse::<Formulation>(), Ok(f));
+        }
+        let e = "single-support".parse::<Formulation>().unwrap_err();
+        assert!(
+            e.contains("expected one of DualSupport, SingleSupport"),
+            "{e}"
+        );
+    }
+}

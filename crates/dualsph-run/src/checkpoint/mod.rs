@@ -154,7 +154,8 @@ struct Canonical<'a> {
     particles: &'a [dualsph_scene::Generator],
     /// Each plugin's [`canonical`](dualsph_core::plugin::PluginConfig::canonical) bytes.
     plugins: Vec<Vec<u8>>,
-    integrator: &'a dualsph_scene::IntegratorSettings,
+    // then the integrator section's canonical bytes, appended (postcard encodes a struct as
+    // its fields one after the other, so this is the encoding of the section as a last field)
 }
 
 /// A hash (FNV-1a) of the canonical form of everything in the scene that determines the
@@ -175,10 +176,10 @@ pub fn fingerprint(scene: &Scene) -> u64 {
         bodies: &scene.bodies,
         particles: &scene.particles,
         plugins: scene.plugins.iter().map(|p| p.canonical()).collect(),
-        integrator: &scene.integrator,
     };
     // every field has a known length, which is all postcard needs
-    let bytes = postcard::to_stdvec(&canonical).unwrap_or_default();
+    let mut bytes = postcard::to_stdvec(&canonical).unwrap_or_default();
+    bytes.extend(scene.integrator.canonical());
     fnv1a(&bytes)
 }
 

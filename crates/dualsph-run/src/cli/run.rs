@@ -27,7 +27,8 @@ pub(crate) struct RunArgs {
     /// No progress output.
     #[arg(long)]
     quiet: bool,
-    /// Replace the scene's formulation (e.g. SingleSupport to rerun a paper's Case I).
+    /// Replace the scene's formulation (e.g. single-support, or SingleSupport as a scene
+    /// spells it, to rerun a paper's Case I).
     #[arg(long, value_enum)]
     formulation: Option<FormulationArg>,
     /// Write the complete state to OUT/checkpoint_NNNNNN.ckpt every N steps (atomically;
@@ -84,7 +85,7 @@ pub(crate) fn run(args: RunArgs, registry: &Registry) -> Result<(), Failure> {
     }
     let (mut s, text) = super::load_with_text(&args.scene, registry)?;
     if let Some(f) = args.formulation {
-        s.formulation = f.into();
+        s.formulation = f.0;
     }
     if let Some(t) = args.end_time {
         if !(t.is_finite() && t > 0.0) {

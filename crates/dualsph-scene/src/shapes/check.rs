@@ -2,9 +2,8 @@
 
 use super::polygon::{first_crossing, signed_area};
 use super::{Fill, Region, Shape, ShapeGenerator};
+use crate::checks::{Check, ordered, positive, vector};
 use crate::error::Problem;
-use crate::schema::Domain;
-use crate::validate::{Check, ordered, positive, vector};
 
 /// The dimension a shape needs, or `None` for any.
 fn needs(s: &Shape) -> Option<(usize, &'static str)> {
@@ -153,7 +152,7 @@ pub(crate) fn region(field: &str, r: &Region, d: usize) -> Check {
 /// The `Shape` generator number `i` (its shape already checked): its fill, and its extent (the shape's
 /// bounding box widened by outside layers, narrowed to the clip box) inside the domain.
 /// Called after the common settings (spacing, clip, cut) are checked.
-pub(crate) fn generator(i: usize, g: &ShapeGenerator, d: usize, domain: &Domain) -> Check {
+pub(crate) fn generator(i: usize, g: &ShapeGenerator, d: usize, domain: (&[f64], &[f64])) -> Check {
     let at = format!("particles[{i}]");
     if let Fill::Layers { n: 0, .. } = g.fill {
         return Err(Problem::new(
@@ -170,7 +169,7 @@ pub(crate) fn generator(i: usize, g: &ShapeGenerator, d: usize, domain: &Domain)
             lo[k] = lo[k].max(clip.min[k]);
             hi[k] = hi[k].min(clip.max[k]);
         }
-        let (dmin, dmax) = (domain.min[k], domain.max[k]);
+        let (dmin, dmax) = (domain.0[k], domain.1[k]);
         let slack = 1e-9 * (dmax - dmin);
         if lo[k] < dmin - slack || hi[k] > dmax + slack {
             let layers = if reach > 0.0 {

@@ -2,10 +2,9 @@
 //! scene is parsed, each path relative to the scene file's directory, and every problem
 //! names the shape's `file` field (`particles[2].shape.file`, `particles[0].cut[1].file`).
 
+use super::Shape;
 use super::mesh::{Mesh, check_closed, read_stl};
-use super::{Region, Shape};
 use crate::error::Problem;
-use crate::schema::Generator;
 use std::path::Path;
 use std::sync::Arc;
 
@@ -50,24 +49,14 @@ impl Outline {
     }
 }
 
-/// Reads the files of the shapes of `particles` (generator shapes and cut regions) in a
-/// `d`-dimensional scene whose file is in `dir`. Shapes of another dimension are left unread
-/// (validation refuses them by their dimension).
-pub(crate) fn load(particles: &mut [Generator], dir: &Path, d: usize) -> Result<(), Problem> {
-    for (i, g) in particles.iter_mut().enumerate() {
-        if let Generator::Shape(s) = g {
-            load_shape(&format!("particles[{i}].shape"), &mut s.shape, dir, d)?;
-        }
-        for (j, cut) in g.cut_mut().iter_mut().enumerate() {
-            if let Region::Shape(s) = cut {
-                load_shape(&format!("particles[{i}].cut[{j}]"), s, dir, d)?;
-            }
-        }
-    }
-    Ok(())
-}
-
-fn load_shape(field: &str, shape: &mut Shape, dir: &Path, d: usize) -> Result<(), Problem> {
+/// Reads the file of `shape` (an `Stl` shape in 3-D, a `PolygonFile` in 2-D; other shapes
+/// have none) relative to `dir`; a problem names `{field}.file`.
+pub(crate) fn load_shape(
+    field: &str,
+    shape: &mut Shape,
+    dir: &Path,
+    d: usize,
+) -> Result<(), Problem> {
     let at = format!("{field}.file");
     match shape {
         Shape::Stl { file, mesh, .. } if d == 3 => {

@@ -2,7 +2,7 @@
 //! surface, on either side.
 
 use super::{Geometry, Region, Shape};
-use crate::schema::{BoxRegion, Lattice, Velocity};
+use crate::lattice::{BoxRegion, Lattice, Velocity};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
@@ -21,7 +21,7 @@ pub enum Fill {
     /// concentric rings instead.
     Layers {
         /// The number of layers (>= 1).
-        #[serde(deserialize_with = "crate::schema::int::de")]
+        #[serde(deserialize_with = "crate::de::int::de")]
         n: usize,
         /// Which side of the surface.
         side: Side,
@@ -62,7 +62,7 @@ pub struct ShapeGenerator {
     /// Support radius in units of Δx: `h = h_factor · Δx`.
     pub h_factor: f64,
     /// Keep only the points inside this box.
-    #[serde(default, deserialize_with = "crate::schema::deserialize_clip")]
+    #[serde(default, deserialize_with = "crate::lattice::deserialize_clip")]
     pub clip: Option<BoxRegion>,
     /// Drop the points inside any of these regions (boxes or shapes).
     #[serde(default)]

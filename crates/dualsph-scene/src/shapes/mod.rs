@@ -21,12 +21,12 @@ mod polygon;
 pub(crate) use check::{
     generator as check_generator, region as check_region, shape as check_shape,
 };
-pub(crate) use files::load as load_files;
+pub(crate) use files::load_shape;
 pub use files::{Outline, StlMesh};
 pub use fill::{Fill, ShapeGenerator, Side};
 pub(crate) use fill::{estimate_count, for_each_position};
 
-use crate::schema::BoxRegion;
+use crate::lattice::BoxRegion;
 use mesh_geom::MeshGeom;
 use polygon::PolygonGeom;
 use serde::{Deserialize, Serialize};

@@ -1,4 +1,5 @@
-//! Shared fixtures: two tiny plugins, a registry, a valid base scene and helpers.
+//! Shared fixtures: two tiny plugins, two tiny sections, a registry, a valid base scene and
+//! helpers.
 
 mod generate;
 mod output;
@@ -12,7 +13,7 @@ mod validate;
 
 use crate::{Registry, Scene, SceneError};
 use dualsph_core::math::Vector;
-use dualsph_core::plugin::{SceneInfo, SimPlugin};
+use dualsph_core::plugin::{SceneInfo, SceneSection, SectionProblem, SimPlugin};
 use dualsph_core::sim::{Sim, SimError};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -56,9 +57,53 @@ impl SimPlugin for Walls {
     }
 }
 
+/// Test `integrator` section: `(dt: Fixed(x))` or `(dt: Adaptive(courant: x))`.
+#[derive(Debug, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct Steps {
+    pub dt: Dt,
+    #[serde(default)]
+    pub max_dt: Option<f64>,
+}
+
+/// The test section's step rule.
+#[derive(Debug, PartialEq, Deserialize, Serialize)]
+pub(super) enum Dt {
+    Fixed(f64),
+    Adaptive {
+        #[serde(default)]
+        courant: f64,
+    },
+}
+
+impl SceneSection for Steps {
+    const KEY: &'static str = "integrator";
+    fn validate(&self, _info: &SceneInfo) -> Result<(), SectionProblem> {
+        match self.dt {
+            Dt::Fixed(dt) if dt <= 0.0 || dt.is_nan() => Err(SectionProblem::new(
+                "integrator.dt",
+                format!("must be > 0, got {dt}"),
+            )),
+            _ => Ok(()),
+        }
+    }
+}
+
+/// Test `health` section.
+#[derive(Debug, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct Health {
+    pub limit: f64,
+}
+
+impl SceneSection for Health {
+    const KEY: &'static str = "health";
+}
+
 pub(super) fn registry() -> Registry {
     let mut r = Registry::new();
     r.register::<Gravity>().register::<Walls>();
+    r.register_section::<Steps>().register_section::<Health>();
     r
 }
 

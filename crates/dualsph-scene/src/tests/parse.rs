@@ -1,9 +1,7 @@
 //! Parsing: the schema, defaults, plugins and the parse errors.
 
 use super::*;
-use crate::{
-    Formulation, Generator, KernelKind, Lattice, OutputFormat, TimeStep, Velocity, VtkEncoding,
-};
+use crate::{Formulation, Generator, KernelKind, Lattice, OutputFormat, Velocity, VtkEncoding};
 
 #[test]
 fn base_scene_parses_with_defaults() {
@@ -22,8 +20,9 @@ fn base_scene_parses_with_defaults() {
     assert!(matches!(&s.particles[1], Generator::Disk(d) if d.radius == 0.5));
     let names: Vec<_> = s.plugins.iter().map(|p| p.name()).collect();
     assert_eq!(names, ["Gravity", "SpecularWalls"]);
-    assert_eq!(s.integrator.dt, TimeStep::Fixed(1e-4));
-    assert_eq!(s.integrator.max_dt, None);
+    let steps = s.section::<Steps>().unwrap();
+    assert_eq!((&steps.dt, steps.max_dt), (&Dt::Fixed(1e-4), None));
+    assert!(s.health.is_none() && s.section::<Health>().is_none());
     assert_eq!(s.end_time, 1.0);
     assert_eq!(s.max_steps, None);
     assert_eq!(
@@ -92,15 +91,9 @@ fn every_optional_field_parses() {
     };
     assert_eq!(d.clip.as_ref().unwrap().min, vec![2.5, 1.5]);
     assert_eq!(d.velocity, Some(Velocity::Uniform(vec![1.0, 2.0])));
-    assert_eq!(
-        s.integrator.dt,
-        TimeStep::Adaptive {
-            courant: 0.2,
-            force: 0.25,
-            viscous: 0.125
-        }
-    );
-    assert_eq!(s.integrator.max_dt, Some(1e-3));
+    let steps = s.section::<Steps>().unwrap();
+    assert_eq!(steps.dt, Dt::Adaptive { courant: 0.2 });
+    assert_eq!(steps.max_dt, Some(1e-3));
     assert_eq!(s.max_steps, Some(100));
     assert_eq!(
         (
@@ -161,16 +154,28 @@ fn clip_box_errors_are_precise() {
 }
 
 #[test]
-fn adaptive_without_settings_uses_defaults() {
-    let text = edit(&[("Fixed(1e-4)", "Adaptive()")]);
+fn sections_are_parsed_by_their_registered_settings() {
+    let text = edit(&[("end_time: 1.0,", "end_time: 1.0, health: (limit: 3.0),")]);
     let s = load(&text).unwrap();
-    assert_eq!(
-        s.integrator.dt,
-        TimeStep::Adaptive {
-            courant: 0.1,
-            force: 0.25,
-            viscous: 0.125
-        }
+    assert_eq!(s.section::<Health>(), Some(&Health { limit: 3.0 }));
+    assert_eq!(s.health.as_ref().map(|h| h.key()), Some("health"));
+    // an error inside a section is reported where it stands
+    let text = edit(&[("end_time: 1.0,", "end_time: 1.0, health: (limt: 3.0),")]);
+    let (line, col, msg) = parse_error(&text);
+    assert_eq!((line, col), line_col(&text, "limt"));
+    assert!(msg.contains("limt") && msg.contains("`limit`"), "{msg}");
+    let text = edit(&[("(dt: Fixed(1e-4))", "(dt: Fixed(\"small\"))")]);
+    assert_eq!(parse_error(&text).0, line_col(&text, "small").0);
+}
+
+#[test]
+fn a_section_without_registered_settings_says_so() {
+    let mut r = Registry::new();
+    r.register::<Gravity>().register::<Walls>();
+    let e = Scene::parse_only(BASE, path(), &r).unwrap_err().to_string();
+    assert!(
+        e.contains("no settings are registered for the section `integrator`"),
+        "{e}"
     );
 }
 

@@ -6,7 +6,8 @@ use super::Check;
 use crate::Scene;
 use crate::error::Problem;
 use crate::generate;
-use crate::schema::{Block, Generator, Lattice};
+use crate::lattice::Lattice;
+use crate::schema::{Block, Generator};
 
 /// Above this `h_factor` every lattice gives at least [`minimum`] neighbours in any
 /// dimension, and the count is not taken.
