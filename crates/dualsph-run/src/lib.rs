@@ -17,8 +17,8 @@ pub use dualsph_core as __core;
 use dualsph_builtin::{fuse_builtin_terms, plugins};
 use dualsph_core::bodies::{Bodies, Body, install_bodies};
 use dualsph_diagnostics::{HealthSettings, SimDiagnostics};
-use dualsph_integrator::IntegratorSettings;
 use dualsph_fluid::prelude::*;
+use dualsph_integrator::IntegratorSettings;
 use dualsph_scene::Scene;
 
 fn vector<V: Vector>(x: &[Real], what: &str) -> Result<V, SimError> {
