@@ -16,12 +16,13 @@ fn layer(package: &str) -> Option<u32> {
         "dualsph-math" | "dualsph-io" | "dualsph-reference" => 0,
         "dualsph-neighbours" | "dualsph-plot" => 1,
         "dualsph-core" => 2,
-        "dualsph-sweep" | "dualsph-fluid" | "dualsph-scene" => 3,
-        "dualsph-builtin" => 5,
-        "dualsph-run" => 6,
-        "dualsph" => 7,
-        "dualsph-validation" | "custom-physics" => 8,
-        p if p.starts_with("dualsph-") => 4, // a plugin
+        "dualsph-sweep" | "dualsph-scene" => 3,
+        "dualsph-fluid" => 4,
+        "dualsph-builtin" => 6,
+        "dualsph-run" => 7,
+        "dualsph" => 8,
+        "dualsph-validation" | "custom-physics" => 9,
+        p if p.starts_with("dualsph-") => 5, // a plugin
         _ => return None,
     })
 }
