@@ -9,6 +9,9 @@ fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
+/// The layer of the plugins.
+const PLUGINS: u32 = 5;
+
 /// The layer of each workspace package, lowest first; plugins share one layer and may use
 /// each other.
 fn layer(package: &str) -> Option<u32> {
@@ -22,7 +25,7 @@ fn layer(package: &str) -> Option<u32> {
         "dualsph-run" => 7,
         "dualsph" => 8,
         "dualsph-validation" | "custom-physics" => 9,
-        p if p.starts_with("dualsph-") => 5, // a plugin
+        p if p.starts_with("dualsph-") => PLUGINS,
         _ => return None,
     })
 }
@@ -76,7 +79,7 @@ fn no_crate_depends_on_a_layer_above_its_own() {
         let own = layer(&name).unwrap_or_else(|| panic!("{name} has no layer in this test"));
         for dep in deps {
             let theirs = layer(&dep).unwrap();
-            let plugins = own == 4 && theirs == 4;
+            let plugins = own == PLUGINS && theirs == PLUGINS;
             if theirs > own || (theirs == own && !plugins) {
                 upward.push((name.clone(), dep));
             }

@@ -42,6 +42,8 @@ mod vtk;
 mod vtp_read;
 
 #[cfg(test)]
+mod test_particles;
+#[cfg(test)]
 mod tests;
 #[cfg(test)]
 mod vtk_tests;

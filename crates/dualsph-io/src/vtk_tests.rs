@@ -3,7 +3,7 @@
 
 use std::io::Read;
 
-use crate::tests::{Particle, table_of};
+use crate::test_particles::{Particle, table_of};
 use crate::vtk::{self, ArrayValues, ImageGrid, VtkArray, VtkEncoding, ZLIB_BLOCK};
 use crate::{ParticleTable, TableColumn};
 

@@ -227,7 +227,7 @@ impl File<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::tests::{Particle, particles_of, table_of};
+    use crate::test_particles::{Particle, particles_of, table_of};
     use crate::{VtkEncoding, vtk};
 
     fn records(n: usize) -> Vec<Particle> {
