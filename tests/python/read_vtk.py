@@ -127,7 +127,7 @@ def check_grid(out):
     dims = img.GetDimensions()
     n = dims[0] * dims[1] * dims[2]
     pd = img.GetPointData()
-    arrays = {name: pd.GetArray(name) for name in ("Density", "shepard_sum", "inside")}
+    arrays = {name: pd.GetArray(name) for name in ("density", "shepard_sum", "inside")}
     for name, arr in arrays.items():
         if arr is None or arr.GetNumberOfTuples() != n:
             fail(f"{vti}: array {name} missing or not one value per point ({n} points)")
@@ -142,9 +142,9 @@ def check_grid(out):
             fail(f"{vti}: inside[{i}] = {flag}")
         if flag == 1:
             inside += 1
-            d = arrays["Density"].GetValue(i)
+            d = arrays["density"].GetValue(i)
             if not (lo * (1 - 1e-12) <= d <= hi * (1 + 1e-12)):
-                fail(f"{vti}: Density[{i}] = {d} outside the particles' range [{lo}, {hi}]")
+                fail(f"{vti}: density[{i}] = {d} outside the particles' range [{lo}, {hi}]")
             if arrays["shepard_sum"].GetValue(i) < 0.5:
                 fail(f"{vti}: point {i} is inside with a Shepard sum below 0.5")
     if inside == 0:
