@@ -141,33 +141,25 @@ fn density_grid_of_a_live_sim() {
 fn cli_grid_and_plot_probes() {
     let dir = run_short("sod_1d.ron", 10);
     let bin = || Command::new(env!("CARGO_BIN_EXE_dualsph"));
-    let out = bin()
-        .arg("grid")
-        .arg(scene_path("sod_1d.ron"))
-        .arg("--dir")
-        .arg(dir.path())
-        .args(["--dx", "0.01", "--field", "Density"])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    // `dualsph grid` of one field over the run's last snapshot
+    let grid = |field: &str| {
+        let out = bin()
+            .arg("grid")
+            .arg(scene_path("sod_1d.ron"))
+            .arg("--dir")
+            .arg(dir.path())
+            .args(["--dx", "0.01", "--field", field])
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    };
+    grid("Density");
     assert!(dir.path().join("density_grid.vti").is_file());
-    let out = bin()
-        .arg("grid")
-        .arg(scene_path("sod_1d.ron"))
-        .arg("--dir")
-        .arg(dir.path())
-        .args(["--dx", "0.01", "--field", "velocity.x"])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    grid("velocity.x");
     assert!(dir.path().join("velocity_x_grid.vti").is_file());
     let out = bin().arg("plot-probes").arg(dir.path()).output().unwrap();
     assert!(
