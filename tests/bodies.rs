@@ -1,6 +1,7 @@
 //! Bodies and materials: two fluids of different ρ0 stay stratified at rest with their own
 //! equations of state and per-body totals; a fixed body holds still under a fluid's load; a
-//! prescribed lid moves by its law and drags the water under it.
+//! prescribed lid moves by its law and drags the water under it; a kind of body from the
+//! user's crate drives its body like a built-in one.
 
 use dualsph::io::read_particles;
 use dualsph::runner::{self, Progress, RunOptions};
@@ -234,4 +235,72 @@ fn viscosities_given_per_body_equal_to_the_uniform_one_give_the_same_run() {
          (body: \"water\", alpha: 0.1, beta: 0.0)])",
     );
     assert!(uniform == per_body, "the runs differ");
+}
+
+/// A kind of body from outside the engine: the lid accelerates uniformly along x,
+/// `x(t) = x_0 + a t²/2`, `v = a t` (`Glide(accel: a)`).
+#[derive(Debug, serde::Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+struct Glide {
+    accel: f64,
+}
+
+/// The law of [`Glide`].
+#[derive(Debug)]
+struct GlideLaw(f64);
+
+impl dualsph::core::bodies::BodyMotion for GlideLaw {
+    fn at(&self, x0: [f64; 3], t: f64) -> ([f64; 3], [f64; 3]) {
+        let a = self.0;
+        ([x0[0] + 0.5 * a * t * t, x0[1], x0[2]], [a * t, 0.0, 0.0])
+    }
+    fn acceleration(&self, _x0: [f64; 3], _t: f64) -> [f64; 3] {
+        [self.0, 0.0, 0.0]
+    }
+}
+
+impl dualsph::core::bodies::BodyKind for Glide {
+    const NAME: &'static str = "Glide";
+    const SUMMARY: &'static str = "accelerates uniformly along x (a test's own kind)";
+    fn motion(&self) -> Option<std::sync::Arc<dyn dualsph::core::bodies::BodyMotion>> {
+        Some(std::sync::Arc::new(GlideLaw(self.accel)))
+    }
+}
+
+/// A body kind registered by the user's crate is named by the scene and drives its body
+/// with no edit of the engine: the lid of the tests above, given `Glide(accel: 4.0)`, ends
+/// at `x_0 + a t²/2` with `v = a t` at t = 0.1 s, and its load is reported like a built-in
+/// kind's.
+#[test]
+fn a_users_own_body_kind_drives_its_body() {
+    let mut registry = dualsph::default_registry();
+    registry.register_body_kind::<Glide>();
+    let text = lid_scene("PhysicalViscosity(mu: 1.0)").replace(
+        "Prescribed(Translate(velocity: [0.2, 0.0]))",
+        "Glide(accel: 4.0)",
+    );
+    let scene = Scene::from_str(&text, Path::new("test.ron"), &registry).unwrap();
+    let first = scene.generate();
+    let (dir, s) = run(&scene);
+    let last = read_particles(&dir.path().join("final.csv")).unwrap();
+    let (a, t) = (4.0, 0.1);
+    let lid: Vec<_> = first.iter().filter(|p| p.body == 0).collect();
+    assert_eq!(lid.len(), 60);
+    for (p0, p) in lid.iter().zip(last.rows()) {
+        let x = p0.pos[0] + 0.5 * a * t * t;
+        assert!(
+            (p.pos()[0] - x).abs() < 1e-12,
+            "id {}: {:?}",
+            p.id(),
+            p.pos()
+        );
+        assert!(
+            (p.vel()[0] - a * t).abs() < 1e-12,
+            "id {}: {:?}",
+            p.id(),
+            p.vel()
+        );
+    }
+    let loads: Vec<_> = s.last.loads.iter().map(|l| l.body).collect();
+    assert_eq!(loads, [0], "the lid's load is reported");
 }

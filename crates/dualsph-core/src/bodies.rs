@@ -1,17 +1,26 @@
 //! Bodies: every particle belongs to one ([`BodyId`], a column of the store), and a body has a
-//! name and a [`BodyKind`]. Kinds are data, not marker components, so all particles stay in
-//! one table. Plugins take their material parameters per body (e.g. the equation of state's
-//! ρ0 and c0), and the diagnostics report mass, momentum and energy per body.
+//! name and, unless it is a fluid, a [`BodyMotion`]: the law that moves its particles. What a
+//! scene calls a body's kind (`kind: Fixed`, `kind: Prescribed(Slide(..))`) is a [`BodyKind`]
+//! a crate provides and a [`Registry`](crate::plugin::Registry) holds; its one job is to give
+//! that law ([`kind`]). Bodies are data, not marker components, so all particles stay in one
+//! table. Plugins take their material parameters per body (e.g. the equation of state's ρ0 and
+//! c0), and the diagnostics report mass, momentum and energy per body.
 //!
-//! A particle of a [`BodyKind::Fixed`] body keeps its initial position and zero velocity; one
-//! of a [`BodyKind::Prescribed`] body moves by its [`Motion`], a given function of time. Such
-//! a particle takes part in every pair sum (its density and pressure evolve like a fluid
-//! particle's, and its velocity enters the pair terms, so a moving wall drags and pushes the
-//! fluid), and the force the sweep computes on it is the fluid's load on the body (its
-//! `Acceleration` times its mass: body forces act on fluid bodies only, and the diagnostics
-//! sum the loads per body about [`Body::moment_about`]), but the integrator's update of its
-//! position and velocity is replaced by the body's law right after the predictor and the
-//! corrector ([`drive_bodies`]).
+//! A particle of a body with a motion ("driven": fixed, prescribed) is moved by it: a
+//! [`Fixed`] body's particles keep their initial position and zero velocity ([`Hold`]), others
+//! follow their law, a function of time and the particle's initial position. Such a particle
+//! takes part in every pair sum (its density and pressure evolve like a fluid particle's, and
+//! its velocity enters the pair terms, so a moving wall drags and pushes the fluid), and the
+//! force the sweep computes on it is the fluid's load on the body (its `Acceleration` times its
+//! mass: body forces act on fluid bodies only, and the diagnostics sum the loads per body about
+//! [`Body::moment_about`]), but the integrator's update of its position and velocity is
+//! replaced by the body's law right after the predictor and the corrector ([`drive_bodies`]).
+//! A law that evolves with the loads (a floating body) is a system of its own that replaces
+//! its body's entry of [`DrivenBodies`] before [`DriveBodies`].
+
+pub mod kind;
+
+pub use kind::{BodyKind, BodyKindConfig, BodyKindEntry, Fixed, Fluid};
 
 use crate::chunks::{DENSE, MIN_LEN};
 use crate::columns::{ColumnSpec, ColumnValue, Shape};
@@ -20,207 +29,111 @@ use crate::math::{Real, Vector};
 use crate::sim::{Sim, SimError, StepSet};
 use bevy_ecs::prelude::*;
 use rayon::prelude::*;
+use std::fmt::Debug;
+use std::sync::Arc;
 
 /// The name of the one body of a scene that declares none.
 pub const DEFAULT_BODY: &str = "fluid";
 
-/// What moves a body's particles.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum BodyKind {
-    /// Integrated in time by the forces on them.
-    Fluid,
-    /// Held at their initial positions with zero velocity (a wall, a fixed obstacle).
-    Fixed,
-    /// Moved by a given law of time (a piston, a flap, a lid), whatever the forces on them.
-    Prescribed(Motion),
-}
-
-/// A rigid motion given as a function of time `t` (from the start of the run), for a particle
-/// that starts at `x_0`: its position `x(t)` and velocity `v(t) = dx/dt`. Vectors have the
-/// scene's dimension in their first components (the rest is ignored).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Motion {
-    /// `x(t) = x_0 + u t`, `v = u`.
-    Translate {
-        /// `u`.
-        velocity: [Real; 3],
-    },
-    /// `x(t) = x_0 + A (sin(ωt + φ) − sin φ)`, `v(t) = A ω cos(ωt + φ)`, with `ω = 2π f`.
-    Oscillate {
-        /// `A`.
-        amplitude: [Real; 3],
-        /// `f` (Hz).
-        frequency: Real,
-        /// `φ` (rad).
-        phase: Real,
-    },
-    /// A surface that moves along itself at `u` (a belt, the lid of a cavity): `x(t) = x_0`,
-    /// `v = u`. The particles stay where they are and carry the velocity into the fluid's
-    /// equations; it stands for a wall that the motion maps onto itself (a plane wall moved
-    /// along its plane), longer than the run would carry it.
-    Slide {
-        /// `u`.
-        velocity: [Real; 3],
-    },
-    /// A rotation at the constant rate `Ω` about the axis through `c` along the unit vector
-    /// `n` (the z axis in 2-D): `x(t) = c + R(Ωt)(x_0 − c)` with Rodrigues' rotation
-    /// `R(θ)y = y cos θ + (n × y) sin θ + n (n·y)(1 − cos θ)`, and `v = Ω n × (x − c)`.
-    Rotate {
-        /// `c`.
-        center: [Real; 3],
-        /// `n` (normalised when the motion is built; ignored in 2-D).
-        axis: [Real; 3],
-        /// `Ω` (rad/s, counter-clockwise about `n`).
-        omega: Real,
-    },
-}
-
-impl Motion {
+/// A rigid law of motion of a driven body: the position `x(t)` and velocity `v(t)` at time `t`
+/// (from the start of the run) of a particle that starts at `x_0`, and its acceleration.
+/// Vectors are embedded in 3-D (a 2-D scene's particles have `z = 0`; the components past the
+/// scene's dimension are ignored).
+pub trait BodyMotion: Debug + Send + Sync + 'static {
     /// `(x(t), v(t))` of a particle that starts at `x0`.
-    pub fn at<V: Vector>(&self, x0: V, t: Real) -> (V, V) {
-        let vec = |a: &[Real; 3]| V::from_slice(&a[..V::DIM]).expect("DIM <= 3");
-        match *self {
-            Motion::Translate { velocity } => {
-                let u = vec(&velocity);
-                (x0 + u * t, u)
-            }
-            Motion::Slide { velocity } => (x0, vec(&velocity)),
-            Motion::Oscillate {
-                amplitude,
-                frequency,
-                phase,
-            } => {
-                let (a, w) = (vec(&amplitude), 2.0 * std::f64::consts::PI * frequency);
-                let arg = w * t + phase;
-                (x0 + a * (arg.sin() - phase.sin()), a * (w * arg.cos()))
-            }
-            Motion::Rotate {
-                center,
-                axis,
-                omega,
-            } => {
-                let c = vec(&center);
-                let n = if V::DIM == 3 { axis } else { [0.0, 0.0, 1.0] };
-                let (y, th) = (x0 - c, omega * t);
-                let cross = |a: [Real; 3], b: [Real; 3]| {
-                    [
-                        a[1] * b[2] - a[2] * b[1],
-                        a[2] * b[0] - a[0] * b[2],
-                        a[0] * b[1] - a[1] * b[0],
-                    ]
-                };
-                let y3 = y.to_xyz();
-                let ny = n[0] * y3[0] + n[1] * y3[1] + n[2] * y3[2];
-                let nxy = cross(n, y3);
-                let (s, co) = th.sin_cos();
-                let r: [Real; 3] =
-                    std::array::from_fn(|k| y3[k] * co + nxy[k] * s + n[k] * ny * (1.0 - co));
-                let v = cross(n, r).map(|x| x * omega);
-                (c + vec(&r), vec(&v))
-            }
-        }
-    }
-
-    /// The acceleration `a(t) = dv/dt` of a particle that starts at `x0`: zero for a
-    /// translation, `−A ω² sin(ωt + φ)` for an oscillation, `Ω n × v` (centripetal) for a
-    /// rotation.
-    pub fn acceleration<V: Vector>(&self, x0: V, t: Real) -> V {
-        match *self {
-            Motion::Translate { .. } | Motion::Slide { .. } => V::zero(),
-            Motion::Oscillate {
-                amplitude,
-                frequency,
-                phase,
-            } => {
-                let w = 2.0 * std::f64::consts::PI * frequency;
-                let a = V::from_slice(&amplitude[..V::DIM]).expect("DIM <= 3");
-                a * (-w * w * (w * t + phase).sin())
-            }
-            Motion::Rotate { axis, omega, .. } => {
-                let n = if V::DIM == 3 { axis } else { [0.0, 0.0, 1.0] };
-                let v = self.at(x0, t).1.to_xyz();
-                let a = [
-                    n[1] * v[2] - n[2] * v[1],
-                    n[2] * v[0] - n[0] * v[2],
-                    n[0] * v[1] - n[1] * v[0],
-                ];
-                V::from_slice(&a.map(|x| x * omega)[..V::DIM]).expect("DIM <= 3")
-            }
-        }
-    }
-
-    /// The motion with a rotation's axis normalised; the error names what is wrong.
-    pub fn checked(self) -> Result<Self, String> {
-        let finite = |xs: &[Real]| xs.iter().all(|x| x.is_finite());
-        match self {
-            Motion::Translate { velocity } | Motion::Slide { velocity } if finite(&velocity) => {
-                Ok(self)
-            }
-            Motion::Oscillate {
-                amplitude,
-                frequency,
-                phase,
-            } if finite(&amplitude) && finite(&[frequency, phase]) && frequency >= 0.0 => Ok(self),
-            Motion::Rotate {
-                center,
-                axis,
-                omega,
-            } if finite(&center) && finite(&axis) && omega.is_finite() => {
-                let len = axis.iter().map(|x| x * x).sum::<Real>().sqrt();
-                if len > 0.0 {
-                    let axis = axis.map(|x| x / len);
-                    Ok(Motion::Rotate {
-                        center,
-                        axis,
-                        omega,
-                    })
-                } else {
-                    Err("the rotation axis is zero".into())
-                }
-            }
-            _ => Err(format!(
-                "a motion needs finite values (frequency >= 0): {self:?}"
-            )),
-        }
+    fn at(&self, x0: [Real; 3], t: Real) -> ([Real; 3], [Real; 3]);
+    /// `a(t) = dv/dt` of a particle that starts at `x0` (what a wall model subtracts from
+    /// gravity, Adami et al. 2012, Eq. 27).
+    fn acceleration(&self, x0: [Real; 3], t: Real) -> [Real; 3];
+    /// True for a law that keeps every particle at `x_0` with zero velocity at all times: its
+    /// particles are set from their anchor without calling [`BodyMotion::at`].
+    fn holds_still(&self) -> bool {
+        false
     }
 }
 
-/// A body: its name and kind. Its index in [`Bodies`] is the [`BodyId`] of its particles.
-#[derive(Clone, Debug, PartialEq)]
+/// The law of a [`Fixed`] body: `x(t) = x_0`, `v = 0`.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Hold;
+
+impl BodyMotion for Hold {
+    fn at(&self, x0: [Real; 3], _t: Real) -> ([Real; 3], [Real; 3]) {
+        (x0, [0.0; 3])
+    }
+    fn acceleration(&self, _x0: [Real; 3], _t: Real) -> [Real; 3] {
+        [0.0; 3]
+    }
+    fn holds_still(&self) -> bool {
+        true
+    }
+}
+
+/// A vector of the scene from its 3-D embedding.
+fn from_xyz<V: Vector>(x: [Real; 3]) -> V {
+    V::from_slice(&x[..V::DIM]).expect("DIM <= 3")
+}
+
+/// `(x(t), v(t))` of `law` for a particle that starts at `x0`, in the scene's vectors.
+pub fn motion_at<V: Vector>(law: &dyn BodyMotion, x0: V, t: Real) -> (V, V) {
+    let (x, v) = law.at(x0.to_xyz(), t);
+    (from_xyz(x), from_xyz(v))
+}
+
+/// `a(t)` of `law` for a particle that starts at `x0`, in the scene's vectors.
+pub fn motion_acceleration<V: Vector>(law: &dyn BodyMotion, x0: V, t: Real) -> V {
+    from_xyz(law.acceleration(x0.to_xyz(), t))
+}
+
+/// A body: its name and what moves it. Its index in [`Bodies`] is the [`BodyId`] of its
+/// particles.
+#[derive(Clone, Debug)]
 pub struct Body {
     /// The scene's name for it.
     pub name: String,
-    /// What moves it.
-    pub kind: BodyKind,
-    /// The point `c` the moment of the load on a fixed or prescribed body is taken about,
+    /// The law that moves its particles, or `None` for a fluid (integrated by the forces).
+    pub motion: Option<Arc<dyn BodyMotion>>,
+    /// The point `c` the moment of the load on a driven body is taken about,
     /// `M = Σ_i (x_i − c) × f_i` (3-D embedding; the origin by default).
     pub moment_about: [Real; 3],
 }
 
 impl Body {
-    /// A body named `name` of kind `kind`, its moment taken about the origin.
-    pub fn new(name: impl Into<String>, kind: BodyKind) -> Self {
+    /// A fluid body named `name`.
+    pub fn fluid(name: impl Into<String>) -> Self {
         Body {
             name: name.into(),
-            kind,
+            motion: None,
             moment_about: [0.0; 3],
+        }
+    }
+
+    /// A fixed body named `name` ([`Hold`]), its moment taken about the origin.
+    pub fn fixed(name: impl Into<String>) -> Self {
+        Body::moved_by(name, Arc::new(Hold))
+    }
+
+    /// A body named `name` moved by `law`, its moment taken about the origin.
+    pub fn moved_by(name: impl Into<String>, law: Arc<dyn BodyMotion>) -> Self {
+        Body {
+            motion: Some(law),
+            ..Body::fluid(name)
         }
     }
 
     /// True for a body whose particles are integrated (a fluid), false for one whose motion
     /// is given (fixed or prescribed): a body with a load.
     pub fn is_fluid(&self) -> bool {
-        self.kind == BodyKind::Fluid
+        self.motion.is_none()
     }
 }
 
 /// The bodies of a simulation, indexed by [`BodyId`].
-#[derive(Resource, Clone, Debug, PartialEq)]
+#[derive(Resource, Clone, Debug)]
 pub struct Bodies(pub Vec<Body>);
 
 impl Default for Bodies {
     fn default() -> Self {
-        Bodies(vec![Body::new(DEFAULT_BODY, BodyKind::Fluid)])
+        Bodies(vec![Body::fluid(DEFAULT_BODY)])
     }
 }
 
@@ -268,10 +181,10 @@ pub struct WallVelocityOffset<V: Vector>(pub V);
 crate::vector_column!(WallVelocityOffset);
 
 /// The law of every body whose particles are moved by it rather than integrated, by
-/// [`BodyId`]: `None` for a fluid, the motion for a prescribed body, and a translation at zero
-/// velocity for a fixed one (which leaves the initial position bitwise unchanged).
+/// [`BodyId`]: `None` for a fluid. A system may replace an entry during the run (a law that
+/// evolves with the loads); [`drive_bodies`] reads them after it.
 #[derive(Resource, Clone, Debug, Default)]
-pub struct DrivenBodies(pub Vec<Option<Motion>>);
+pub struct DrivenBodies(pub Vec<Option<Arc<dyn BodyMotion>>>);
 
 /// The systems that set the positions and velocities of fixed and prescribed bodies
 /// ([`drive_bodies`], after the integrator's predictor and corrector): the integrator's
@@ -288,19 +201,34 @@ pub fn drive_bodies<V: Vector>(
     clock: Res<crate::sim::SimClock>,
     mut q: Query<(&BodyId, &Anchor<V>, &mut Position<V>, &mut Velocity<V>)>,
 ) {
+    /// What moves a body's particles this step.
+    enum Drive<'a> {
+        Free,
+        Hold,
+        Law(&'a dyn BodyMotion),
+    }
+    let drives: Vec<Drive> = driven
+        .0
+        .iter()
+        .map(|m| match m.as_deref() {
+            None => Drive::Free,
+            Some(m) if m.holds_still() => Drive::Hold,
+            Some(m) => Drive::Law(m),
+        })
+        .collect();
     let t = clock.t + clock.dt;
     for (body, anchor, mut r, mut v) in q.contiguous_iter_mut().expect(DENSE) {
         let (r, v) = (r.bypass_change_detection(), v.bypass_change_detection());
         (body, anchor, r, v)
             .into_par_iter()
             .with_min_len(MIN_LEN)
-            .for_each(|(b, a, r, v)| match driven.0[b.0 as usize] {
-                None => {}
-                Some(Motion::Translate { velocity }) if velocity == [0.0; 3] => {
+            .for_each(|(b, a, r, v)| match drives[b.0 as usize] {
+                Drive::Free => {}
+                Drive::Hold => {
                     r.0 = a.0;
                     v.0 = V::zero();
                 }
-                Some(m) => (r.0, v.0) = m.at(a.0, t),
+                Drive::Law(m) => (r.0, v.0) = motion_at(m, a.0, t),
             });
     }
 }
@@ -308,7 +236,7 @@ pub fn drive_bodies<V: Vector>(
 /// Sets the simulation's bodies (before the plugins are built) and, when one of them is
 /// fixed or prescribed, anchors the particles and drives them after the predictor and the
 /// corrector ([`drive_bodies`]), having set those of prescribed bodies to their law at t = 0.
-/// The error names a particle whose body does not exist, or a motion that is not valid.
+/// The error names a particle whose body does not exist.
 pub fn install_bodies<V: Vector>(sim: &mut Sim<V>, bodies: Bodies) -> Result<(), SimError> {
     let n = bodies.0.len();
     let mut q = sim.world.query::<&BodyId>();
@@ -318,17 +246,7 @@ pub fn install_bodies<V: Vector>(sim: &mut Sim<V>, bodies: Bodies) -> Result<(),
             b.0
         )));
     }
-    let mut driven = Vec::with_capacity(n);
-    for b in &bodies.0 {
-        driven.push(match b.kind {
-            BodyKind::Fluid => None,
-            BodyKind::Fixed => Some(Motion::Translate { velocity: [0.0; 3] }),
-            BodyKind::Prescribed(m) => Some(
-                m.checked()
-                    .map_err(|e| SimError::Build(format!("body `{}`: {e}", b.name)))?,
-            ),
-        });
-    }
+    let driven: Vec<_> = bodies.0.iter().map(|b| b.motion.clone()).collect();
     sim.world.insert_resource(bodies);
     if driven.iter().any(Option::is_some) {
         let spec = ColumnSpec::restart_only("anchor");
@@ -352,11 +270,11 @@ pub fn install_bodies<V: Vector>(sim: &mut Sim<V>, bodies: Bodies) -> Result<(),
 }
 
 /// The velocity of every particle of a prescribed body at t = 0 (its position is its anchor).
-fn set_velocities_at_start<V: Vector>(world: &mut World, driven: &[Option<Motion>]) {
+fn set_velocities_at_start<V: Vector>(world: &mut World, driven: &[Option<Arc<dyn BodyMotion>>]) {
     let mut q = world.query::<(&BodyId, &Position<V>, &mut Velocity<V>)>();
     for (b, r, mut v) in q.iter_mut(world) {
-        if let Some(m) = driven[b.0 as usize] {
-            v.0 = m.at(r.0, 0.0).1;
+        if let Some(m) = &driven[b.0 as usize] {
+            v.0 = motion_at(m.as_ref(), r.0, 0.0).1;
         }
     }
 }
@@ -364,117 +282,36 @@ fn set_velocities_at_start<V: Vector>(world: &mut World, driven: &[Option<Motion
 #[cfg(test)]
 mod tests {
     use super::*;
-    use glam::{DVec2, DVec3};
-    use std::f64::consts::PI;
+    use glam::DVec2;
 
-    fn close(a: Real, b: Real) -> bool {
-        (a - b).abs() <= 1e-14 * (1.0 + a.abs().max(b.abs()))
-    }
+    /// A law of the tests: `x(t) = x_0 + (t, 2t)`.
+    #[derive(Debug)]
+    struct Drift;
 
-    #[test]
-    fn a_translation_moves_at_its_velocity() {
-        let m = Motion::Translate {
-            velocity: [0.5, -2.0, 0.0],
-        };
-        let (x, v) = m.at(DVec2::new(1.0, 1.0), 0.4);
-        assert!(close(x.x, 1.2) && close(x.y, 0.2), "{x}");
-        assert_eq!(v, DVec2::new(0.5, -2.0));
-    }
-
-    /// Starts at x0 with v(0) = Aω cos φ, and v is dx/dt (central difference, step 1e-6 s).
-    #[test]
-    fn an_oscillation_starts_at_its_anchor_with_the_derivative_as_velocity() {
-        let m = Motion::Oscillate {
-            amplitude: [0.1, 0.0, 0.0],
-            frequency: 2.0,
-            phase: 0.3,
-        };
-        let x0 = DVec2::new(1.0, 0.5);
-        let (x, v) = m.at(x0, 0.0);
-        assert_eq!(x, x0);
-        assert!(close(v.x, 0.1 * 4.0 * PI * 0.3f64.cos()));
-        let (t, e) = (0.37, 1e-6);
-        let dx = (m.at(x0, t + e).0 - m.at(x0, t - e).0) / (2.0 * e);
-        let v = m.at(x0, t).1;
-        assert!((dx.x - v.x).abs() < 1e-8 * v.x.abs(), "{dx} vs {v}");
-        assert_eq!(dx.y, 0.0);
-    }
-
-    /// A quarter turn about c takes c + (1, 0) to c + (0, 1) with speed Ω|x − c| along −x.
-    #[test]
-    fn a_rotation_in_2d_turns_about_its_center() {
-        let m = Motion::Rotate {
-            center: [2.0, 1.0, 0.0],
-            axis: [0.0, 0.0, 1.0],
-            omega: 3.0,
-        };
-        let (x, v) = m.at(DVec2::new(3.0, 1.0), PI / 6.0);
-        assert!(close(x.x, 2.0) && close(x.y, 2.0), "{x}");
-        assert!(
-            v.x.abs() > 0.0 && close(v.x, -3.0) && v.y.abs() < 1e-14,
-            "{v}"
-        );
-    }
-
-    /// About the x axis (given unnormalised): y → z after a quarter turn, x unchanged.
-    #[test]
-    fn a_rotation_in_3d_turns_about_its_axis() {
-        let m = Motion::Rotate {
-            center: [0.0; 3],
-            axis: [2.0, 0.0, 0.0],
-            omega: 1.0,
+    impl BodyMotion for Drift {
+        fn at(&self, x0: [Real; 3], t: Real) -> ([Real; 3], [Real; 3]) {
+            ([x0[0] + t, x0[1] + 2.0 * t, x0[2]], [1.0, 2.0, 0.0])
         }
-        .checked()
-        .unwrap();
-        let (x, _) = m.at(DVec3::new(0.7, 1.0, 0.0), PI / 2.0);
-        assert!(
-            close(x.x, 0.7) && x.y.abs() < 1e-15 && close(x.z, 1.0),
-            "{x}"
-        );
-    }
-
-    /// The acceleration is dv/dt (central difference, step 1e-6 s) for each law.
-    #[test]
-    fn the_acceleration_is_the_derivative_of_the_velocity() {
-        let laws = [
-            Motion::Translate {
-                velocity: [0.5, -2.0, 0.0],
-            },
-            Motion::Oscillate {
-                amplitude: [0.1, -0.2, 0.0],
-                frequency: 2.0,
-                phase: 0.3,
-            },
-            Motion::Rotate {
-                center: [2.0, 1.0, 0.0],
-                axis: [0.0, 0.0, 1.0],
-                omega: 3.0,
-            },
-        ];
-        let (x0, t, e) = (DVec2::new(3.0, 1.5), 0.37, 1e-6);
-        for m in laws {
-            let dv = (m.at(x0, t + e).1 - m.at(x0, t - e).1) / (2.0 * e);
-            let a = m.acceleration(x0, t);
-            assert!(
-                (dv - a).length() < 1e-7 * (1.0 + a.length()),
-                "{m:?}: {dv} vs {a}"
-            );
+        fn acceleration(&self, _x0: [Real; 3], _t: Real) -> [Real; 3] {
+            [0.0; 3]
         }
     }
 
     #[test]
-    fn invalid_motions_are_refused_with_the_reason() {
-        let zero_axis = Motion::Rotate {
-            center: [0.0; 3],
-            axis: [0.0; 3],
-            omega: 1.0,
-        };
-        assert!(zero_axis.checked().unwrap_err().contains("axis is zero"));
-        let nan = Motion::Oscillate {
-            amplitude: [Real::NAN, 0.0, 0.0],
-            frequency: 1.0,
-            phase: 0.0,
-        };
-        assert!(nan.checked().unwrap_err().contains("finite"));
+    fn a_law_is_read_in_the_scenes_vectors() {
+        let (x, v) = motion_at(&Drift, DVec2::new(1.0, 1.0), 0.5);
+        assert_eq!((x, v), (DVec2::new(1.5, 2.0), DVec2::new(1.0, 2.0)));
+        assert_eq!(
+            motion_at(&Hold, DVec2::new(3.0, 4.0), 9.0).0,
+            DVec2::new(3.0, 4.0)
+        );
+        assert!(Hold.holds_still() && !Drift.holds_still());
+    }
+
+    #[test]
+    fn a_body_is_a_fluid_exactly_when_it_has_no_motion() {
+        assert!(Body::fluid("water").is_fluid());
+        assert!(!Body::fixed("tank").is_fluid());
+        assert!(!Body::moved_by("lid", Arc::new(Drift)).is_fluid());
     }
 }

@@ -36,7 +36,7 @@ pub use glam;
 
 /// The most used items.
 pub mod prelude {
-    pub use crate::bodies::{BodyId, BodyKind};
+    pub use crate::bodies::{Body, BodyId, BodyKind, BodyMotion};
     pub use crate::columns::{ColumnSpec, ColumnValue, Shape};
     pub use crate::components::*;
     pub use crate::integrate::{ScalarRate, ScalarState};

@@ -4,10 +4,13 @@
 //! and builds its components, systems and pair terms into a [`Sim`]. Plugins from outside the
 //! engine register exactly like the built-in ones: `registry.register::<MyPlugin>()`.
 //! Settings a plugin crate owns that a scene gives as a section of its own (`integrator:`,
-//! `health:`) register with `registry.register_section::<Settings>()` (see [`section`]).
+//! `health:`) register with `registry.register_section::<Settings>()` (see [`section`]), and
+//! the kinds of body a scene may name (`kind: Fixed`) with
+//! `registry.register_body_kind::<Kind>()` (see [`crate::bodies::kind`]).
 
 pub mod section;
 
+use crate::bodies::{BodyKind, BodyKindEntry};
 use crate::math::{Real, Vec1, Vector};
 use crate::sim::{Sim, SimError};
 use glam::{DVec2, DVec3};
@@ -195,12 +198,13 @@ fn parse_plugin<P: SimPlugin>(
     Ok(Box::new(p))
 }
 
-/// Name → constructor map for plugins, and key → parser map for the scene sections plugin
-/// crates own.
+/// Name → constructor map for plugins and for body kinds, and key → parser map for the scene
+/// sections plugin crates own.
 #[derive(Clone, Debug, Default)]
 pub struct Registry {
     entries: Vec<PluginEntry>,
     sections: Vec<SectionEntry>,
+    kinds: Vec<BodyKindEntry>,
 }
 
 impl Registry {
@@ -250,6 +254,24 @@ impl Registry {
     /// The section registered under `key`.
     pub fn section(&self, key: &str) -> Option<&SectionEntry> {
         self.sections.iter().find(|e| e.key == key)
+    }
+
+    /// Registers the body kind `K` under `K::NAME` (a later registration of the same name
+    /// replaces it).
+    pub fn register_body_kind<K: BodyKind>(&mut self) -> &mut Self {
+        self.kinds.retain(|e| e.name != K::NAME);
+        self.kinds.push(BodyKindEntry::of::<K>());
+        self
+    }
+
+    /// The body kind registered under `name`.
+    pub fn body_kind(&self, name: &str) -> Option<&BodyKindEntry> {
+        self.kinds.iter().find(|e| e.name == name)
+    }
+
+    /// The registered body kinds, in registration order.
+    pub fn body_kinds(&self) -> &[BodyKindEntry] {
+        &self.kinds
     }
 }
 

@@ -257,6 +257,10 @@ pub fn main(registry: Registry) -> ExitCode {
             for e in registry.entries() {
                 say!("{:<22} {}", e.name, e.summary);
             }
+            say!("\nbody kinds (`Body(name: .., kind: ..)`):");
+            for e in registry.body_kinds() {
+                say!("{:<22} {}", e.name, e.summary);
+            }
             Ok(())
         }
     };

@@ -36,39 +36,6 @@ fn padded3(v: &[f64]) -> [f64; 3] {
     std::array::from_fn(|k| v.get(k).copied().unwrap_or(0.0))
 }
 
-/// A scene's law of motion as the engine's (vectors padded to 3 components).
-fn motion_of(m: &dualsph_scene::MotionSettings) -> dualsph_core::bodies::Motion {
-    use dualsph_core::bodies::Motion;
-    use dualsph_scene::MotionSettings as M;
-    let v3 = padded3;
-    match m {
-        M::Translate { velocity } => Motion::Translate {
-            velocity: v3(velocity),
-        },
-        M::Slide { velocity } => Motion::Slide {
-            velocity: v3(velocity),
-        },
-        M::Oscillate {
-            amplitude,
-            frequency,
-            phase,
-        } => Motion::Oscillate {
-            amplitude: v3(amplitude),
-            frequency: *frequency,
-            phase: *phase,
-        },
-        M::Rotate {
-            center,
-            axis,
-            omega,
-        } => Motion::Rotate {
-            center: v3(center),
-            axis: axis.as_deref().map_or([0.0, 0.0, 1.0], v3),
-            omega: *omega,
-        },
-    }
-}
-
 /// Builds a simulation of dimension `V::DIM` from a validated scene: core resources, the
 /// integrator and the diagnostics (the scene's, or [`LeapfrogPC`](plugins::LeapfrogPC) and
 /// [`DiagnosticsPlugin`](plugins::DiagnosticsPlugin) when it names none; two integrators are
@@ -134,12 +101,8 @@ pub fn build_sim_with<V: Vector>(
     }
     sim.spawn_particles(&particles)?;
     let bodies = scene.body_list().into_iter().map(|b| Body {
+        motion: b.kind.motion(),
         name: b.name,
-        kind: match b.kind {
-            dualsph_scene::BodyKind::Fluid => BodyKind::Fluid,
-            dualsph_scene::BodyKind::Fixed => BodyKind::Fixed,
-            dualsph_scene::BodyKind::Prescribed(m) => BodyKind::Prescribed(motion_of(&m)),
-        },
         moment_about: b.moment_about.as_deref().map_or([0.0; 3], padded3),
     });
     install_bodies(&mut sim, Bodies(bodies.collect()))?;

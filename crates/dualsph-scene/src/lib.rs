@@ -64,6 +64,7 @@
 //! a body in a scene of several.
 #![warn(missing_docs)]
 
+mod body_kinds;
 mod checks;
 mod de;
 mod error;
@@ -88,9 +89,7 @@ pub use lattice::{BoxRegion, Lattice, Velocity};
 pub use output::{DEFAULT_SNAPSHOT_EVERY, OutputFormat, OutputSettings, VtkEncoding};
 pub use particle::ParticleSpec;
 pub use particles_file::{FileParticles, ReadParticles};
-pub use schema::{
-    Block, BodyKind, BodySettings, Disk, Domain, Generator, MotionSettings, NeighbourSettings,
-};
+pub use schema::{Block, BodySettings, Disk, Domain, Generator, NeighbourSettings};
 pub use shapes::{Fill, Geometry, Outline, Region, Shape, ShapeGenerator, Side, StlMesh};
 
 use ron::extensions::Extensions;
@@ -246,7 +245,7 @@ impl Scene {
         if self.bodies.is_empty() {
             vec![BodySettings {
                 name: dualsph_core::bodies::DEFAULT_BODY.into(),
-                kind: BodyKind::Fluid,
+                kind: body_kinds::fluid(),
                 moment_about: None,
             }]
         } else {

@@ -1,10 +1,13 @@
 //! The parts of a scene file. Every struct rejects unknown fields; vectors are RON lists whose
 //! length must equal the scene dimension (checked by validation, not by the parser).
 
+use crate::body_kinds;
 use crate::lattice::{BoxRegion, Lattice, Velocity, deserialize_clip};
 use crate::particles_file::FileParticles;
 use crate::shapes::{Region, ShapeGenerator};
+use dualsph_core::bodies::BodyKindConfig;
 use serde::{Deserialize, Serialize};
+use std::sync::Arc;
 
 /// The simulation box `[min, max]` (one component per axis).
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
@@ -97,67 +100,20 @@ pub struct Disk {
     pub body: Option<String>,
 }
 
-/// What moves a body's particles.
-#[derive(Clone, Debug, PartialEq, Default, Deserialize, Serialize)]
-pub enum BodyKind {
-    /// Integrated in time by the forces on them (the default).
-    #[default]
-    Fluid,
-    /// Held at their initial positions with zero velocity: a wall or a fixed obstacle.
-    Fixed,
-    /// Moved by a law of time whatever the forces (a piston, a flap, a lid):
-    /// `Prescribed(Translate(velocity: [1.0, 0.0]))`.
-    Prescribed(MotionSettings),
-}
-
-/// A prescribed body's law of motion (time from the start of the run; vectors with the
-/// scene's dimension).
-#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub enum MotionSettings {
-    /// `x = x_0 + velocity·t`.
-    Translate {
-        /// Velocity (m/s).
-        velocity: Vec<f64>,
-    },
-    /// A surface moving along itself (a belt, a cavity's lid): the particles stay at `x_0`
-    /// and carry `velocity` (m/s) into the fluid's equations.
-    Slide {
-        /// Velocity (m/s).
-        velocity: Vec<f64>,
-    },
-    /// `x = x_0 + amplitude (sin(2π frequency t + phase) − sin(phase))`.
-    Oscillate {
-        /// Amplitude vector (m).
-        amplitude: Vec<f64>,
-        /// Frequency (Hz).
-        frequency: f64,
-        /// Phase (rad, default 0).
-        #[serde(default)]
-        phase: f64,
-    },
-    /// A rotation at `omega` (rad/s, counter-clockwise) about `center`, about the z axis in
-    /// 2-D and about `axis` in 3-D.
-    Rotate {
-        /// The point on the axis.
-        center: Vec<f64>,
-        /// The axis direction (3-D only).
-        #[serde(default)]
-        axis: Option<Vec<f64>>,
-        /// Angular velocity (rad/s).
-        omega: f64,
-    },
-}
-
 /// A named body: `Body(name: "water")`, `Body(name: "tank", kind: Fixed)`.
-#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
+#[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields, rename = "Body")]
 pub struct BodySettings {
     /// The name generators and plugins refer to it by.
     pub name: String,
-    /// What moves it (default `Fluid`).
-    #[serde(default)]
-    pub kind: BodyKind,
+    /// What moves it: a kind the registry holds (`Fluid`, the default; `Fixed`;
+    /// `Prescribed(..)` in the default registry), parsed by its registered settings type.
+    #[serde(
+        default = "body_kinds::fluid",
+        deserialize_with = "body_kinds::deserialize",
+        serialize_with = "body_kinds::serialize"
+    )]
+    pub kind: Arc<dyn BodyKindConfig>,
     /// The point the moment of the load on a fixed or prescribed body is taken about, one
     /// component per dimension (default: the origin). Not for a fluid body, which has no load.
     #[serde(default, skip_serializing_if = "Option::is_none")]

@@ -5,7 +5,7 @@ use crate::checks::{Check, ordered, positive, vector};
 use crate::error::Problem;
 use crate::generate::{self, MAX_PARTICLES};
 use crate::lattice::{BoxRegion, Velocity};
-use crate::schema::{BodyKind, Generator, MotionSettings};
+use crate::schema::Generator;
 use crate::shapes;
 use dualsph_core::plugin::{Role, SceneInfo};
 
@@ -270,13 +270,24 @@ fn bodies(s: &Scene) -> Check {
             _ => {}
         }
     }
+    let info = SceneInfo {
+        dimension: s.dimension,
+        bodies: names.iter().map(|n| n.to_string()).collect(),
+        domain: (s.domain.min.clone(), s.domain.max.clone()),
+    };
     for (i, b) in s.bodies.iter().enumerate() {
-        if let BodyKind::Prescribed(m) = &b.kind {
-            motion(&format!("bodies[{i}].kind"), m, s.dimension)?;
-        }
+        b.kind.validate(&info).map_err(|p| {
+            let at = format!("bodies[{i}].kind");
+            let field = if p.field.is_empty() {
+                at
+            } else {
+                format!("{at}.{}", p.field)
+            };
+            Problem::new(field, p.message)
+        })?;
         if let Some(c) = &b.moment_about {
             let at = format!("bodies[{i}].moment_about");
-            if b.kind == BodyKind::Fluid {
+            if b.kind.is_fluid() {
                 return Err(Problem::new(
                     at,
                     "a fluid body has no load to take a moment of: give it to a fixed or \
@@ -287,67 +298,6 @@ fn bodies(s: &Scene) -> Check {
         }
     }
     Ok(())
-}
-
-/// A prescribed motion: vectors of the scene's dimension, finite numbers, a rotation about
-/// the z axis in 2-D and about a non-zero `axis` in 3-D (none in 1-D).
-fn motion(at: &str, m: &MotionSettings, d: usize) -> Check {
-    let finite = |field: &str, x: f64| {
-        if x.is_finite() {
-            Ok(())
-        } else {
-            Err(Problem::new(
-                format!("{at}.{field}"),
-                format!("must be finite, got {x}"),
-            ))
-        }
-    };
-    match m {
-        MotionSettings::Translate { velocity } | MotionSettings::Slide { velocity } => {
-            vector(&format!("{at}.velocity"), velocity, d)
-        }
-        MotionSettings::Oscillate {
-            amplitude,
-            frequency,
-            phase,
-        } => {
-            vector(&format!("{at}.amplitude"), amplitude, d)?;
-            if !(frequency.is_finite() && *frequency >= 0.0) {
-                return Err(Problem::new(
-                    format!("{at}.frequency"),
-                    format!("must be a finite number >= 0, got {frequency}"),
-                ));
-            }
-            finite("phase", *phase)
-        }
-        MotionSettings::Rotate {
-            center,
-            axis,
-            omega,
-        } => {
-            vector(&format!("{at}.center"), center, d)?;
-            finite("omega", *omega)?;
-            match (d, axis) {
-                (1, _) => Err(Problem::new(at, "a rotation needs 2 or 3 dimensions")),
-                (2, Some(_)) => Err(Problem::new(
-                    format!("{at}.axis"),
-                    "a 2-D rotation is about the z axis: leave `axis` out",
-                )),
-                (3, None) => Err(Problem::new(
-                    format!("{at}.axis"),
-                    "a 3-D rotation needs its axis, e.g. axis: [0.0, 0.0, 1.0]",
-                )),
-                (3, Some(n)) => {
-                    vector(&format!("{at}.axis"), n, d)?;
-                    if n.iter().all(|&x| x == 0.0) {
-                        return Err(Problem::new(format!("{at}.axis"), "must not be zero"));
-                    }
-                    Ok(())
-                }
-                _ => Ok(()),
-            }
-        }
-    }
 }
 
 /// A cap on the particle count: the number and why it is what it is (empty for the fixed

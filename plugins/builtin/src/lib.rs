@@ -17,6 +17,7 @@ pub mod plugins {
     pub use dualsph_inout::{Inlet, Outlet};
     pub use dualsph_integrator::{EnergyUpdate, LeapfrogPC, PositionVerlet};
     pub use dualsph_kernel_correction::KernelCorrection;
+    pub use dualsph_motion::Prescribed;
     pub use dualsph_pressure::{ArtificialStress, PressureForce};
     pub use dualsph_probes::{Probe, Probes, Quantity};
     pub use dualsph_smoothing_length::SmoothingLengthUpdate;
@@ -32,6 +33,9 @@ pub mod plugins {
 pub fn default_registry() -> Registry {
     use plugins::*;
     let mut r = Registry::new();
+    r.register_body_kind::<dualsph_core::bodies::Fluid>()
+        .register_body_kind::<dualsph_core::bodies::Fixed>()
+        .register_body_kind::<dualsph_motion::Prescribed>();
     r.register_section::<dualsph_integrator::IntegratorSettings>()
         .register_section::<dualsph_diagnostics::HealthSettings>()
         .register::<LeapfrogPC>()

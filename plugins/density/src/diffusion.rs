@@ -47,7 +47,7 @@
 //! wall would leave the fluid.
 
 use dualsph_core::bevy_ecs::prelude::Resource;
-use dualsph_core::bodies::{Bodies, BodyKind};
+use dualsph_core::bodies::Bodies;
 use dualsph_core::lanes::LaneVec;
 use dualsph_eos::Eos;
 use dualsph_fluid::BodyEos;
@@ -196,7 +196,7 @@ impl SimPlugin for DensityDiffusion {
             return Err(SimError::Build("DensityDiffusion is listed twice".into()));
         }
         let kinds = &sim.world.resource::<Bodies>().0;
-        let fluid: Vec<bool> = kinds.iter().map(|b| b.kind == BodyKind::Fluid).collect();
+        let fluid: Vec<bool> = kinds.iter().map(|b| b.is_fluid()).collect();
         let fluid = (!fluid.iter().all(|&f| f)).then_some(fluid);
         let hydrostatic = if self.hydrostatic {
             Some(hydrostatic_setup::<V>(sim)?)

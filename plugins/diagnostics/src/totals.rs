@@ -331,7 +331,7 @@ impl<V: Vector> Loads<V> {
 mod tests {
     use super::*;
     use dualsph_core::bevy_ecs::system::RunSystemOnce;
-    use dualsph_core::bodies::{BodyKind, install_bodies};
+    use dualsph_core::bodies::install_bodies;
     use dualsph_core::sim::{Domain, ParticleInit, SimConfig};
     use dualsph_sweep::prelude::*;
     use glam::DVec2;
@@ -381,9 +381,9 @@ mod tests {
         sim.spawn_particles(&particles).unwrap();
         let wall = Body {
             moment_about: [1.0, -1.0, 0.0],
-            ..Body::new("wall", BodyKind::Fixed)
+            ..Body::fixed("wall")
         };
-        let bodies = Bodies(vec![Body::new("water", BodyKind::Fluid), wall]);
+        let bodies = Bodies(vec![Body::fluid("water"), wall]);
         install_bodies(&mut sim, bodies).unwrap();
         sim.world
             .resource_mut::<ExternalPotentials>()

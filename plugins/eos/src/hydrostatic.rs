@@ -25,7 +25,7 @@
 
 use crate::Eos;
 use dualsph_core::bevy_ecs::prelude::*;
-use dualsph_core::bodies::{Bodies, BodyKind};
+use dualsph_core::bodies::Bodies;
 use dualsph_core::chunks::DENSE;
 use dualsph_fluid::BodyEos;
 use dualsph_fluid::prelude::*;
@@ -90,7 +90,7 @@ pub fn hydrostatic_start<V: Vector>(
         for (((r, b), rho), m) in r.iter().zip(b).zip(rho.iter_mut()).zip(m.iter_mut()) {
             let body = b.0 as usize;
             let depth = level.0 + r.0.dot(down);
-            if bodies.0[body].kind != BodyKind::Fluid || depth <= 0.0 {
+            if !bodies.0[body].is_fluid() || depth <= 0.0 {
                 continue;
             }
             let eos = laws.0[body].as_ref();

@@ -96,7 +96,7 @@ impl SimPlugin for Gravity {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use dualsph_core::bodies::{Body, BodyKind, Motion, install_bodies};
+    use dualsph_core::bodies::{Body, install_bodies};
     use dualsph_core::sim::{Domain, ParticleInit, SimConfig};
     use glam::DVec2;
 
@@ -123,13 +123,13 @@ mod tests {
         };
         sim.spawn_particles(&[p(-3.0, 0), p(0.0, 1), p(3.0, 2)])
             .unwrap();
-        let lid = BodyKind::Prescribed(Motion::Translate {
+        let lid = dualsph_motion::Law::Translate {
             velocity: [1.0, 0.0, 0.0],
-        });
+        };
         let bodies = vec![
-            Body::new("water", BodyKind::Fluid),
-            Body::new("floor", BodyKind::Fixed),
-            Body::new("lid", lid),
+            Body::fluid("water"),
+            Body::fixed("floor"),
+            Body::moved_by("lid", std::sync::Arc::new(lid)),
         ];
         install_bodies(&mut sim, Bodies(bodies)).unwrap();
         let integrator: &dyn PluginConfig = &dualsph_integrator::LeapfrogPC::default();

@@ -16,7 +16,7 @@
 #![warn(missing_docs)]
 
 use dualsph_core::bevy_ecs::prelude::*;
-use dualsph_core::bodies::{Bodies, BodyKind};
+use dualsph_core::bodies::Bodies;
 use dualsph_core::plugin::positive;
 use dualsph_core::population::Population;
 use dualsph_fluid::prelude::*;
@@ -131,7 +131,7 @@ impl SimPlugin for Inlet {
         let body = bodies
             .index(&self.body)
             .ok_or_else(|| SimError::Build(format!("Inlet.body: no body `{}`", self.body)))?;
-        if bodies.0[body].kind != BodyKind::Fluid {
+        if !bodies.0[body].is_fluid() {
             return Err(SimError::Build(format!(
                 "Inlet.body: `{}` is not a fluid body",
                 self.body
@@ -244,10 +244,7 @@ fn drain_outlets<V: Vector>(
     q: Query<(Entity, &Position<V>, &BodyId)>,
 ) {
     for (e, r, b) in &q {
-        let fluid = bodies
-            .0
-            .get(b.0 as usize)
-            .is_some_and(|b| b.kind == BodyKind::Fluid);
+        let fluid = bodies.0.get(b.0 as usize).is_some_and(|b| b.is_fluid());
         if fluid && outlets.0.iter().any(|o| inside(r.0, o)) {
             population.remove(e);
         }

@@ -52,11 +52,8 @@ fn block_on_floor(depth: Real, dx: Real, floor: Real) -> Sim<DVec2> {
         .collect();
     sim.spawn_particles(&parts).expect("fresh particle ids");
     if floor > 0.0 {
-        use dualsph_core::bodies::{Bodies, Body, BodyKind, install_bodies};
-        let bodies = Bodies(vec![
-            Body::new("floor", BodyKind::Fixed),
-            Body::new("water", BodyKind::Fluid),
-        ]);
+        use dualsph_core::bodies::{Bodies, Body, install_bodies};
+        let bodies = Bodies(vec![Body::fixed("floor"), Body::fluid("water")]);
         install_bodies(&mut sim, bodies).unwrap();
     }
     let integrator: &dyn PluginConfig = &dualsph_integrator::LeapfrogPC::default();

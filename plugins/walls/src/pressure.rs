@@ -30,7 +30,7 @@ use crate::velocity::{ViscousWall, ViscousWallMode, wall_velocity};
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::bodies::Anchor;
 use dualsph_core::bodies::DriveBodies;
-use dualsph_core::bodies::{Bodies, BodyKind, DrivenBodies, WallVelocityOffset};
+use dualsph_core::bodies::{Bodies, DrivenBodies, WallVelocityOffset, motion_acceleration};
 use dualsph_core::chunks::DENSE;
 use dualsph_core::columns::ColumnSpec;
 use dualsph_core::neighbours::Neighbours;
@@ -135,7 +135,9 @@ pub fn wall_pressure<V: Vector>(
         .map(|i| {
             let b = body[i].0 as usize;
             let eos = laws.0[b].as_ref();
-            let a_w = driven.0[b].map_or(V::zero(), |m| m.acceleration(anchor[i].0, t));
+            let a_w = driven.0[b]
+                .as_deref()
+                .map_or(V::zero(), |m| motion_acceleration(m, anchor[i].0, t));
             let (pw, rw, w_sum) = sums(&support, &fluid, i);
             let rho_w = if w_sum > 0.0 {
                 let p_w = (pw + (g - a_w).dot(rw)) / w_sum;
@@ -183,7 +185,7 @@ impl SimPlugin for WallPressure {
         let bodies = sim.world.resource::<Bodies>();
         let mut walls = Vec::with_capacity(bodies.0.len());
         for b in &bodies.0 {
-            let driven = b.kind != BodyKind::Fluid;
+            let driven = !b.is_fluid();
             let named = if self.bodies.is_empty() {
                 driven
             } else {

@@ -100,10 +100,35 @@ impl SceneSection for Health {
     const KEY: &'static str = "health";
 }
 
+/// Test body kind with settings: `Spin(rate: 2.0)`, a rate > 0 (the law is not used).
+#[derive(Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct Spin {
+    pub rate: f64,
+}
+
+impl dualsph_core::bodies::BodyKind for Spin {
+    const NAME: &'static str = "Spin";
+    const SUMMARY: &'static str = "test kind";
+    fn validate(&self, _info: &SceneInfo) -> Result<(), SectionProblem> {
+        if self.rate > 0.0 {
+            Ok(())
+        } else {
+            Err(SectionProblem::new("rate", "must be > 0"))
+        }
+    }
+    fn motion(&self) -> Option<std::sync::Arc<dyn dualsph_core::bodies::BodyMotion>> {
+        Some(std::sync::Arc::new(dualsph_core::bodies::Hold))
+    }
+}
+
 pub(super) fn registry() -> Registry {
     let mut r = Registry::new();
     r.register::<Gravity>().register::<Walls>();
     r.register_section::<Steps>().register_section::<Health>();
+    r.register_body_kind::<dualsph_core::bodies::Fluid>()
+        .register_body_kind::<dualsph_core::bodies::Fixed>()
+        .register_body_kind::<Spin>();
     r
 }
 

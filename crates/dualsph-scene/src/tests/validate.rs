@@ -433,6 +433,37 @@ fn many_side_by_side_generators_overlap_check() {
 }
 
 #[test]
+fn body_kinds_are_the_registrys_and_check_their_settings() {
+    let with = |kind: &str| {
+        let bodies = format!(
+            "    bodies: [Body(name: \"water\"), Body(name: \"wall\", kind: {kind})],\n    particles: ["
+        );
+        edit(&[
+            ("    particles: [", &bodies),
+            (BLOCK_H, "h_factor: 2.0, body: \"water\")"),
+            (DISK_H, "h_factor: 1.5, body: \"wall\")"),
+        ])
+    };
+    let s = load(&with("Spin(rate: 2.0)")).unwrap();
+    assert_eq!(s.bodies[1].kind.name(), "Spin");
+    assert!(!s.bodies[1].kind.is_fluid() && s.bodies[0].kind.is_fluid());
+    let (field, message) = invalid(&with("Spin(rate: -1.0)"));
+    assert_eq!(
+        (field.as_str(), message.as_str()),
+        ("bodies[1].kind.rate", "must be > 0")
+    );
+    let text = with("Floating(mass: 1.0)");
+    let (line, col, message) = parse_error(&text);
+    assert_eq!((line, col), line_col(&text, "Floating"));
+    assert!(
+        message.contains("unknown body kind `Floating`, expected one of: Fluid, Fixed, Spin"),
+        "{message}"
+    );
+    let (_, _, message) = parse_error(&with("Spin"));
+    assert!(message.contains("write `Spin(...)`"), "{message}");
+}
+
+#[test]
 fn bodies() {
     let two =
         "    bodies: [Body(name: \"water\"), Body(name: \"wall\", kind: Fixed)],\n    particles: [";
