@@ -15,6 +15,7 @@
 pub use dualsph_core as core;
 pub use dualsph_diagnostics as diagnostics;
 pub use dualsph_fluid as fluid;
+pub use dualsph_integrate as integrate;
 pub use dualsph_integrator as integrator;
 pub use dualsph_io as io;
 pub use dualsph_plot as plot;

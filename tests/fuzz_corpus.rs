@@ -104,7 +104,7 @@ fn mutated_scenes_parse_or_fail_cleanly() {
 }
 
 #[test]
-#[ignore = "second tier (cargo test --release -- --ignored): two million parses"]
+#[ignore = "second tier (cargo test --workspace --release -- --ignored): two million parses"]
 fn many_more_mutated_scenes_parse_or_fail_cleanly() {
     mutations_parse_or_fail_cleanly(20_000, 0x0dd_5eed);
 }

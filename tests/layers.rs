@@ -19,7 +19,7 @@ fn layer(package: &str) -> Option<u32> {
         "dualsph-math" | "dualsph-io" | "dualsph-reference" => 0,
         "dualsph-neighbours" | "dualsph-plot" => 1,
         "dualsph-core" => 2,
-        "dualsph-sweep" | "dualsph-scene" => 3,
+        "dualsph-sweep" | "dualsph-scene" | "dualsph-integrate" => 3,
         "dualsph-fluid" => 4,
         "dualsph-builtin" => 6,
         "dualsph-run" => 7,

@@ -138,7 +138,7 @@ fn elliptical_drop_follows_the_ode_and_conserves_momentum_with_dual_support() {
 }
 
 #[test]
-#[ignore = "second tier (cargo test --release -- --ignored): a minute of dam break"]
+#[ignore = "second tier (cargo test --workspace --release -- --ignored): a minute of dam break"]
 fn dam_break_two_level_dual_support_tracks_the_uniform_run_and_the_experiment() {
     // The paper's resolution (Case II 5,600 particles, Case III 12,800) up to t = 0.75 s, just
     // past the last experimental point: at half resolution the artificial viscosity (∝ h)
@@ -178,7 +178,7 @@ fn dam_break_two_level_dual_support_tracks_the_uniform_run_and_the_experiment() 
 }
 
 #[test]
-#[ignore = "second tier (cargo test --release -- --ignored): half a minute of dam break"]
+#[ignore = "second tier (cargo test --workspace --release -- --ignored): half a minute of dam break"]
 fn dam_break_total_energy_holds_to_two_and_a_half_seconds() {
     // Half the paper's resolution (1,400 and 3,200 particles) through the impact on the far
     // wall and the plunging wave, to t = 2.5 s.

@@ -41,7 +41,7 @@ fn centreline_errors(scene: &Scene) -> (f64, f64) {
 /// With no-slip walls both centrelines are within 3 % of U of Ghia's table at every point
 /// (measured: 2.4 % in u, 1.8 % in v).
 #[test]
-#[ignore = "second tier (cargo test --release -- --ignored): 20 s of cavity flow"]
+#[ignore = "second tier (cargo test --workspace --release -- --ignored): 20 s of cavity flow"]
 fn no_slip_walls_match_ghia_at_re_100() {
     let (u, v) = centreline_errors(&cavity("NoSlip"));
     println!("largest error: u {u:.4} U, v {v:.4} U");
@@ -52,7 +52,7 @@ fn no_slip_walls_match_ghia_at_re_100() {
 /// let the fluid slip: the u centreline is then 10 % of U off (measured 9.95 %) — the check above
 /// tells a wrong wall model apart.
 #[test]
-#[ignore = "second tier (cargo test --release -- --ignored): 20 s of cavity flow"]
+#[ignore = "second tier (cargo test --workspace --release -- --ignored): 20 s of cavity flow"]
 fn walls_at_their_own_velocity_miss_ghia() {
     let (u, v) = centreline_errors(&cavity("Own"));
     println!("largest error: u {u:.4} U, v {v:.4} U");

@@ -56,7 +56,7 @@ fn the_obstacles_stand_where_the_references_apply() {
 /// At rest (t = 5–6 s) the cylinder's vertical load is its buoyancy and its sideways load
 /// small; the dynamic boundary and the walls' own velocity in the viscous term are not.
 #[test]
-#[ignore = "second tier: three runs of the dam break onto obstacles to t = 6 s"]
+#[ignore = "second tier (cargo test --workspace --release -- --ignored): three runs of the dam break onto obstacles to t = 6 s"]
 fn at_rest_the_load_on_the_cylinder_is_its_buoyancy() {
     let opts = common::report_options(1.0, None);
     let graded = run_cases(&opts).unwrap();

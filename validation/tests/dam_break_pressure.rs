@@ -17,7 +17,7 @@ use std::path::Path;
 /// to the plateau more slowly. The sensor first wets within 0.1 of the experiment's t*
 /// (2.479 against 2.491).
 #[test]
-#[ignore = "second tier (cargo test --release -- --ignored): 1.8 s of dam break"]
+#[ignore = "second tier (cargo test --workspace --release -- --ignored): 1.8 s of dam break"]
 fn the_wall_pressure_follows_the_experiment() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/dam_break_buchner_2d.ron");
     let scene = Scene::load(&path, &dualsph::default_registry()).unwrap();

@@ -69,7 +69,7 @@ fn strong_shock_tube_with_pressure_ratio_1e5_is_stable_conservative_and_accurate
 }
 
 #[test]
-#[ignore = "second tier (cargo test --release -- --ignored): eight seconds of sloshing"]
+#[ignore = "second tier (cargo test --workspace --release -- --ignored): eight seconds of sloshing"]
 fn dam_break_runs_to_eight_seconds_through_the_sloshing() {
     let run = run_in_process("dam_break_8s.ron", 50, 8.0);
     let e0 = run.diagnostics[0].e_tot;
@@ -158,7 +158,7 @@ mod drops {
 
     /// The 1:8 jump needs h from the particle distribution (`isotropy`), see the scene.
     #[test]
-    #[ignore = "second tier (cargo test --release -- --ignored): a long drop run"]
+    #[ignore = "second tier (cargo test --workspace --release -- --ignored): a long drop run"]
     fn drop_with_a_one_to_eight_support_jump_conserves_and_follows_the_ode() {
         // b measured −0.08 %; the passing isotropy variants of this scene spread over −0.11 % …
         // +0.02 % (docs/validation/hard_cases.md): bound 0.15 %
@@ -168,7 +168,7 @@ mod drops {
     /// The drop to t = 0.02 s (b ≈ 3.7, the lattice sheared 13.5 : 1): h from the particle
     /// distribution (`isotropy`), see the scene.
     #[test]
-    #[ignore = "second tier (cargo test --release -- --ignored): a long drop run"]
+    #[ignore = "second tier (cargo test --workspace --release -- --ignored): a long drop run"]
     fn stretched_drop_to_twenty_milliseconds_conserves_and_follows_the_ode() {
         let case = graded("drop_stretched.ron", 0.02);
         assert!(case.ode.1 > 3.6, "the ODE's b = {} at 0.02 s", case.ode.1);

@@ -217,7 +217,7 @@ fn density_diffusion_keeps_the_tank_hydrostatic_only_with_the_correction() {
 /// faster than 5 mm/s. Measured: +0.82 % and +0.43 %; 17 % (where the spacing changes);
 /// 3.4 mm/s.
 #[test]
-#[ignore = "second tier (cargo test --release -- --ignored): 2 s of a 3,600-particle tank"]
+#[ignore = "second tier (cargo test --workspace --release -- --ignored): 2 s of a 3,600-particle tank"]
 fn the_graded_tank_stays_hydrostatic_for_two_seconds() {
     let (water, energy_change) = water_at_end(&scene(GRADED_SCENE, |t| t.to_string()));
     assert_within(&measures(&water, energy_change), &GRADED);
@@ -226,7 +226,7 @@ fn the_graded_tank_stays_hydrostatic_for_two_seconds() {
 /// The same checks fail where the spacing jumps 2:1 at once: the floor pressure falls
 /// 4 % below ρ0 g H and the particles at the jump are 45 % of ρ0 g H off.
 #[test]
-#[ignore = "second tier (cargo test --release -- --ignored): 2 s of a 3,100-particle tank"]
+#[ignore = "second tier (cargo test --workspace --release -- --ignored): 2 s of a 3,100-particle tank"]
 fn a_sharp_jump_in_spacing_fails_them() {
     let (water, energy_change) = water_at_end(&scene(GRADED_SCENE, |t| edited(t, &SHARP_JUMP)));
     let m = measures(&water, energy_change);
@@ -239,7 +239,7 @@ fn a_sharp_jump_in_spacing_fails_them() {
 /// water's h the tank is within the graded tank's bounds (measured: floor −0.14 % from
 /// ρ0 g H, worst particle 9 %, 4.2 mm/s).
 #[test]
-#[ignore = "second tier (cargo test --release -- --ignored): two 2 s runs of the tank"]
+#[ignore = "second tier (cargo test --workspace --release -- --ignored): two 2 s runs of the tank"]
 fn walls_finer_than_the_water_need_its_h() {
     let (water, energy_change) = water_at_end(&tank(|t| edited(t, &fine_walls(3.0))));
     let own = measures(&water, energy_change);

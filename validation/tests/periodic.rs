@@ -58,7 +58,7 @@ fn mode_amplitudes(dir: &Path) -> Vec<(f64, f64)> {
 /// vortex mode decays at `2νk²` to 2 % (measured: 1.6 % slow; with the paper's viscous
 /// regularisation `eta_factor: 0.1`, 6.4 % slow).
 #[test]
-#[ignore = "second tier (cargo test --release -- --ignored): a second of Taylor-Green flow"]
+#[ignore = "second tier (cargo test --workspace --release -- --ignored): a second of Taylor-Green flow"]
 fn the_taylor_green_vortex_keeps_its_decay_rate_to_one_second() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/taylor_green_2d.ron");
     let text = std::fs::read_to_string(&path).unwrap();

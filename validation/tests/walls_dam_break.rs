@@ -83,7 +83,7 @@ fn the_walls_hold_the_surge_and_the_momentum_balances_every_step() {
 /// artificial viscosity; with the walls' own velocity (`viscous: Own`) the floor drags the
 /// surge and Case II's front is 0.37 m RMS behind, which the bounds catch.
 #[test]
-#[ignore = "second tier (cargo test --release -- --ignored): two dam breaks to 0.72 s"]
+#[ignore = "second tier (cargo test --workspace --release -- --ignored): two dam breaks to 0.72 s"]
 fn case_two_with_walls_follows_the_experiment_and_case_three() {
     let pair = run_pair(&common::report_options(1.0, None)).unwrap();
     println!("{}", pair.describe());

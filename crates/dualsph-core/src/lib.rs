@@ -1,6 +1,6 @@
 //! dualsph core, the ECS layer: the `Sim` (world, step schedule, finish hooks), the store of
-//! particle columns, population, bodies as data, restart, the registry of integrated
-//! quantities and the `SimPlugin` machinery. It builds on `dualsph-math` and
+//! particle columns, population, bodies as data, restart, the integrator slot and the
+//! `SimPlugin` machinery. It builds on `dualsph-math` and
 //! `dualsph-neighbours` (re-exported under their old paths); the pair sweep
 //! (`dualsph-sweep`), the integrator and the diagnostics are layers and plugins above it.
 //!
@@ -12,7 +12,6 @@ pub mod bodies;
 pub mod chunks;
 pub mod columns;
 pub mod components;
-pub mod integrate;
 pub mod names;
 pub mod order;
 pub mod output;
@@ -39,7 +38,6 @@ pub mod prelude {
     pub use crate::bodies::{Body, BodyId, BodyKind, BodyMotion};
     pub use crate::columns::{ColumnSpec, ColumnValue, Shape};
     pub use crate::components::*;
-    pub use crate::integrate::{ScalarRate, ScalarState};
     pub use crate::kernels::{Kernel, KernelKind};
     pub use crate::lanes::{LaneVec, Lanes};
     pub use crate::math::{Mat1, Matrix, Real, Vec1, Vector};

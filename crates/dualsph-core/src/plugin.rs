@@ -82,7 +82,7 @@ pub fn positive(field: &str, x: Real) -> Result<(), String> {
 pub enum Role {
     /// Physics (or anything else): any number per scene, built in the order listed.
     Physics,
-    /// The time integration ([`crate::integrate::Scheme`]): one per scene; a scene that names
+    /// The time integration (`dualsph_integrate::Scheme`): one per scene; a scene that names
     /// none gets the default (`LeapfrogPC`), two are an error naming both.
     Integrator,
     /// The diagnostics: one per scene; a scene that names none gets the default.

@@ -19,8 +19,8 @@ mod plan;
 mod state;
 pub use plan::Plan;
 pub use state::{
-    Domain, Formulation, InitialInternalEnergy, KernelRes, MaxViscosity, ParticleInit, SimClock,
-    SimConfig, StepFailure, TimeStepping,
+    Domain, Formulation, InitialInternalEnergy, IntegratorName, KernelRes, MaxViscosity,
+    ParticleInit, SimClock, SimConfig, StepFailure, TimeStepping,
 };
 use std::marker::PhantomData;
 

@@ -5,8 +5,8 @@
 use bevy_ecs::prelude::Component;
 use bytemuck::TransparentWrapper;
 use dualsph_core::columns::{ColumnValue, Shape};
-use dualsph_core::integrate::{ScalarRate, ScalarState};
 use dualsph_core::math::{Real, Vector};
+use dualsph_integrate::{ScalarRate, ScalarState};
 
 /// Pressure `p_i` (added by an equation of state).
 #[derive(Component, Clone, Copy, Debug, PartialEq)]

@@ -1,6 +1,6 @@
 //! The energy and continuity equations as integrated scalars: each is added once, by the
 //! first plugin that needs it, with its columns and its declaration to the scene's scheme
-//! (`Sim::integrate`).
+//! (`SimIntegrate::integrate`).
 
 use crate::components::{DensityRate, Dissipated, DissipationRate, EnergyRate, InternalEnergy};
 use bevy_ecs::prelude::Resource;
@@ -8,6 +8,7 @@ use dualsph_core::columns::ColumnSpec;
 use dualsph_core::components::Density;
 use dualsph_core::math::Vector;
 use dualsph_core::sim::{Sim, SimError};
+use dualsph_integrate::SimIntegrate;
 
 /// The name under which [`ensure_energy_equation`] declares the internal energy (what a
 /// scheme sees as `ScalarEquation::name`).

@@ -37,6 +37,7 @@ pub use sums::{DENSITY_RATE, FluidOut, FluidOwnerSums, FluidSums, POWER};
 pub mod prelude {
     pub use crate::components::*;
     pub use crate::{FluidOut, FluidOwnerSums, FluidSums};
+    pub use dualsph_integrate::{ScalarRate, ScalarState, SimIntegrate};
     pub use dualsph_sweep::prelude::*;
 }
 

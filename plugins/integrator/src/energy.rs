@@ -40,8 +40,8 @@ use dualsph_core::bevy_ecs::system::ScheduleSystem;
 use dualsph_core::bodies::DriveBodies;
 use dualsph_core::chunks::{DENSE, MIN_LEN};
 use dualsph_core::columns::{ColumnValue, Shape, put_vector, take_vector};
-use dualsph_core::integrate::Updates;
 use dualsph_fluid::prelude::*;
+use dualsph_integrate::Updates;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 

@@ -10,7 +10,7 @@
 //! `x^{t+Δt} = x^t + Δt/2 (ẋ^t + ẋ^{t+Δt})`.
 //!
 //! The start-of-step values `v^t, a^t` ([`StartOfStep`]) and `x^t, ẋ^t` (the scalar's
-//! [`Registers`](dualsph_core::integrate::Registers)) are the scheme's own columns. The
+//! [`Registers`](dualsph_integrate::Registers)) are the scheme's own columns. The
 //! predictor writes them before the corrector reads them, so they are not kept in checkpoints
 //! (a resumed run is bitwise the same without them).
 //!
@@ -23,9 +23,9 @@ use crate::time_step::add_time_step_systems;
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::bodies::DriveBodies;
 use dualsph_core::chunks::{DENSE, MIN_LEN};
-use dualsph_core::integrate::{ScalarEquation, ScalarRows, Scheme};
 use dualsph_fluid::INTERNAL_ENERGY;
 use dualsph_fluid::prelude::*;
+use dualsph_integrate::{ScalarEquation, ScalarRows, Scheme};
 use rayon::prelude::*;
 use std::sync::Arc;
 

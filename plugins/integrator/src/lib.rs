@@ -9,11 +9,11 @@
 //!   velocity-dependent forces.
 //!
 //! A scheme advances position and velocity, and every scalar the scene's plugins declare
-//! with `Sim::integrate` (density with the continuity equation, internal energy with the
-//! energy equation; see [`dualsph_core::integrate`]). Both install the time-step rule of
+//! with `SimIntegrate::integrate` (density with the continuity equation, internal energy with the
+//! energy equation; see [`dualsph_integrate`]). Both install the time-step rule of
 //! [`time_step`] (`choose_dt`, `check_time_step`), set by the scene's `integrator` section
 //! ([`IntegratorSettings`], a scene section this crate owns). A scheme from another crate is written the
-//! same way: a [`Scheme`](dualsph_core::integrate::Scheme) set by its plugin's `build`, with
+//! same way: a [`Scheme`](dualsph_integrate::Scheme) set by its plugin's `build`, with
 //! `ROLE = Role::Integrator`.
 #![warn(missing_docs)]
 
@@ -23,8 +23,8 @@ pub mod settings;
 pub mod time_step;
 pub mod verlet;
 
-use dualsph_core::integrate::{ScalarEquation, ScalarKernel};
 use dualsph_fluid::prelude::*;
+use dualsph_integrate::{ScalarEquation, ScalarKernel};
 pub use energy::EnergyUpdate;
 pub use settings::{IntegratorSettings, TimeStep};
 

@@ -37,9 +37,9 @@ use crate::time_step::add_time_step_systems;
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::bodies::DriveBodies;
 use dualsph_core::chunks::{DENSE, MIN_LEN};
-use dualsph_core::integrate::{ScalarEquation, ScalarRows, Scheme};
 use dualsph_fluid::INTERNAL_ENERGY;
 use dualsph_fluid::prelude::*;
+use dualsph_integrate::{ScalarEquation, ScalarRows, Scheme};
 use rayon::prelude::*;
 use std::sync::Arc;
 

@@ -212,6 +212,13 @@ impl std::str::FromStr for Formulation {
 #[derive(Resource, Debug, Default)]
 pub struct StepFailure(pub Option<String>);
 
+/// The name of the simulation's one time-integration scheme, once its plugin has set it
+/// (through `dualsph_integrate::SimIntegrate::set_integrator`, which holds the scheme); at
+/// [`Sim::finish`](crate::sim::Sim::finish) a simulation without one is refused, as its state
+/// would not advance.
+#[derive(Resource, Clone, Copy, Debug, Default)]
+pub struct IntegratorName(pub Option<&'static str>);
+
 #[cfg(test)]
 mod tests {
     use super::Formulation;

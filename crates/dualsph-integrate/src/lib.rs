@@ -1,17 +1,18 @@
 //! What is integrated in time, as data: the registry of integrated quantities and the slot of
-//! the one time-integration scheme. The schemes themselves are plugins (the `dualsph-integrator`
+//! the one time-integration scheme, added to [`Sim`] by [`SimIntegrate`] (the core keeps only
+//! the scheme's name, `IntegratorName`, and refuses a simulation without one). The schemes themselves are plugins (the `dualsph-integrator`
 //! crate: the leapfrog predictor–corrector of §6 and a position Verlet); the core holds no
 //! update formula.
 //!
 //! **Quantities.** Position (advanced by the velocity) and velocity (by the acceleration) are
 //! integrated in every simulation: a scheme updates [`Position`], [`Velocity`] and
 //! [`Acceleration`] itself. Any other per-particle scalar `x` with `dx/dt = ẋ` is declared by
-//! the plugin that needs it, [`Sim::integrate`]`::<S, R>()`: the column `S` is advanced by the
+//! the plugin that needs it, [`SimIntegrate::integrate`]`::<S, R>()`: the column `S` is advanced by the
 //! rate `R` that the step's systems compute (the continuity equation's `Density` by
 //! `DensityRate`, the energy equation's `InternalEnergy` by `EnergyRate`: see
 //! `dualsph_fluid::ensure_density_integration` and `ensure_energy_equation`).
 //!
-//! **Schemes.** A scheme is a [`Scheme`] set once per simulation ([`Sim::set_integrator`]; a
+//! **Schemes.** A scheme is a [`Scheme`] set once per simulation ([`SimIntegrate::set_integrator`]; a
 //! second one is an error naming both). It adds its own systems for the kinematics, and for
 //! every declared scalar — declared before or after it is set — it is handed a
 //! [`ScalarEquation`], through which it adds systems that run a per-block kernel
@@ -24,16 +25,16 @@
 //! compiled once, whatever the column's type, and no value is copied. Each particle is
 //! updated from its own data, so the result does not depend on the number of threads.
 
-use crate::chunks::{DENSE, MIN_LEN};
-use crate::columns::{ColumnSpec, ColumnValue, Shape};
-use crate::components::*;
-use crate::math::{Real, Vector};
-use crate::neighbours::Neighbours;
-use crate::sim::{Sim, SimClock, SimError, StepSet, SystemOrder};
-use crate::store::single_table;
+#![warn(missing_docs)]
+
 use bevy_ecs::component::Mutable;
 use bevy_ecs::prelude::*;
 use bytemuck::TransparentWrapper;
+use dualsph_core::chunks::{DENSE, MIN_LEN};
+use dualsph_core::columns::{ColumnSpec, ColumnValue, Shape};
+use dualsph_core::components::Density;
+use dualsph_core::math::{Real, Vector};
+use dualsph_core::sim::{IntegratorName, Sim, SimClock, SimError, StepSet, SystemOrder};
 use rayon::prelude::*;
 use std::any::TypeId;
 use std::marker::PhantomData;
@@ -167,7 +168,7 @@ impl<V: Vector, S: ScalarState, R: ScalarRate> ScalarEquation<V> for Equation<S,
 /// [`ScalarEquation::add_system`]): what must see `S` updated in a set runs after them.
 pub struct Updates<S>(PhantomData<fn() -> S>);
 
-impl<S: 'static> crate::order::SystemGroup for Updates<S> {}
+impl<S: 'static> dualsph_core::order::SystemGroup for Updates<S> {}
 
 /// Runs `kernel` over the particles in blocks of [`BLOCK`], in parallel over blocks, on the
 /// columns themselves (their reals: see [`ScalarState`]).
@@ -178,7 +179,7 @@ fn run_blocks<S: ScalarState, R: ScalarRate>(
     kernel: &(dyn Fn(&SimClock, ScalarRows<'_>) + Send + Sync),
 ) {
     for (mut s, r, mut regs) in q.contiguous_iter_mut().expect(DENSE) {
-        // the engine reads no change ticks (see `crate::chunks`)
+        // the engine reads no change ticks (see `dualsph_core::chunks`)
         let value = S::peel_slice_mut(s.bypass_change_detection());
         let rate = R::peel_slice(r);
         let registers = Registers::<S>::peel_slice_mut(regs.bypass_change_detection());
@@ -229,7 +230,7 @@ pub trait Scheme<V: Vector>: Send + Sync + 'static {
 
 /// The integrated scalars and the scheme of a simulation.
 #[derive(Resource)]
-pub(crate) struct Integration<V: Vector> {
+struct Integration<V: Vector> {
     /// The declared scalars, in declaration order, with the type of their column.
     equations: Vec<(TypeId, Arc<dyn ScalarEquation<V>>)>,
     /// The scheme, once set.
@@ -245,17 +246,37 @@ impl<V: Vector> Default for Integration<V> {
     }
 }
 
-impl<V: Vector> Sim<V> {
+/// The simulation's [`Integration`], added empty the first time it is asked for.
+fn integration<V: Vector>(sim: &mut Sim<V>) -> Mut<'_, Integration<V>> {
+    sim.world.get_resource_or_init::<Integration<V>>()
+}
+
+/// What a [`Sim`] integrates in time, and its scheme.
+pub trait SimIntegrate<V: Vector> {
     /// Declares that column `S` is advanced in time by the rate `R` (`name` labels the
     /// scheme's systems). Declaring the same `S` again does nothing; returns true the first
-    /// time. The columns themselves are added by the caller ([`Sim::add_column`]).
-    pub fn integrate<S: ScalarState, R: ScalarRate>(
+    /// time. The columns themselves are added by the caller (`Sim::add_column`).
+    fn integrate<S: ScalarState, R: ScalarRate>(
+        &mut self,
+        name: &'static str,
+    ) -> Result<bool, SimError>;
+    /// The names of the declared scalars, in declaration order.
+    fn integrated_scalars(&self) -> Vec<&'static str>;
+    /// Sets the time-integration scheme (called by its plugin's `build`) and lets it add its
+    /// systems for the scalars declared so far. A simulation has one scheme: a second is an
+    /// error that names both.
+    fn set_integrator(&mut self, scheme: impl Scheme<V>) -> Result<(), SimError>;
+    /// The name of the scheme, once set.
+    fn integrator(&self) -> Option<&'static str>;
+}
+
+impl<V: Vector> SimIntegrate<V> for Sim<V> {
+    fn integrate<S: ScalarState, R: ScalarRate>(
         &mut self,
         name: &'static str,
     ) -> Result<bool, SimError> {
         let id = TypeId::of::<S>();
-        let integration = self.world.resource::<Integration<V>>();
-        if integration.equations.iter().any(|(t, _)| *t == id) {
+        if integration(self).equations.iter().any(|(t, _)| *t == id) {
             return Ok(false);
         }
         let equation: Arc<dyn ScalarEquation<V>> = Arc::new(Equation::<S, R> {
@@ -263,7 +284,7 @@ impl<V: Vector> Sim<V> {
             registers: intern(format!("{name}_registers")),
             _types: PhantomData,
         });
-        let mut integration = self.world.resource_mut::<Integration<V>>();
+        let mut integration = integration(self);
         integration.equations.push((id, equation.clone()));
         if let Some(scheme) = integration.scheme.clone() {
             self.as_plugin(scheme.name(), |sim| {
@@ -273,18 +294,15 @@ impl<V: Vector> Sim<V> {
         Ok(true)
     }
 
-    /// The names of the declared scalars, in declaration order.
-    pub fn integrated_scalars(&self) -> Vec<&'static str> {
-        let eqs = &self.world.resource::<Integration<V>>().equations;
-        eqs.iter().map(|(_, e)| e.name()).collect()
+    fn integrated_scalars(&self) -> Vec<&'static str> {
+        let eqs = self.world.get_resource::<Integration<V>>();
+        eqs.map_or(Vec::new(), |i| {
+            i.equations.iter().map(|(_, e)| e.name()).collect()
+        })
     }
 
-    /// Sets the time-integration scheme (called by its plugin's `build`) and lets it add its
-    /// systems for the scalars declared so far. A simulation has one scheme: a second is an
-    /// error that names both.
-    pub fn set_integrator(&mut self, scheme: impl Scheme<V>) -> Result<(), SimError> {
-        let integration = self.world.resource::<Integration<V>>();
-        if let Some(first) = &integration.scheme {
+    fn set_integrator(&mut self, scheme: impl Scheme<V>) -> Result<(), SimError> {
+        if let Some(first) = &integration(self).scheme {
             return Err(SimError::Build(format!(
                 "two integrators, {} and {}: a simulation is advanced by one (remove one of them)",
                 first.name(),
@@ -292,9 +310,10 @@ impl<V: Vector> Sim<V> {
             )));
         }
         let scheme: Arc<dyn Scheme<V>> = Arc::new(scheme);
-        let mut integration = self.world.resource_mut::<Integration<V>>();
+        let mut integration = integration(self);
         integration.scheme = Some(scheme.clone());
         let equations: Vec<_> = integration.equations.to_vec();
+        self.world.resource_mut::<IntegratorName>().0 = Some(scheme.name());
         self.as_plugin(scheme.name(), |sim| {
             for (_, equation) in &equations {
                 scheme.integrate_scalar(sim, &**equation)?;
@@ -303,75 +322,7 @@ impl<V: Vector> Sim<V> {
         })
     }
 
-    /// The name of the scheme, once set.
-    pub fn integrator(&self) -> Option<&'static str> {
-        let integration = self.world.resource::<Integration<V>>();
-        integration.scheme.as_ref().map(|s| s.name())
+    fn integrator(&self) -> Option<&'static str> {
+        self.world.resource::<IntegratorName>().0
     }
-}
-
-/// At [`Sim::finish`]: an integrator is set ([`Sim::set_integrator`]).
-pub(crate) fn check_integrator<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimError> {
-    match sim.integrator() {
-        Some(_) => Ok(()),
-        None => Err(SimError::Build(
-            "no integrator: the state would not advance; add a time-integration plugin \
-             (e.g. `dualsph_integrator::LeapfrogPC`, which a scene gets by default)"
-                .into(),
-        )),
-    }
-}
-
-/// Rebuilds the neighbour lists when the skin rule requires it.
-#[inline(never)] // a frame of its own in profiles
-pub fn update_neighbours<V: Vector>(
-    mut nb: ResMut<Neighbours<V>>,
-    q: Query<(&Position<V>, &SmoothingLength)>,
-) {
-    let (pos, h) = single_table(q.contiguous_iter().expect(DENSE)).unwrap_or((&[], &[]));
-    nb.update_with(
-        pos.len(),
-        |i| pos[i].0,
-        |p, r| {
-            p.extend(pos.iter().map(|x| x.0));
-            r.extend(h.iter().map(|x| x.0));
-        },
-    );
-}
-
-/// Moves every particle that left the box across a periodic face back by whole periods
-/// (see [`crate::neighbours::Period::wrap`]); the pair separations are minimum images, so the
-/// move changes no force, only where the particle is written.
-#[inline(never)] // a frame of its own in profiles
-pub fn wrap_periodic<V: Vector>(nb: Res<Neighbours<V>>, mut q: Query<&mut Position<V>>) {
-    let Some(period) = nb.period else { return };
-    for mut r in q.contiguous_iter_mut().expect(DENSE) {
-        r.bypass_change_detection()
-            .par_iter_mut()
-            .with_min_len(MIN_LEN)
-            .for_each(|r| r.0 = period.wrap(r.0));
-    }
-}
-
-/// Advances the clock after a completed step.
-pub fn advance_clock(mut clock: ResMut<SimClock>) {
-    clock.t += clock.dt;
-    clock.step += 1;
-}
-
-/// The systems of every simulation, whatever its plugins: the neighbour lists and the clock.
-pub(crate) fn add_core_systems<V: Vector>(sim: &mut Sim<V>) {
-    sim.add_system(
-        StepSet::Neighbours,
-        "update_neighbours (Verlet skin)",
-        update_neighbours::<V>,
-    );
-    if sim.world.resource::<Neighbours<V>>().period.is_some() {
-        sim.add_system(
-            StepSet::Boundary,
-            "wrap_periodic (positions into the box)",
-            wrap_periodic::<V>,
-        );
-    }
-    sim.add_system(StepSet::Advance, "advance_clock", advance_clock);
 }
