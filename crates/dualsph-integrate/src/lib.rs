@@ -5,8 +5,8 @@
 //! update formula.
 //!
 //! **Quantities.** Position (advanced by the velocity) and velocity (by the acceleration) are
-//! integrated in every simulation: a scheme updates [`Position`], [`Velocity`] and
-//! [`Acceleration`] itself. Any other per-particle scalar `x` with `dx/dt = ẋ` is declared by
+//! integrated in every simulation: a scheme updates `Position`, `Velocity` and
+//! `Acceleration` itself. Any other per-particle scalar `x` with `dx/dt = ẋ` is declared by
 //! the plugin that needs it, [`SimIntegrate::integrate`]`::<S, R>()`: the column `S` is advanced by the
 //! rate `R` that the step's systems compute (the continuity equation's `Density` by
 //! `DensityRate`, the energy equation's `InternalEnergy` by `EnergyRate`: see
