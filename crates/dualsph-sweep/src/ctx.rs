@@ -173,21 +173,38 @@ impl<V: Vector> Support<'_, V> {
         }
     }
 
-    /// Visits every j within the larger of the two supports, `|r_ij| < max(h_i, h_j)` (the
-    /// union of i's support `H_i` and its dual-support), with `W(r, max(h_i, h_j))`.
-    /// Callback: `(j, r_ij, W)`. For values extrapolated to a particle from the particles
-    /// around it whatever their h (wall particles): a neighbour whose support is larger than
-    /// i's own is not missed. Where `h_j = h_i` this is i's own support with its own kernel,
-    /// in the same order and arithmetic as [`Support::for_each_neighbour`].
-    pub fn for_each_within_either(&self, i: usize, mut f: impl FnMut(usize, V, Real)) {
+    /// Visits every j that `keep` accepts within the larger of the two supports,
+    /// `|r_ij| < max(h_i, h_j)` (the union of i's support `H_i` and its dual-support), with
+    /// `W(r, max(h_i, h_j))`. Callback: `(j, r_ij, W)`. For values extrapolated to a particle
+    /// from the particles around it whatever their h (wall particles): a neighbour whose
+    /// support is larger than i's own is not missed. `keep` is asked before anything is
+    /// computed for j, so the neighbours it refuses cost an index test. The kernel of `h_i` is
+    /// built once for the row (and one of `h_j` for a neighbour with a larger support); where
+    /// `h_j = h_i` this is i's own support with its own kernel, in the same order and
+    /// arithmetic as [`Support::for_each_neighbour`].
+    #[inline]
+    pub fn for_each_within_either(
+        &self,
+        i: usize,
+        keep: impl Fn(usize) -> bool,
+        mut f: impl FnMut(usize, V, Real),
+    ) {
         let (xi, hi) = (self.pos[i].0, self.h[i].0);
         let nb = self.neighbours;
+        let own = OwnerKernel::new(self.kernel, hi);
         for_each_union(nb.support.row(i), nb.dual.row(i), |j| {
+            if !keep(j) {
+                return;
+            }
             let rij = nb.separation(xi, self.pos[j].0);
-            let hm = hi.max(self.h[j].0);
+            let hj = self.h[j].0;
             let r2 = rij.length_squared();
-            if r2 < hm * hm {
-                f(j, rij, OwnerKernel::new(self.kernel, hm).w(r2.sqrt()));
+            if hj <= hi {
+                if r2 < own.h2 {
+                    f(j, rij, own.w(r2.sqrt()));
+                }
+            } else if r2 < hj * hj {
+                f(j, rij, OwnerKernel::new(self.kernel, hj).w(r2.sqrt()));
             }
         });
     }

@@ -26,7 +26,7 @@
 //! their density and pressure are set from the fluid every step, after the equation of state.
 
 use crate::WallBodies;
-use crate::velocity::{ViscousWall, ViscousWallMode, wall_velocity};
+use crate::velocity::{ViscousWall, ViscousWallMode, wall_offset};
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::bodies::Anchor;
 use dualsph_core::bodies::DriveBodies;
@@ -63,29 +63,61 @@ pub struct WallPressure {
 pub struct WallDensity(pub Vec<(usize, Real)>);
 
 /// What a wall particle's extrapolation reads of the others, by row.
-struct Fluid<'a> {
+struct Fluid<'a, V: Vector> {
     rho: &'a [Density],
     p: &'a [Pressure],
+    vel: &'a [Velocity<V>],
     body: &'a [BodyId],
     walls: &'a [bool],
 }
 
-/// `(Σ_f p_f W, Σ_f ρ_f r_wf W, Σ_f W)` over the fluid within either support of wall
-/// particle i (module docs).
-fn sums<V: Vector>(support: &Support<'_, V>, f: &Fluid<'_>, i: usize) -> (Real, V, Real) {
-    let (mut pw, mut rw, mut w_sum) = (0.0, V::zero(), 0.0);
-    support.for_each_within_either(i, |j, rij, w| {
-        if !f.walls[f.body[j].0 as usize] {
-            pw += f.p[j].0 * w;
-            rw += rij * (f.rho[j].0 * w);
-            w_sum += w;
-        }
-    });
-    (pw, rw, w_sum)
+/// The sums of one wall particle over the fluid within either support (module docs;
+/// [`crate::velocity`] for the velocity's).
+struct Sums<V: Vector> {
+    /// `Σ_f p_f W_wf`.
+    p: Real,
+    /// `Σ_f ρ_f r_wf W_wf`.
+    rho_r: V,
+    /// `Σ_f W_wf`.
+    w: Real,
+    /// `Σ_f v_f W_wf`, when the viscous terms need the wall's velocity (else zero).
+    v: V,
 }
 
-/// Sets every wall particle's pressure, density and sound speed (module docs), in `Eos`
-/// after the equation of state.
+/// [`Sums`] of wall particle i in one walk over its neighbours, the fluid's only (the other
+/// wall particles cost an index test); the velocity's only when `velocity` is true.
+#[inline]
+fn sums<V: Vector>(
+    support: &Support<'_, V>,
+    f: &Fluid<'_, V>,
+    i: usize,
+    velocity: bool,
+) -> Sums<V> {
+    let mut s = Sums {
+        p: 0.0,
+        rho_r: V::zero(),
+        w: 0.0,
+        v: V::zero(),
+    };
+    let fluid = |j: usize| !f.walls[f.body[j].0 as usize];
+    support.for_each_within_either(i, fluid, |j, rij, w| {
+        s.p += f.p[j].0 * w;
+        s.rho_r += rij * (f.rho[j].0 * w);
+        s.w += w;
+        if velocity {
+            s.v += f.vel[j].0 * w;
+        }
+    });
+    s
+}
+
+/// What [`wall_pressure`] sets on one wall particle: its row, density, pressure, sound speed
+/// and the velocity offset it shows the viscous terms.
+type WallState<V> = (usize, Real, Real, Real, V);
+
+/// Sets every wall particle's pressure, density and sound speed (module docs) and, with a
+/// viscous wall model, its [`WallVelocityOffset`] ([`crate::velocity`]), in `Eos` after the
+/// equation of state: one walk over each wall particle's neighbours.
 #[allow(clippy::too_many_arguments)] // one system, its resources
 #[inline(never)] // a frame of its own in profiles
 pub fn wall_pressure<V: Vector>(
@@ -97,24 +129,36 @@ pub fn wall_pressure<V: Vector>(
     kernel: Res<KernelRes>,
     nb: Res<Neighbours<V>>,
     formulation: Res<Formulation>,
+    viscous: Option<Res<ViscousWallMode>>,
     mut kept: ResMut<WallDensity>,
     mut q: Query<(
         &Position<V>,
         &SmoothingLength,
         &BodyId,
         &Anchor<V>,
+        &Velocity<V>,
         &mut Density,
         &mut Pressure,
         &mut SoundSpeed,
     )>,
+    mut offsets: Query<&mut WallVelocityOffset<V>>,
 ) {
-    let Some((pos, h, body, anchor, mut rho, mut p, mut c)) =
+    let Some((pos, h, body, anchor, vel, mut rho, mut p, mut c)) =
         dualsph_core::store::single_table(q.contiguous_iter_mut().expect(DENSE))
     else {
         return;
     };
+    // the engine reads no change ticks (`dualsph_core::chunks`); a write through the
+    // change-detecting slice would mark every row at each wall particle
+    let (rho, p, c) = (
+        rho.bypass_change_detection(),
+        p.bypass_change_detection(),
+        c.bypass_change_detection(),
+    );
     let g = gravity.map_or(V::zero(), |g| g.0);
     let t = clock.t + clock.dt;
+    let mode = viscous.map_or(ViscousWall::Own, |m| m.0);
+    let velocity = mode != ViscousWall::Own;
     let support = Support {
         pos,
         h,
@@ -123,12 +167,13 @@ pub fn wall_pressure<V: Vector>(
         formulation: *formulation,
     };
     let fluid = Fluid {
-        rho: &rho,
-        p: &p,
+        rho,
+        p,
+        vel,
         body,
         walls: &walls.0,
     };
-    let set: Vec<(usize, Real, Real, Real)> = (0..pos.len())
+    let set: Vec<WallState<V>> = (0..pos.len())
         .into_par_iter()
         .with_min_len(256)
         .filter(|&i| walls.0[body[i].0 as usize])
@@ -138,21 +183,31 @@ pub fn wall_pressure<V: Vector>(
             let a_w = driven.0[b]
                 .as_deref()
                 .map_or(V::zero(), |m| motion_acceleration(m, anchor[i].0, t));
-            let (pw, rw, w_sum) = sums(&support, &fluid, i);
-            let rho_w = if w_sum > 0.0 {
-                let p_w = (pw + (g - a_w).dot(rw)) / w_sum;
+            let s = sums(&support, &fluid, i, velocity);
+            let rho_w = if s.w > 0.0 {
+                let p_w = (s.p + (g - a_w).dot(s.rho_r)) / s.w;
                 eos.density_at(p_w).unwrap_or(rho[i].0)
             } else {
                 eos.reference_density().unwrap_or(rho[i].0)
             };
             let (p_w, c_w) = eos.eval(rho_w, 0.0);
-            (i, rho_w, p_w, c_w)
+            let v_f = (s.w > 0.0).then(|| s.v * (1.0 / s.w));
+            (i, rho_w, p_w, c_w, wall_offset(mode, vel[i].0, v_f))
         })
         .collect();
     kept.0.clear();
-    for (i, rho_w, p_w, c_w) in set {
+    for &(i, rho_w, p_w, c_w, _) in &set {
         (rho[i].0, p[i].0, c[i].0) = (rho_w, p_w, c_w);
         kept.0.push((i, rho_w));
+    }
+    if velocity
+        && let Some(mut offset) =
+            dualsph_core::store::single_table(offsets.contiguous_iter_mut().expect(DENSE))
+    {
+        let offset = offset.bypass_change_detection();
+        for (i, .., delta) in set {
+            offset[i].0 = delta;
+        }
     }
 }
 
@@ -163,6 +218,7 @@ pub fn keep_wall_density(kept: Res<WallDensity>, mut q: Query<&mut Density>) {
     else {
         return;
     };
+    let rho = rho.bypass_change_detection();
     for &(i, rho_w) in &kept.0 {
         rho[i].0 = rho_w;
     }
@@ -212,22 +268,17 @@ impl SimPlugin for WallPressure {
             keep_wall_density,
         )
         .after::<DriveBodies>();
-        sim.add_system(
-            StepSet::Eos,
-            "wall_pressure (Adami et al. 2012, Eq. 27)",
-            wall_pressure::<V>,
-        )
-        .after::<EquationOfState>();
         if self.viscous != ViscousWall::Own {
             let spec = ColumnSpec::scratch("wall_velocity_offset");
             sim.add_column(spec, |_| WallVelocityOffset(V::zero()))?;
             sim.world.insert_resource(ViscousWallMode(self.viscous));
-            sim.add_system(
-                StepSet::Eos,
-                "wall_velocity (Adami et al. 2012, Eq. 22-23)",
-                wall_velocity::<V>,
-            );
         }
+        sim.add_system(
+            StepSet::Eos,
+            "wall_pressure (Adami et al. 2012, Eq. 22-23, 27-28)",
+            wall_pressure::<V>,
+        )
+        .after::<EquationOfState>();
         Ok(())
     }
 }

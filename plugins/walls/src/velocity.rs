@@ -16,17 +16,12 @@
 //!
 //! `v_w` is the wall's velocity from its law (zero for a fixed wall). A wall particle with no
 //! fluid within either support shows its own velocity. Only the viscous terms read `v̂_w` (through
-//! [`WallVelocityOffset`] `= v̂_w − v_w`); the continuity equation keeps the wall's own
-//! velocity, as in Adami et al. (2012).
+//! `WallVelocityOffset` `= v̂_w − v_w`); the continuity equation keeps the wall's own
+//! velocity, as in Adami et al. (2012). The sums are taken in the same walk as the pressure's
+//! ([`crate::pressure::wall_pressure`]).
 
-use crate::WallBodies;
 use dualsph_core::bevy_ecs::prelude::*;
-use dualsph_core::bodies::{BodyId, WallVelocityOffset};
-use dualsph_core::chunks::DENSE;
-use dualsph_core::neighbours::Neighbours;
-use dualsph_fluid::prelude::*;
-use dualsph_sweep::Support;
-use rayon::prelude::*;
+use dualsph_core::math::Vector;
 use serde::{Deserialize, Serialize};
 
 /// What velocity wall particles show the viscous terms (module docs).
@@ -42,74 +37,17 @@ pub enum ViscousWall {
     FreeSlip,
 }
 
-/// `Σ_f v_f W_wf / Σ_f W_wf` over the fluid within either support of wall particle i,
-/// `None` if there is none.
-fn extrapolated<V: Vector>(
-    support: &Support<'_, V>,
-    (vel, body, walls): (&[Velocity<V>], &[BodyId], &[bool]),
-    i: usize,
-) -> Option<V> {
-    let (mut vw, mut w_sum) = (V::zero(), 0.0);
-    support.for_each_within_either(i, |j, _rij, w| {
-        if !walls[body[j].0 as usize] {
-            vw += vel[j].0 * w;
-            w_sum += w;
-        }
-    });
-    (w_sum > 0.0).then(|| vw * (1.0 / w_sum))
-}
-
 /// The mode as a resource.
 #[derive(Resource, Clone, Copy, Debug)]
 pub struct ViscousWallMode(pub ViscousWall);
 
-/// Sets [`WallVelocityOffset`] `v̂_w − v_w` of every wall particle (module docs), before the
-/// forces.
-#[inline(never)] // a frame of its own in profiles
-pub fn wall_velocity<V: Vector>(
-    walls: Res<WallBodies>,
-    mode: Res<ViscousWallMode>,
-    kernel: Res<KernelRes>,
-    nb: Res<Neighbours<V>>,
-    formulation: Res<Formulation>,
-    mut q: Query<(
-        &Position<V>,
-        &SmoothingLength,
-        &BodyId,
-        &Velocity<V>,
-        &mut WallVelocityOffset<V>,
-    )>,
-) {
-    let Some((pos, h, body, vel, mut offset)) =
-        dualsph_core::store::single_table(q.contiguous_iter_mut().expect(DENSE))
-    else {
-        return;
-    };
-    let support = Support {
-        pos,
-        h,
-        neighbours: &nb,
-        kernel: &kernel.0,
-        formulation: *formulation,
-    };
-    let mode = mode.0;
-    let set: Vec<(usize, V)> = (0..pos.len())
-        .into_par_iter()
-        .with_min_len(256)
-        .filter(|&i| walls.0[body[i].0 as usize])
-        .map(|i| {
-            let delta = match extrapolated(&support, (vel, body, &walls.0), i) {
-                None => V::zero(),
-                Some(v_f) => match mode {
-                    ViscousWall::Own => V::zero(),
-                    ViscousWall::NoSlip => vel[i].0 - v_f,
-                    ViscousWall::FreeSlip => v_f - vel[i].0,
-                },
-            };
-            (i, delta)
-        })
-        .collect();
-    for (i, delta) in set {
-        offset[i].0 = delta;
+/// `v̂_w − v_w` (module docs) of a wall particle of velocity `v_w` given the fluid's
+/// extrapolated velocity `ṽ_w` (`None` where no fluid is within either support: zero).
+#[inline]
+pub fn wall_offset<V: Vector>(mode: ViscousWall, v_w: V, v_f: Option<V>) -> V {
+    match (mode, v_f) {
+        (ViscousWall::Own, _) | (_, None) => V::zero(),
+        (ViscousWall::NoSlip, Some(v_f)) => v_w - v_f,
+        (ViscousWall::FreeSlip, Some(v_f)) => v_f - v_w,
     }
 }
