@@ -7,7 +7,7 @@ mod common;
 
 use dualsph::probes::read_probes;
 use dualsph::scene::Scene;
-use dualsph_validation::report::walls::wall_pressure::{BOUNDS, grade, sensor};
+use dualsph_validation::report::walls::wall_pressure::{BOUNDS, grade, sensor, trixi_sensor};
 use std::path::Path;
 
 /// Over the whole record (t* 2.6–7.0: the first impact, the run-up's plateau and the second
@@ -22,11 +22,23 @@ fn the_wall_pressure_follows_the_experiment() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/dam_break_buchner_2d.ron");
     let scene = Scene::load(&path, &dualsph::default_registry()).unwrap();
     let (dir, _) = common::run_on_threads(&scene, 2);
-    let g = grade(sensor(&read_probes(dir.path()).unwrap()));
+    let table = read_probes(dir.path()).unwrap();
+    let trixi = trixi_sensor(&table).expect("the scene's P1_sensor");
+    let g = grade(sensor(&table), Some(&trixi));
     println!(
         "mean |Δp*|: t* 2.6-7.0 {:.3} ({} points); first impact {:.3} ({} points), Marrone \
-         et al. {:.3} (H/40), {:.3} (H/80); wet at t* {:.3} (experiment {:.3})",
-        g.whole.0, g.whole.1, g.first.0, g.first.1, g.marrone.0, g.marrone.1, g.wet.0, g.wet.1
+         et al. {:.3} (H/40), {:.3} (H/80); wet at t* {:.3} (experiment {:.3}); \
+         TrixiParticles' measure {:.3} ({} points)",
+        g.whole.0,
+        g.whole.1,
+        g.first.0,
+        g.first.1,
+        g.marrone.0,
+        g.marrone.1,
+        g.wet.0,
+        g.wet.1,
+        g.trixi.0,
+        g.trixi.1
     );
     assert!(g.whole.0 < BOUNDS.0, "t* 2.6-7.0: {}", g.whole.0);
     assert!(g.first.0 < BOUNDS.1, "first impact: {}", g.first.0);

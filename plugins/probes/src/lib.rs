@@ -8,6 +8,7 @@
 //!         Point(name: "P1", at: [4.0, 0.16], quantity: "pressure"),
 //!         Line(name: "u", start: [0.0, 0.1], end: [1.0, 0.1], n: 101, quantity: "velocity.x"),
 //!         WaterHeight(name: "H1", at: [0.3]),          // 2-D: at = [x]; 3-D: [x, y]
+//!         Sensor(name: "P1", start: [3.2125, 0.151], end: [3.2125, 0.16], n: 10, floor: 0.0),
 //!     ],
 //! )
 //! ```
@@ -27,6 +28,12 @@
 //! the kernel-truncation deficit at a wall or free surface, so a sensor on a wall face reads
 //! the fluid next to it. Where no particle reaches the point (`Σ V_j W_j` below `min_shepard`,
 //! default 0: none at all) the value is `NaN` (a dry sensor).
+//!
+//! A sensor reports the mean over its extent, as experiments and peers report a pressure
+//! sensor (a transducer face, not a point): the interpolant at `n` equally spaced points from
+//! `start` to `end`, a dry point counted as zero (`dry: Zero`, the default), left out
+//! (`Skip`) or making the reading NaN (`Nan`), and with `floor: x` every value below x read as
+//! x (`floor: 0.0` reads suction as zero, as the published sensor curves do).
 //!
 //! A water-height gauge reports the height (above the domain's bottom) of the highest point of
 //! the vertical line through `at` where the Shepard sum `σ = Σ V_j W_j` is at least
@@ -54,7 +61,7 @@ mod sample;
 
 pub use plot::{ProbeTable, plot_probes, read_probes};
 pub use quantity::Quantity;
-pub use sample::{sample_probes, water_height};
+pub use sample::{sample_probes, sensor_mean, water_height};
 
 use dualsph_core::bevy_ecs::prelude::*;
 
@@ -92,6 +99,28 @@ pub enum Probe {
         /// What to sample.
         quantity: Quantity,
     },
+    /// A pressure sensor as the literature reports one: the mean of `n` equally spaced
+    /// points from `start` to `end` (both included) over the sensor's extent, a dry point
+    /// counted as `dry` says and values below `floor` raised to it.
+    Sensor {
+        /// Column name.
+        name: String,
+        /// One end of the sensor's extent.
+        start: Vec<Real>,
+        /// The other end.
+        end: Vec<Real>,
+        /// Number of points (≥ 2).
+        n: usize,
+        /// What to sample (default `"pressure"`).
+        #[serde(default = "pressure")]
+        quantity: Quantity,
+        /// What a dry point (no particle within reach) counts as (default `Zero`).
+        #[serde(default)]
+        dry: Dry,
+        /// Values below it are read as it (`floor: 0.0` reads suction as zero); default none.
+        #[serde(default)]
+        floor: Option<Real>,
+    },
     /// Free-surface height on the vertical line through `at` (2-D: `[x]`, 3-D: `[x, y]`).
     WaterHeight {
         /// Column name.
@@ -105,6 +134,23 @@ pub enum Probe {
         #[serde(default)]
         dy: Option<Real>,
     },
+}
+
+/// What a [`Probe::Sensor`]'s dry point counts as.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize)]
+pub enum Dry {
+    /// Zero (a dry sensor reads no pressure).
+    #[default]
+    Zero,
+    /// Left out of the mean (the mean of the wet points; NaN when all are dry).
+    Skip,
+    /// NaN: the sensor reads NaN while any of its points is dry.
+    Nan,
+}
+
+/// The default quantity of a sensor.
+fn pressure() -> Quantity {
+    Quantity::parse("pressure").expect("a column name")
 }
 
 /// The plugin's settings.
@@ -132,11 +178,12 @@ pub struct Column {
     pub name: String,
     /// Name of the probe it belongs to.
     pub probe: String,
-    /// `point`, `line` or `water_height`.
+    /// `point`, `line`, `sensor` or `water_height`.
     pub kind: &'static str,
     /// Quantity name (`density`, `velocity.x`, …, or `water_height`).
     pub quantity: String,
-    /// Position (x, y, z; unused components 0; for a gauge, the vertical one is the bottom).
+    /// Position (x, y, z; unused components 0; for a gauge, the vertical one is the bottom;
+    /// for a sensor, the middle of its extent).
     pub pos: [Real; 3],
     what: What,
 }
@@ -144,7 +191,17 @@ pub struct Column {
 #[derive(Clone, Debug, PartialEq)]
 enum What {
     Value(Quantity),
-    Height { threshold: Real, dy: Option<Real> },
+    Mean {
+        quantity: Quantity,
+        /// The points averaged over (3-D embedding).
+        points: Vec<[Real; 3]>,
+        dry: Dry,
+        floor: Option<Real>,
+    },
+    Height {
+        threshold: Real,
+        dy: Option<Real>,
+    },
 }
 
 /// The point `x` lies in the scene's domain; the error names the field.
@@ -215,7 +272,10 @@ fn resolve_quantities<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimError> {
     let columns = sim.world.resource::<dualsph_core::columns::Columns>();
     let mut sources: Vec<(Quantity, quantity::Source)> = Vec::new();
     for c in &state.columns {
-        let What::Value(q) = &c.what else { continue };
+        let q = match &c.what {
+            What::Value(q) | What::Mean { quantity: q, .. } => q,
+            What::Height { .. } => continue,
+        };
         if sources.iter().any(|s| &s.0 == q) {
             continue;
         }
@@ -225,6 +285,20 @@ fn resolve_quantities<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimError> {
     }
     sim.world.resource_mut::<ProbeState<V>>().sources = sources;
     Ok(())
+}
+
+/// `n ≥ 2` equally spaced points from `start` to `end`, both included.
+fn spaced(start: &[Real], end: &[Real], n: usize) -> Vec<Vec<Real>> {
+    (0..n)
+        .map(|k| {
+            let f = k as Real / (n as Real - 1.0);
+            start
+                .iter()
+                .zip(end)
+                .map(|(a, b)| a + f * (b - a))
+                .collect()
+        })
+        .collect()
 }
 
 impl Probes {
@@ -252,13 +326,7 @@ impl Probes {
                     n,
                     quantity,
                 } => {
-                    for k in 0..*n {
-                        let f = k as Real / (*n as Real - 1.0);
-                        let at: Vec<Real> = start
-                            .iter()
-                            .zip(end)
-                            .map(|(a, b)| a + f * (b - a))
-                            .collect();
+                    for (k, at) in spaced(start, end, *n).into_iter().enumerate() {
                         out.push(Column {
                             name: format!("{name}[{k}]"),
                             probe: name.clone(),
@@ -268,6 +336,31 @@ impl Probes {
                             what: What::Value(quantity.clone()),
                         });
                     }
+                }
+                Probe::Sensor {
+                    name,
+                    start,
+                    end,
+                    n,
+                    quantity,
+                    dry,
+                    floor,
+                } => {
+                    let mid: Vec<Real> =
+                        start.iter().zip(end).map(|(a, b)| 0.5 * (a + b)).collect();
+                    out.push(Column {
+                        name: name.clone(),
+                        probe: name.clone(),
+                        kind: "sensor",
+                        quantity: quantity.to_string(),
+                        pos: xyz(&mid),
+                        what: What::Mean {
+                            quantity: quantity.clone(),
+                            points: spaced(start, end, *n).iter().map(|p| xyz(p)).collect(),
+                            dry: *dry,
+                            floor: *floor,
+                        },
+                    });
                 }
                 Probe::WaterHeight {
                     name,
@@ -335,6 +428,26 @@ impl SimPlugin for Probes {
                     check_inside(&f("end"), end, info)?;
                     if !(2..=10_000).contains(n) {
                         return Err(format!("{}: must be between 2 and 10000, got {n}", f("n")));
+                    }
+                    name
+                }
+                Probe::Sensor {
+                    name,
+                    start,
+                    end,
+                    n,
+                    floor,
+                    ..
+                } => {
+                    check_vec(&f("start"), start, d)?;
+                    check_vec(&f("end"), end, d)?;
+                    check_inside(&f("start"), start, info)?;
+                    check_inside(&f("end"), end, info)?;
+                    if !(2..=10_000).contains(n) {
+                        return Err(format!("{}: must be between 2 and 10000, got {n}", f("n")));
+                    }
+                    if floor.is_some_and(|x| !x.is_finite()) {
+                        return Err(format!("{}: must be finite", f("floor")));
                     }
                     name
                 }

@@ -1,7 +1,7 @@
 //! Sampling the probes and writing `probes.csv` and `probes_points.csv`.
 
 use crate::quantity::Source;
-use crate::{PROBE_POINTS_FILE, PROBES_FILE, ProbeSamples, ProbeState, Quantity, What};
+use crate::{Dry, PROBE_POINTS_FILE, PROBES_FILE, ProbeSamples, ProbeState, Quantity, What};
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::columns::{Columns, take_vector};
 use dualsph_core::sampling::SamplingCloud;
@@ -128,6 +128,25 @@ fn sample_columns<V: Vector>(world: &mut World, state: &ProbeState<V>) -> Vec<Re
                     Real::NAN
                 }
             }
+            What::Mean {
+                quantity,
+                points,
+                dry,
+                floor,
+            } => {
+                let Some(values) = array(quantity) else {
+                    return Real::NAN;
+                };
+                let read = points.iter().map(|p| {
+                    let x = V::from_slice(&p[..V::DIM]).unwrap_or(x);
+                    let smp = cloud.sample(x, values);
+                    match smp.shepard_sum > state.min_shepard {
+                        true => smp.shepard.unwrap_or(Real::NAN),
+                        false => Real::NAN,
+                    }
+                });
+                sensor_mean(read, *dry, *floor)
+            }
             What::Height { threshold, dy } => water_height(
                 &cloud,
                 &s.pos,
@@ -138,6 +157,28 @@ fn sample_columns<V: Vector>(world: &mut World, state: &ProbeState<V>) -> Vec<Re
             ),
         })
         .collect()
+}
+
+/// The reading of a sensor from its points' values (NaN where a point is dry): values below
+/// `floor` raised to it, then the mean with a dry point counted as `dry` says.
+pub fn sensor_mean(values: impl Iterator<Item = Real>, dry: Dry, floor: Option<Real>) -> Real {
+    let (mut sum, mut counted) = (0.0, 0usize);
+    for v in values {
+        if v.is_nan() {
+            match dry {
+                Dry::Zero => {}
+                Dry::Skip => continue,
+                Dry::Nan => return Real::NAN,
+            }
+        } else {
+            sum += floor.map_or(v, |f| v.max(f));
+        }
+        counted += 1;
+    }
+    match counted {
+        0 => Real::NAN,
+        n => sum / n as Real,
+    }
 }
 
 /// Height above `domain.min` of the highest point on the vertical through `x` with

@@ -382,3 +382,56 @@ fn a_plugins_own_column_can_be_probed() {
     let state = sim.world.resource::<ProbeState<DVec2>>();
     assert_eq!(state.columns[0].quantity, "tracer");
 }
+
+/// A sensor's mean: dry points as zero, left out or NaN; values below the floor raised.
+#[test]
+fn a_sensor_reads_the_mean_of_its_points_as_the_scene_chooses() {
+    let v = [1.0, Real::NAN, -2.0, 3.0];
+    let mean = |dry, floor| sensor_mean(v.into_iter(), dry, floor);
+    assert_eq!(mean(Dry::Zero, None), 0.5);
+    assert_eq!(mean(Dry::Zero, Some(0.0)), 1.0);
+    assert_eq!(mean(Dry::Skip, Some(0.0)), 4.0 / 3.0);
+    assert!(mean(Dry::Nan, None).is_nan());
+    let dry = || [Real::NAN; 3].into_iter();
+    assert_eq!(sensor_mean(dry(), Dry::Zero, None), 0.0);
+    assert!(sensor_mean(dry(), Dry::Skip, None).is_nan());
+}
+
+/// A sensor across the free surface of the resting block (v_y = −0.1 in the water): of its
+/// four points at y = 0.3, 0.4, 0.5, 0.6 the upper two are dry, so it reads −0.05 with dry
+/// points as zero, −0.1 with them left out, and the floor −0.08 with them left out.
+#[test]
+fn a_sensor_across_the_surface_reads_its_wet_and_dry_points() {
+    let mut sim = block_sim(0.4, 0.02);
+    let sensor = |name: &str, dry: &str, floor: &str| {
+        format!(
+            "Sensor(name: \"{name}\", start: [0.5, 0.3], end: [0.5, 0.6], n: 4, \
+             quantity: \"velocity.y\", dry: {dry}{floor})"
+        )
+    };
+    let text = format!(
+        "(every: 1, probes: [{}, {}, {}])",
+        sensor("zero", "Zero", ""),
+        sensor("skip", "Skip", ""),
+        sensor("floor", "Skip", ", floor: -0.08"),
+    );
+    let probes = parse(&text).unwrap();
+    SimPlugin::validate(&probes, &info(2)).unwrap();
+    probes.build(&mut sim).unwrap();
+    sim.initialize().unwrap();
+    let row = &sim.world.resource::<ProbeSamples>().rows[0].2;
+    assert!((row[0] + 0.05).abs() < 1e-12, "{row:?}");
+    assert!((row[1] + 0.1).abs() < 1e-12, "{row:?}");
+    assert!((row[2] + 0.08).abs() < 1e-12, "{row:?}");
+    let state = sim.world.resource::<ProbeState<DVec2>>();
+    let c = &state.columns[0];
+    assert_eq!(c.kind, "sensor");
+    assert!(
+        (c.pos[1] - 0.45).abs() < 1e-15 && c.pos[0] == 0.5,
+        "{:?}",
+        c.pos
+    );
+    let bad = "(every: 1, probes: [Sensor(name: \"s\", start: [0.5, 0.3], end: [0.5, 0.6], n: 1)])";
+    let e = SimPlugin::validate(&parse(bad).unwrap(), &info(2)).unwrap_err();
+    assert!(e.starts_with("probes[0].n"), "{e}");
+}
