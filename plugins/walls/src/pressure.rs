@@ -16,7 +16,8 @@
 //! and show the fluid a wall without pressure. The wall particle's density is then the equation
 //! of state's at `p_w` (Eq. 28), so the pressure term reads a consistent `p/ρ²` on both sides
 //! of every fluid–wall pair. A wall particle with no fluid within either support takes `ρ0`
-//! (and the pressure the equation gives there).
+//! (and the pressure the equation gives there). With `no_suction: true` a negative `p_w` is read
+//! as zero before the density is taken from it.
 //!
 //! The fluid–wall pair forces are the ordinary pair terms of the sweep: each pair's reaction
 //! lands on the wall particle through its dual-support, so the load on a body is the exact sum
@@ -53,7 +54,17 @@ pub struct WallPressure {
     /// `NoSlip` or `FreeSlip` ([`crate::velocity`]).
     #[serde(default)]
     pub viscous: ViscousWall,
+    /// Read a negative extrapolated pressure as zero (default false): a wall then never pulls
+    /// the fluid towards it, which keeps a thin jet or a surge front with suction from being
+    /// drawn into the wall.
+    #[serde(default)]
+    pub no_suction: bool,
 }
+
+/// Whether the walls read a negative extrapolated pressure as zero
+/// ([`WallPressure::no_suction`]).
+#[derive(Resource, Clone, Copy, Debug)]
+pub struct NoSuction(pub bool);
 
 /// The density each wall particle was given this step, by row: put back after the
 /// integrator's corrector ([`keep_wall_density`]), which would otherwise have advanced it by
@@ -130,6 +141,7 @@ pub fn wall_pressure<V: Vector>(
     nb: Res<Neighbours<V>>,
     formulation: Res<Formulation>,
     viscous: Option<Res<ViscousWallMode>>,
+    no_suction: Res<NoSuction>,
     mut kept: ResMut<WallDensity>,
     mut q: Query<(
         &Position<V>,
@@ -186,6 +198,7 @@ pub fn wall_pressure<V: Vector>(
             let s = sums(&support, &fluid, i, velocity);
             let rho_w = if s.w > 0.0 {
                 let p_w = (s.p + (g - a_w).dot(s.rho_r)) / s.w;
+                let p_w = if no_suction.0 { p_w.max(0.0) } else { p_w };
                 eos.density_at(p_w).unwrap_or(rho[i].0)
             } else {
                 eos.reference_density().unwrap_or(rho[i].0)
@@ -262,6 +275,7 @@ impl SimPlugin for WallPressure {
         }
         sim.world.insert_resource(WallBodies(walls));
         sim.world.init_resource::<WallDensity>();
+        sim.world.insert_resource(NoSuction(self.no_suction));
         sim.add_system(
             StepSet::Correct,
             "keep_wall_density (the extrapolated density, not the integrated one)",
@@ -280,5 +294,94 @@ impl SimPlugin for WallPressure {
         )
         .after::<EquationOfState>();
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use dualsph_core::bodies::{Bodies, Body, install_bodies};
+    use glam::DVec2;
+
+    /// A floor of two wall rows under five rows of water at density `rho` (no gravity), with
+    /// the walls' pressure extrapolated (`no_suction` as given), after the initial evaluation:
+    /// the wall particles' (pressure, density) and the water's pressure.
+    fn floor_under(rho: Real, no_suction: bool) -> (Vec<(Real, Real)>, Real) {
+        let dx = 0.1;
+        let mut sim = Sim::<DVec2>::new(SimConfig {
+            kernel: KernelKind::CubicSpline,
+            formulation: Formulation::DualSupport,
+            domain: Domain::closed(DVec2::splat(-1.0), DVec2::splat(2.0)),
+            skin: 0.0,
+            skin_rule: SkinRule::Fixed,
+            time_stepping: TimeStepping::Fixed(1e-4),
+        });
+        let particle = |i: usize, j: usize, body: u16| ParticleInit {
+            pos: DVec2::new(i as Real * dx, j as Real * dx - 0.15),
+            vel: DVec2::ZERO,
+            mass: rho * dx * dx,
+            density: rho,
+            // both wall rows within reach of the water
+            h: 2.5 * dx,
+            internal_energy: 0.0,
+            body,
+        };
+        let parts: Vec<_> = (0..10)
+            .flat_map(|i| (0..7).map(move |j| particle(i, j, u16::from(j >= 2))))
+            .collect();
+        sim.spawn_particles(&parts).unwrap();
+        let bodies = Bodies(vec![Body::fixed("floor"), Body::fluid("water")]);
+        install_bodies(&mut sim, bodies).unwrap();
+        let integrator: &dyn PluginConfig = &dualsph_integrator::LeapfrogPC::default();
+        sim.build_plugin(integrator).unwrap();
+        let eos = dualsph_eos::TaitEos {
+            rho0: 1000.0,
+            gamma: 7.0,
+            c0: Some(10.0),
+            p0: None,
+            min_pressure: None,
+            background: 0.0,
+            materials: Vec::new(),
+        };
+        sim.build_plugin(&eos).unwrap();
+        let walls = WallPressure {
+            no_suction,
+            ..WallPressure::default()
+        };
+        sim.build_plugin(&walls).unwrap();
+        sim.initialize().unwrap();
+        let mut q = sim.world.query::<(&BodyId, &Pressure, &Density)>();
+        let rows: Vec<_> = q
+            .iter(&sim.world)
+            .map(|(b, p, r)| (b.0, p.0, r.0))
+            .collect();
+        let wall = rows
+            .iter()
+            .filter(|r| r.0 == 0)
+            .map(|r| (r.1, r.2))
+            .collect();
+        (wall, rows.iter().find(|r| r.0 == 1).unwrap().1)
+    }
+
+    /// Water in tension (ρ = 990 < ρ0): the walls take its pressure (a uniform field is
+    /// extrapolated exactly), unless they read suction as zero, when they hold ρ0 and p = 0;
+    /// in compression (ρ = 1010) both read the water's pressure.
+    #[test]
+    fn walls_without_suction_do_not_pull_the_water() {
+        let (walls, p_water) = floor_under(990.0, false);
+        assert!(p_water < 0.0);
+        let wet = |w: &[(Real, Real)]| w.iter().filter(|x| x.1 != 1000.0 || x.0 != 0.0).count();
+        for &(p, _) in &walls {
+            assert!(
+                (p - p_water).abs() < 1e-9 * p_water.abs(),
+                "{p} vs {p_water}"
+            );
+        }
+        let (walls, _) = floor_under(990.0, true);
+        assert_eq!(wet(&walls), 0, "{walls:?}");
+        let (pressed, p_water) = floor_under(1010.0, false);
+        let (held, _) = floor_under(1010.0, true);
+        assert!(p_water > 0.0);
+        assert_eq!(pressed, held);
     }
 }
