@@ -20,6 +20,7 @@ pub mod plugins {
     pub use dualsph_motion::Prescribed;
     pub use dualsph_pressure::{ArtificialStress, PressureForce};
     pub use dualsph_probes::{Probe, Probes, Quantity};
+    pub use dualsph_shifting::ParticleShifting;
     pub use dualsph_smoothing_length::SmoothingLengthUpdate;
     pub use dualsph_surface_tension::SurfaceTension;
     pub use dualsph_viscosity::{ArtificialViscosity, NewtonianViscosity, PhysicalViscosity};
@@ -61,7 +62,8 @@ pub fn default_registry() -> Registry {
         .register::<Inlet>()
         .register::<Outlet>()
         .register::<Probes>()
-        .register::<SurfaceTension>();
+        .register::<SurfaceTension>()
+        .register::<ParticleShifting>();
     r
 }
 
