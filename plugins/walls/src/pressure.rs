@@ -122,6 +122,47 @@ fn sums<V: Vector>(
     s
 }
 
+/// Everything one wall particle's extrapolated state is computed from (module docs).
+struct Extrapolation<'a, V: Vector> {
+    support: Support<'a, V>,
+    fluid: Fluid<'a, V>,
+    laws: &'a BodyEos,
+    driven: &'a DrivenBodies,
+    anchor: &'a [Anchor<V>],
+    /// Gravity.
+    g: V,
+    /// The time the walls' accelerations are taken at (the end of the step).
+    t: Real,
+    mode: ViscousWall,
+    no_suction: bool,
+}
+
+impl<V: Vector> Extrapolation<'_, V> {
+    /// The state of wall particle i: `p_w` (Eq. 27, read as zero below zero with
+    /// `no_suction`), the density the equation of state gives at it (Eq. 28) and its sound
+    /// speed, and the velocity offset of the viscous wall model (Eq. 22–23).
+    fn state(&self, i: usize) -> WallState<V> {
+        let f = &self.fluid;
+        let b = f.body[i].0 as usize;
+        let eos = self.laws.0[b].as_ref();
+        let a_w = self.driven.0[b].as_deref().map_or(V::zero(), |m| {
+            motion_acceleration(m, self.anchor[i].0, self.t)
+        });
+        let velocity = self.mode != ViscousWall::Own;
+        let s = sums(&self.support, f, i, velocity);
+        let rho_w = if s.w > 0.0 {
+            let p_w = (s.p + (self.g - a_w).dot(s.rho_r)) / s.w;
+            let p_w = if self.no_suction { p_w.max(0.0) } else { p_w };
+            eos.density_at(p_w).unwrap_or(f.rho[i].0)
+        } else {
+            eos.reference_density().unwrap_or(f.rho[i].0)
+        };
+        let (p_w, c_w) = eos.eval(rho_w, 0.0);
+        let v_f = (s.w > 0.0).then(|| s.v * (1.0 / s.w));
+        (i, rho_w, p_w, c_w, wall_offset(self.mode, f.vel[i].0, v_f))
+    }
+}
+
 /// What [`wall_pressure`] sets on one wall particle: its row, density, pressure, sound speed
 /// and the velocity offset it shows the viscous terms.
 type WallState<V> = (usize, Real, Real, Real, V);
@@ -167,46 +208,36 @@ pub fn wall_pressure<V: Vector>(
         p.bypass_change_detection(),
         c.bypass_change_detection(),
     );
-    let g = gravity.map_or(V::zero(), |g| g.0);
-    let t = clock.t + clock.dt;
     let mode = viscous.map_or(ViscousWall::Own, |m| m.0);
     let velocity = mode != ViscousWall::Own;
-    let support = Support {
-        pos,
-        h,
-        neighbours: &nb,
-        kernel: &kernel.0,
-        formulation: *formulation,
-    };
-    let fluid = Fluid {
-        rho,
-        p,
-        vel,
-        body,
-        walls: &walls.0,
+    let walls_now = Extrapolation {
+        support: Support {
+            pos,
+            h,
+            neighbours: &nb,
+            kernel: &kernel.0,
+            formulation: *formulation,
+        },
+        fluid: Fluid {
+            rho,
+            p,
+            vel,
+            body,
+            walls: &walls.0,
+        },
+        laws: &laws,
+        driven: &driven,
+        anchor,
+        g: gravity.map_or(V::zero(), |g| g.0),
+        t: clock.t + clock.dt,
+        mode,
+        no_suction: no_suction.0,
     };
     let set: Vec<WallState<V>> = (0..pos.len())
         .into_par_iter()
         .with_min_len(256)
         .filter(|&i| walls.0[body[i].0 as usize])
-        .map(|i| {
-            let b = body[i].0 as usize;
-            let eos = laws.0[b].as_ref();
-            let a_w = driven.0[b]
-                .as_deref()
-                .map_or(V::zero(), |m| motion_acceleration(m, anchor[i].0, t));
-            let s = sums(&support, &fluid, i, velocity);
-            let rho_w = if s.w > 0.0 {
-                let p_w = (s.p + (g - a_w).dot(s.rho_r)) / s.w;
-                let p_w = if no_suction.0 { p_w.max(0.0) } else { p_w };
-                eos.density_at(p_w).unwrap_or(rho[i].0)
-            } else {
-                eos.reference_density().unwrap_or(rho[i].0)
-            };
-            let (p_w, c_w) = eos.eval(rho_w, 0.0);
-            let v_f = (s.w > 0.0).then(|| s.v * (1.0 / s.w));
-            (i, rho_w, p_w, c_w, wall_offset(mode, vel[i].0, v_f))
-        })
+        .map(|i| walls_now.state(i))
         .collect();
     kept.0.clear();
     for &(i, rho_w, p_w, c_w, _) in &set {
