@@ -30,7 +30,7 @@ use std::path::{Path, PathBuf};
 pub const MAGIC: &[u8; 8] = b"DSPHCKPT";
 /// Version of the layout written by this build (of the file and of the columns it carries); a
 /// file of another version is refused.
-pub const FORMAT_VERSION: u32 = 6;
+pub const FORMAT_VERSION: u32 = 7;
 const HEADER_LEN: usize = 8 + 4 + 8 + 8;
 
 /// One particle component: `width` reals per particle, particles in row order.
