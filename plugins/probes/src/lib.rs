@@ -244,6 +244,24 @@ fn check_name(field: &str, name: &str) -> Result<(), String> {
     Ok(())
 }
 
+/// `n` equally spaced points from `start` to `end` (a line or a sensor): both ends of the
+/// scene's dimension and in the domain, 2 ≤ n ≤ 10,000; `f` names a field of the probe.
+fn check_points(
+    f: &dyn Fn(&str) -> String,
+    (start, end, n): (&[Real], &[Real], usize),
+    info: &SceneInfo,
+) -> Result<(), String> {
+    let d = info.dimension;
+    check_vec(&f("start"), start, d)?;
+    check_vec(&f("end"), end, d)?;
+    check_inside(&f("start"), start, info)?;
+    check_inside(&f("end"), end, info)?;
+    if !(2..=10_000).contains(&n) {
+        return Err(format!("{}: must be between 2 and 10000, got {n}", f("n")));
+    }
+    Ok(())
+}
+
 fn check_vec(field: &str, v: &[Real], d: usize) -> Result<(), String> {
     if v.len() != d {
         return Err(format!("{field}: expected {d} components, got {}", v.len()));
@@ -422,13 +440,7 @@ impl SimPlugin for Probes {
                     n,
                     ..
                 } => {
-                    check_vec(&f("start"), start, d)?;
-                    check_vec(&f("end"), end, d)?;
-                    check_inside(&f("start"), start, info)?;
-                    check_inside(&f("end"), end, info)?;
-                    if !(2..=10_000).contains(n) {
-                        return Err(format!("{}: must be between 2 and 10000, got {n}", f("n")));
-                    }
+                    check_points(&f, (start, end, *n), info)?;
                     name
                 }
                 Probe::Sensor {
@@ -439,13 +451,7 @@ impl SimPlugin for Probes {
                     floor,
                     ..
                 } => {
-                    check_vec(&f("start"), start, d)?;
-                    check_vec(&f("end"), end, d)?;
-                    check_inside(&f("start"), start, info)?;
-                    check_inside(&f("end"), end, info)?;
-                    if !(2..=10_000).contains(n) {
-                        return Err(format!("{}: must be between 2 and 10000, got {n}", f("n")));
-                    }
+                    check_points(&f, (start, end, *n), info)?;
                     if floor.is_some_and(|x| !x.is_finite()) {
                         return Err(format!("{}: must be finite", f("floor")));
                     }
