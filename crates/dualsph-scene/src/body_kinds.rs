@@ -5,7 +5,7 @@
 //! [`dualsph_core::bodies::kind`]).
 
 use crate::de::Ident;
-use crate::plugins_list::with_current;
+use crate::plugins_list::{unknown, with_current};
 use dualsph_core::bodies::{BodyKindConfig, BodyKindEntry, Fluid};
 use serde::de::{self, DeserializeSeed, Deserializer, EnumAccess, VariantAccess, Visitor};
 use serde::{Serialize, Serializer};
@@ -27,12 +27,7 @@ fn lookup(name: &str) -> Result<BodyKindEntry, String> {
         )),
         Some(reg) => reg.body_kind(name).copied().ok_or_else(|| {
             let names: Vec<_> = reg.body_kinds().iter().map(|e| e.name).collect();
-            let list = if names.is_empty() {
-                "(no body kinds are registered)".to_owned()
-            } else {
-                names.join(", ")
-            };
-            format!("unknown body kind `{name}`, expected one of: {list}")
+            unknown("body kind", "body kinds", name, &names)
         }),
     })
 }

@@ -47,16 +47,22 @@ fn lookup(name: &str) -> Result<PluginEntry, String> {
             "cannot parse plugin `{name}`: no plugin registry is installed \
              (parse scenes with `Scene::from_str` or `Scene::load`)"
         )),
-        Some(reg) => reg.get(name).copied().ok_or_else(|| {
-            let names = reg.names();
-            let list = if names.is_empty() {
-                "(no plugins are registered)".to_owned()
-            } else {
-                names.join(", ")
-            };
-            format!("unknown plugin `{name}`, expected one of: {list}")
-        }),
+        Some(reg) => reg
+            .get(name)
+            .copied()
+            .ok_or_else(|| unknown("plugin", "plugins", name, &reg.names())),
     })
+}
+
+/// The message for a name the registry does not hold: ``unknown <what> `name`, expected one
+/// of: …`` with the registered names (or that there are no `<whats>` registered).
+pub(crate) fn unknown(what: &str, whats: &str, name: &str, names: &[&str]) -> String {
+    let list = if names.is_empty() {
+        format!("(no {whats} are registered)")
+    } else {
+        names.join(", ")
+    };
+    format!("unknown {what} `{name}`, expected one of: {list}")
 }
 
 /// `deserialize_with` function for `Scene::plugins`.
