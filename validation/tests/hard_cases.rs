@@ -289,6 +289,7 @@ mod dam_break_jumps {
             max: vec![1.0, 2.0],
             spacing,
             lattice: Lattice::Staggered,
+            jitter: 0.0,
             density: 1000.0,
             h_factor: 2.0,
             clip: None,

@@ -124,6 +124,10 @@ pub(crate) fn for_each_position(g: &Generator, d: usize, mut f: impl FnMut([f64;
     let cuts: Vec<_> = c.cut.iter().map(|r| r.geometry(d)).collect();
     let dx = c.spacing;
     let (lo, _) = lattice_box(g, d);
+    let amplitude = match g {
+        Generator::Block(b) => b.jitter,
+        _ => 0.0,
+    };
     let ranges = index_ranges(g, d).map(|(a, b)| (a as usize, b as usize));
     for i0 in ranges[0].0..ranges[0].1 {
         for i1 in ranges[1].0..ranges[1].1 {
@@ -132,6 +136,11 @@ pub(crate) fn for_each_position(g: &Generator, d: usize, mut f: impl FnMut([f64;
                 let mut p = [0.0; 3];
                 for k in 0..d {
                     p[k] = lo[k] + (idx[k] as f64 + offset(c.lattice, d, k, idx)) * dx;
+                }
+                if amplitude > 0.0 {
+                    for (k, x) in p.iter_mut().enumerate().take(d) {
+                        *x += amplitude * dx * jitter(idx, k);
+                    }
                 }
                 if let Some((centre, r2)) = &disk {
                     let dist2: f64 = (0..d).map(|k| (p[k] - centre[k]).powi(2)).sum();
@@ -149,6 +158,24 @@ pub(crate) fn for_each_position(g: &Generator, d: usize, mut f: impl FnMut([f64;
             }
         }
     }
+}
+
+/// A number in `[−1, 1)` fixed by a lattice index and an axis: SplitMix64 (Steele, Lea &
+/// Flood 2014, *Fast splittable pseudorandom number generators*, OOPSLA) of the index's
+/// three components and the axis. Written out rather than taken from a crate so that a scene
+/// file gives the same particles in every version of the engine (a generator crate is free
+/// to change its sequence between versions).
+pub fn jitter(idx: [usize; 3], axis: usize) -> f64 {
+    let mut z = (idx[0] as u64)
+        .wrapping_mul(0x9E37_79B9_7F4A_7C15)
+        .wrapping_add((idx[1] as u64).wrapping_mul(0xC2B2_AE3D_27D4_EB4F))
+        .wrapping_add((idx[2] as u64).wrapping_mul(0x1656_67B1_9E37_79F9))
+        .wrapping_add(axis as u64);
+    z = z.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^= z >> 31;
+    (z >> 11) as f64 / (1u64 << 52) as f64 - 1.0
 }
 
 /// Velocity of a particle at `p`.

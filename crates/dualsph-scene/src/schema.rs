@@ -43,6 +43,15 @@ pub struct Block {
     pub spacing: f64,
     /// Lattice kind.
     pub lattice: Lattice,
+    /// Moves every lattice point by up to `jitter · Δx` along each axis (0 by default, at most
+    /// 0.25 so that a point stays in its cell): a fixed pseudo-random pattern of the point's
+    /// lattice index (SplitMix64), the same on every run. A perfect lattice is
+    /// an equilibrium of the particle regularisers (`TransportVelocity`, `ParticleShifting`:
+    /// every kernel sum of a symmetric neighbourhood vanishes), which a flow then strains
+    /// into an anisotropic one they cannot see; the jitter breaks that symmetry
+    /// (TrixiParticles.jl perturbs its Taylor–Green lattice by 0.2Δx the same way).
+    #[serde(default)]
+    pub jitter: f64,
     /// Initial density; particle mass is `density · Δx^d`.
     pub density: f64,
     /// Support radius in units of Δx: `h = h_factor · Δx`.

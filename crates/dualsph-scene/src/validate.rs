@@ -27,6 +27,15 @@ fn generator(i: usize, g: &Generator, d: usize) -> Check {
             vector(&f("min"), &b.min, d)?;
             vector(&f("max"), &b.max, d)?;
             ordered(&f("max"), &b.min, &b.max)?;
+            if !(0.0..=0.25).contains(&b.jitter) {
+                return Err(Problem::new(
+                    f("jitter"),
+                    format!(
+                        "expected a fraction of the spacing in [0, 0.25], got {}",
+                        b.jitter
+                    ),
+                ));
+            }
         }
         Generator::Disk(c) => {
             vector(&f("center"), &c.center, d)?;

@@ -11,7 +11,7 @@ pub mod plugins {
         ContinuityDensity, ContinuityForm, DensityDiffusion, SummationDensity,
     };
     pub use dualsph_diagnostics::DiagnosticsPlugin;
-    pub use dualsph_eos::{HydrostaticStart, IdealGas, TaitEos};
+    pub use dualsph_eos::{HydrostaticStart, IdealGas, InitialPressure, TaitEos};
     pub use dualsph_gravity::Gravity;
     pub use dualsph_heat::HeatConduction;
     pub use dualsph_inout::{Inlet, Outlet};
@@ -20,7 +20,7 @@ pub mod plugins {
     pub use dualsph_motion::Prescribed;
     pub use dualsph_pressure::{ArtificialStress, PressureForce};
     pub use dualsph_probes::{Probe, Probes, Quantity};
-    pub use dualsph_shifting::ParticleShifting;
+    pub use dualsph_shifting::{ParticleShifting, TransportVelocity};
     pub use dualsph_smoothing_length::SmoothingLengthUpdate;
     pub use dualsph_surface_tension::SurfaceTension;
     pub use dualsph_viscosity::{ArtificialViscosity, NewtonianViscosity, PhysicalViscosity};
@@ -47,6 +47,7 @@ pub fn default_registry() -> Registry {
         .register::<DensityDiffusion>()
         .register::<TaitEos>()
         .register::<HydrostaticStart>()
+        .register::<InitialPressure>()
         .register::<IdealGas>()
         .register::<PressureForce>()
         .register::<ArtificialStress>()
@@ -63,7 +64,8 @@ pub fn default_registry() -> Registry {
         .register::<Outlet>()
         .register::<Probes>()
         .register::<SurfaceTension>()
-        .register::<ParticleShifting>();
+        .register::<ParticleShifting>()
+        .register::<TransportVelocity>();
     r
 }
 

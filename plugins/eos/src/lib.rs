@@ -4,7 +4,9 @@
 #![warn(missing_docs)]
 
 pub mod hydrostatic;
+pub mod initial;
 pub use hydrostatic::HydrostaticStart;
+pub use initial::InitialPressure;
 
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::bodies::Bodies;

@@ -201,5 +201,8 @@ impl SimPlugin for ParticleShifting {
     }
 }
 
+pub mod transport;
+pub use transport::{TransportOffset, TransportVelocity};
+
 #[cfg(test)]
 mod tests;

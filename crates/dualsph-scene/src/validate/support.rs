@@ -29,6 +29,7 @@ pub(crate) fn lattice_neighbours(lattice: Lattice, h_factor: f64, d: usize) -> u
         max: vec![width; d],
         spacing: 1.0,
         lattice,
+        jitter: 0.0,
         density: 1.0,
         h_factor,
         clip: None,

@@ -1,0 +1,286 @@
+//! `TransportVelocity(background: None)`: the transport-velocity formulation of Adami, Hu &
+//! Adams (2013), *A transport-velocity formulation for smoothed particle hydrodynamics*,
+//! J. Comput. Phys. 241, 292–307. The particles are carried by a transport velocity
+//! `ṽ_i = v_i + (Δt/2) ã_i` (their Eq. 13 in the kick–drift–kick of their §2.4) that adds to
+//! the momentum velocity the acceleration of a uniform background pressure `p_b`,
+//!
+//! `ã_i = −(p_b/m_i) Σ_j (V_i² + V_j²) ∇_iW_ij`  (their Eq. 12, `V = m/ρ`),
+//!
+//! which vanishes on an even particle distribution and pushes the particles towards one
+//! wherever they bunch or open up. The step's drift with `ṽ` instead of `v` is done here as a
+//! shift after the step, `δr_i = Δt (ṽ_i − v_i) = (Δt²/2) ã_i`, over i's support with its own
+//! kernel (all bodies' particles, so walls of particles keep the fluid off them).
+//!
+//! **The momentum equation** gains the divergence of the stress `A = ρ v ⊗ (ṽ − v)` that the
+//! difference of the two velocities carries (their Eq. 9–10): as a dual-support pair term,
+//! for `j ∈ H_i` with i's kernel,
+//!
+//! `f_ij = m_i m_j (A_i/ρ_i²)·∇_iW_ij = (m_i m_j/ρ_i) v_i ((ṽ_i − v_i)·∇_iW_ij)`
+//!
+//! on i and `−f_ij` on j (with the kernel correction `1/ρ_i²` becomes `1/(ρ_iρ_j)` and
+//! `∇_iW_ij` becomes `L_i∇_iW_ij`, as for the pressure force), so linear momentum stays
+//! exact. Its work `f_ij·v_ij` is taken from the pair's internal energy, half to each, so the
+//! total energy stays exact where the scene tracks it. `ṽ − v` is the offset of the last step,
+//! kept per particle (`transport_offset`, in checkpoints).
+//!
+//! `p_b` defaults to `ρ0 c0²` of the fluid's equation of state (the largest over the fluid
+//! bodies): the reference pressure of a weakly compressible liquid, as Adami et al. take it.
+//!
+//! **The free surface.** A background pressure pulls particles out of a free surface; where
+//! the divergence of position `∇·r_i` falls below `surface` (as in `ParticleShifting`) only
+//! the shift's part along the surface is kept. The formulation is meant for confined flows.
+//!
+//! **What is conserved.** The shift moves positions, nothing else, so mass, linear momentum and
+//! the energies are exactly what they were, and the dual-support pair forces at the new
+//! positions stay exactly opposite; the stress term conserves linear momentum and total
+//! energy pair by pair (above). The angular momentum changes by `Σ m δr × v` and by the
+//! stress term's torque.
+
+use crate::{Shifting, shift};
+use dualsph_core::bevy_ecs::prelude::*;
+use dualsph_core::bodies::{Bodies, DriveBodies};
+use dualsph_core::chunks::DENSE;
+use dualsph_core::neighbours::Neighbours;
+use dualsph_fluid::prelude::*;
+use dualsph_fluid::{BodyEos, ensure_energy_equation};
+use dualsph_sweep::Support;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+/// `ṽ_i − v_i` of the last step (module docs).
+#[derive(Component, Clone, Copy, Debug, Default, PartialEq)]
+pub struct TransportOffset<V: Vector>(pub V);
+
+dualsph_core::vector_column!(TransportOffset);
+
+/// The transport-velocity formulation (module docs).
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct TransportVelocity {
+    /// The background pressure `p_b` (default `ρ0 c0²` of the fluid).
+    #[serde(default)]
+    pub background: Option<Real>,
+    /// The free-surface threshold on `∇·r` (default 1.5 in 2-D, 2.75 in 3-D, 0.75 in 1-D).
+    #[serde(default)]
+    pub surface: Option<Real>,
+    /// Whether the momentum equation carries the stress `A = ρ v ⊗ (ṽ − v)` (default true).
+    #[serde(default = "yes")]
+    pub stress: bool,
+}
+
+fn yes() -> bool {
+    true
+}
+
+impl Default for TransportVelocity {
+    fn default() -> Self {
+        TransportVelocity {
+            background: None,
+            surface: None,
+            stress: true,
+        }
+    }
+}
+
+/// The settings as the system reads them.
+#[derive(Resource, Clone, Copy, Debug)]
+pub struct Transport {
+    /// `p_b`, or `None` for `ρ0 c0²` of the fluid.
+    pub background: Option<Real>,
+    /// The threshold on `∇·r`.
+    pub surface: Real,
+}
+
+/// `ρ0 c0²`, the largest over the fluid bodies with a liquid's law.
+pub fn reference_pressure(laws: &BodyEos, bodies: &Bodies) -> Option<Real> {
+    let mut best: Option<Real> = None;
+    for (b, law) in laws.0.iter().enumerate() {
+        if !bodies.0.get(b).is_some_and(|b| b.is_fluid()) {
+            continue;
+        }
+        if let Some(rho0) = law.reference_density() {
+            let (_, c0) = law.eval(rho0, 0.0);
+            let p = rho0 * c0 * c0;
+            best = Some(best.map_or(p, |q: Real| q.max(p)));
+        }
+    }
+    best
+}
+
+/// `(Σ_j (V_i² + V_j²) ∇_iW_ij, ∇·r_i)` over i's support.
+pub fn background_sum<V: Vector>(support: &Support<'_, V>, volume: &[Real], i: usize) -> (V, Real) {
+    let (mut sum, mut div) = (V::zero(), 0.0);
+    let vi2 = volume[i] * volume[i];
+    support.for_each_neighbour(i, |j, rij, _r, _w, g| {
+        sum += g * (vi2 + volume[j] * volume[j]);
+        div -= volume[j] * rij.dot(g);
+    });
+    (sum, div)
+}
+
+/// Moves every fluid particle by `(Δt²/2) ã_i` (module docs), after the corrector.
+#[allow(clippy::too_many_arguments)] // one system, its resources
+#[inline(never)] // a frame of its own in profiles
+pub fn transport_particles<V: Vector>(
+    settings: Res<Transport>,
+    bodies: Res<Bodies>,
+    laws: Option<Res<BodyEos>>,
+    clock: Res<SimClock>,
+    kernel: Res<KernelRes>,
+    nb: Res<Neighbours<V>>,
+    formulation: Res<Formulation>,
+    mut q: Query<(
+        &mut Position<V>,
+        &mut TransportOffset<V>,
+        &SmoothingLength,
+        &Mass,
+        &Density,
+        &BodyId,
+    )>,
+) {
+    let Some((mut pos, mut offset, h, m, rho, body)) =
+        dualsph_core::store::single_table(q.contiguous_iter_mut().expect(DENSE))
+    else {
+        return;
+    };
+    let pb = settings
+        .background
+        .or_else(|| laws.as_ref().and_then(|l| reference_pressure(l, &bodies)))
+        .unwrap_or(0.0);
+    // the engine reads no change ticks (`dualsph_core::chunks`)
+    let pos = pos.bypass_change_detection();
+    let offset = offset.bypass_change_detection();
+    let fluid: Vec<bool> = bodies.0.iter().map(|b| b.is_fluid()).collect();
+    let volume: Vec<Real> = m.iter().zip(rho).map(|(m, r)| m.0 / r.0).collect();
+    let support = Support {
+        pos,
+        h,
+        neighbours: &nb,
+        kernel: &kernel.0,
+        formulation: *formulation,
+    };
+    let dt = clock.dt;
+    let shifts: Vec<V> = (0..pos.len())
+        .into_par_iter()
+        .with_min_len(256)
+        .map(|i| {
+            if !fluid[body[i].0 as usize] {
+                return V::zero();
+            }
+            let (sum, div) = background_sum(&support, &volume, i);
+            // δr = −(Δt²/2)(p_b/m_i) Σ: `shift` applies −d to its gradient
+            let d = 0.5 * dt * dt * pb / m[i].0;
+            shift(sum, div, d, settings.surface)
+        })
+        .collect();
+    for ((r, o), dr) in pos.iter_mut().zip(offset.iter_mut()).zip(shifts) {
+        r.0 += dr;
+        o.0 = if dt > 0.0 { dr * (1.0 / dt) } else { V::zero() };
+    }
+}
+
+/// The stress term of the transport velocity (module docs).
+#[derive(Debug, Clone, Copy)]
+pub struct TransportStressTerm;
+
+/// [`TransportStressTerm`] bound to the offsets.
+#[derive(Clone, Copy, Debug)]
+pub struct BoundTransportStress<'w, V: Vector> {
+    data: ParticleData<'w, V>,
+    offset: &'w [TransportOffset<V>],
+    corrected: bool,
+}
+
+impl<V: Vector> PairTerm<V> for TransportStressTerm {
+    type Bound<'w> = BoundTransportStress<'w, V>;
+
+    fn name(&self) -> &str {
+        "transport-velocity stress (Adami et al. 2013)"
+    }
+
+    fn bind<'w>(
+        &'w self,
+        b: &mut Binder<'_, 'w, V>,
+    ) -> Result<BoundTransportStress<'w, V>, String> {
+        b.force()?;
+        b.power()?;
+        Ok(BoundTransportStress {
+            data: b.data(),
+            offset: b.require()?,
+            corrected: b.column::<GradientCorrection<V>>().is_some(),
+        })
+    }
+}
+
+impl<V: Vector> BoundTerm<V> for BoundTransportStress<'_, V> {
+    /// `(m_i v_i/ρ_i` (`m_i v_i` with the kernel correction), `ṽ_i − v_i)`: `m_i A_i/ρ_i²`
+    /// (`m_i A_i/ρ_i`) without its offset.
+    type Owner = (V, V);
+
+    #[inline(always)]
+    fn owner(&self, i: usize) -> (V, V) {
+        let (m, rho) = (self.data.mass[i].0, self.data.rho[i].0);
+        let f = if self.corrected { m } else { m / rho };
+        (self.data.vel[i].0 * f, self.offset[i].0)
+    }
+
+    #[inline(always)]
+    fn interact<T: Lanes>(&self, owner: &(V, V), p: &PairLanes<'_, T, V>, out: &mut Out<'_, T>) {
+        let (a, dv) = *owner;
+        let g = p.grad();
+        let nbr = if p.corrected() {
+            p.m_j() / p.rho_j()
+        } else {
+            p.m_j()
+        };
+        let s = LaneVec::<T>::splat::<V>(dv).dot::<V>(g) * nbr;
+        let f = LaneVec::<T>::splat::<V>(a).scale::<V>(s);
+        out.add_force::<V>(f);
+        let heat = T::splat(-0.5) * f.dot::<V>(p.vij());
+        out.add_power(heat);
+        out.react_power(heat);
+    }
+}
+
+impl SimPlugin for TransportVelocity {
+    const NAME: &'static str = "TransportVelocity";
+    const SUMMARY: &'static str =
+        "particles carried by a transport velocity with a background pressure (Adami et al. 2013)";
+
+    fn validate(&self, _info: &SceneInfo) -> Result<(), String> {
+        if let Some(p) = self.background
+            && !(p.is_finite() && p > 0.0)
+        {
+            return Err(format!("background: must be > 0, got {p}"));
+        }
+        if let Some(s) = self.surface
+            && !(s.is_finite() && s > 0.0)
+        {
+            return Err(format!("surface: must be > 0, got {s}"));
+        }
+        Ok(())
+    }
+
+    fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
+        sim.world.insert_resource(Transport {
+            background: self.background,
+            surface: self
+                .surface
+                .unwrap_or_else(|| Shifting::default_surface(V::DIM)),
+        });
+        sim.add_column(ColumnSpec::restart_only("transport_offset"), |_| {
+            TransportOffset(V::zero())
+        })?;
+        if self.stress {
+            ensure_energy_equation(sim)?;
+            sim.add_pair_term(TransportStressTerm);
+        }
+        sim.add_system(
+            StepSet::Correct,
+            "transport_velocity (Adami et al. 2013)",
+            transport_particles::<V>,
+        )
+        .after::<DriveBodies>();
+        Ok(())
+    }
+}
