@@ -1,4 +1,4 @@
-//! The lid-driven cavity at Re = 100: the centreline velocities of Ghia, Ghia & Shin (1982),
+//! The lid-driven cavity at Re = 100 and 1000: the centreline velocities of Ghia, Ghia & Shin (1982),
 //! *High-Re solutions for incompressible flow using the Navier–Stokes equations and a
 //! multigrid method*, J. Comput. Phys. 48, 387–411, Tables I and II (129 × 129 grid), for a
 //! unit square whose lid (y = 1) slides at U = 1 in +x, the other walls at rest.
@@ -45,6 +45,48 @@ pub const GHIA_V_RE100: [(f64, f64); 17] = [
     (0.0000, 0.00000),
 ];
 
+/// Table I, Re = 1000: `(y, u)` on the vertical centreline x = 0.5, u in units of U.
+pub const GHIA_U_RE1000: [(f64, f64); 17] = [
+    (1.0000, 1.00000),
+    (0.9766, 0.65928),
+    (0.9688, 0.57492),
+    (0.9609, 0.51117),
+    (0.9531, 0.46604),
+    (0.8516, 0.33304),
+    (0.7344, 0.18719),
+    (0.6172, 0.05702),
+    (0.5000, -0.06080),
+    (0.4531, -0.10648),
+    (0.2813, -0.27805),
+    (0.1719, -0.38289),
+    (0.1016, -0.29730),
+    (0.0703, -0.22220),
+    (0.0625, -0.20196),
+    (0.0547, -0.18109),
+    (0.0000, 0.00000),
+];
+
+/// Table II, Re = 1000: `(x, v)` on the horizontal centreline y = 0.5, v in units of U.
+pub const GHIA_V_RE1000: [(f64, f64); 17] = [
+    (1.0000, 0.00000),
+    (0.9688, -0.21388),
+    (0.9609, -0.27669),
+    (0.9531, -0.33714),
+    (0.9453, -0.39188),
+    (0.9063, -0.51550),
+    (0.8594, -0.42665),
+    (0.8047, -0.31966),
+    (0.5000, 0.02526),
+    (0.2344, 0.32235),
+    (0.2266, 0.33075),
+    (0.1563, 0.37095),
+    (0.0938, 0.32627),
+    (0.0781, 0.30353),
+    (0.0703, 0.29012),
+    (0.0625, 0.27485),
+    (0.0000, 0.00000),
+];
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -64,5 +106,12 @@ mod tests {
             .map(|w| 0.5 * (w[0].1 + w[1].1) * (w[0].0 - w[1].0))
             .sum();
         assert!(flux.abs() < 0.01, "∫u dy = {flux}");
+        assert_eq!(GHIA_U_RE1000[0], (1.0, 1.0));
+        assert_eq!(GHIA_V_RE1000[16], (0.0, 0.0));
+        let flux: f64 = GHIA_U_RE1000
+            .windows(2)
+            .map(|w| 0.5 * (w[0].1 + w[1].1) * (w[0].0 - w[1].0))
+            .sum();
+        assert!(flux.abs() < 0.01, "∫u dy = {flux} at Re = 1000");
     }
 }

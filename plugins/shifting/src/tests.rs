@@ -183,3 +183,23 @@ fn the_transport_stress_keeps_the_momentum() {
     assert!(moved > 1e-6, "the stress term moved nothing: {moved}");
     assert!(drift < 1e-13, "{drift}");
 }
+
+/// A gain past the stable range, or a background pressure that is not a positive number, is
+/// refused with the field named.
+#[test]
+fn transport_settings_out_of_range_are_refused() {
+    let info = SceneInfo::of_dimension(2);
+    let bad_gain = TransportVelocity {
+        gain: 0.2,
+        ..TransportVelocity::default()
+    };
+    let err = SimPlugin::validate(&bad_gain, &info).unwrap_err();
+    assert!(err.starts_with("gain:"), "{err}");
+    let bad_background = TransportVelocity {
+        background: Some(-1.0),
+        ..TransportVelocity::default()
+    };
+    let err = SimPlugin::validate(&bad_background, &info).unwrap_err();
+    assert!(err.starts_with("background:"), "{err}");
+    assert!(SimPlugin::validate(&TransportVelocity::default(), &info).is_ok());
+}

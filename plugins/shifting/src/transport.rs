@@ -1,4 +1,4 @@
-//! `TransportVelocity(background: None)`: the transport-velocity formulation of Adami, Hu &
+//! `TransportVelocity(gain: 0.12)`: the transport-velocity formulation of Adami, Hu &
 //! Adams (2013), *A transport-velocity formulation for smoothed particle hydrodynamics*,
 //! J. Comput. Phys. 241, 292–307. The particles are carried by a transport velocity
 //! `ṽ_i = v_i + (Δt/2) ã_i` (their Eq. 13 in the kick–drift–kick of their §2.4) that adds to
@@ -23,8 +23,19 @@
 //! total energy stays exact where the scene tracks it. `ṽ − v` is the offset of the last step,
 //! kept per particle (`transport_offset`, in checkpoints).
 //!
-//! `p_b` defaults to `ρ0 c0²` of the fluid's equation of state (the largest over the fluid
-//! bodies): the reference pressure of a weakly compressible liquid, as Adami et al. take it.
+//! **The background pressure.** Adami et al. take `p_b = ρ0 c0²`; a scene may fix it
+//! (`background`). By default it is set per particle and step as `p_b = G ρ_i h_i²/Δt²`, so
+//! that the shift `δr_i = (G/2)(h_i²/V_i) Σ_j (V_i² + V_j²) ∇_iW_ij` has the same gain `G` on
+//! every step whatever the step's length. The shift is a relaxation of the distribution; like
+//! an explicit diffusion it overshoots above a gain (measured on the Taylor–Green vortex with
+//! Wendland C2, `h = 3Δx`: stable at `G` = 0.14, ringing from the start at 0.21), and the
+//! stronger it is below that, the better the flow keeps its order: the default `G` = 0.12 is
+//! about `3 ρ0 c0²` at the Courant number 0.2 on `h`. `gain` may be set up to 0.15.
+//!
+//! **The density** is left to the scene's density plugin, with the momentum velocity: carrying
+//! the shift into the continuity equation (the ALE term `Σ_j m_j (ṽ − v)_ij·∇_iW_ij`)
+//! measured worse on the Taylor–Green vortex, the density then following the evening-out of
+//! the start's jitter (see `docs/parameters.md`).
 //!
 //! **The free surface.** A background pressure pulls particles out of a free surface; where
 //! the divergence of position `∇·r_i` falls below `surface` (as in `ParticleShifting`) only
@@ -41,11 +52,14 @@ use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::bodies::{Bodies, DriveBodies};
 use dualsph_core::chunks::DENSE;
 use dualsph_core::neighbours::Neighbours;
+use dualsph_fluid::ensure_energy_equation;
 use dualsph_fluid::prelude::*;
-use dualsph_fluid::{BodyEos, ensure_energy_equation};
 use dualsph_sweep::Support;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
+
+/// The largest `gain` a scene may set: the shift is unstable above about 0.17 (module docs).
+pub const MAX_GAIN: Real = 0.15;
 
 /// `ṽ_i − v_i` of the last step (module docs).
 #[derive(Component, Clone, Copy, Debug, Default, PartialEq)]
@@ -57,9 +71,13 @@ dualsph_core::vector_column!(TransportOffset);
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct TransportVelocity {
-    /// The background pressure `p_b` (default `ρ0 c0²` of the fluid).
+    /// The background pressure `p_b` (Pa), fixed; by default `p_b = G ρ_i h_i²/Δt²` with
+    /// `G` = `gain`.
     #[serde(default)]
     pub background: Option<Real>,
+    /// `G`, the shift's gain per step when `background` is not given (default 0.12).
+    #[serde(default = "default_gain")]
+    pub gain: Real,
     /// The free-surface threshold on `∇·r` (default 1.5 in 2-D, 2.75 in 3-D, 0.75 in 1-D).
     #[serde(default)]
     pub surface: Option<Real>,
@@ -72,10 +90,15 @@ fn yes() -> bool {
     true
 }
 
+fn default_gain() -> Real {
+    0.12
+}
+
 impl Default for TransportVelocity {
     fn default() -> Self {
         TransportVelocity {
             background: None,
+            gain: default_gain(),
             surface: None,
             stress: true,
         }
@@ -85,26 +108,12 @@ impl Default for TransportVelocity {
 /// The settings as the system reads them.
 #[derive(Resource, Clone, Copy, Debug)]
 pub struct Transport {
-    /// `p_b`, or `None` for `ρ0 c0²` of the fluid.
+    /// `p_b`, or `None` for `G ρ_i h_i²/Δt²`.
     pub background: Option<Real>,
+    /// `G`.
+    pub gain: Real,
     /// The threshold on `∇·r`.
     pub surface: Real,
-}
-
-/// `ρ0 c0²`, the largest over the fluid bodies with a liquid's law.
-pub fn reference_pressure(laws: &BodyEos, bodies: &Bodies) -> Option<Real> {
-    let mut best: Option<Real> = None;
-    for (b, law) in laws.0.iter().enumerate() {
-        if !bodies.0.get(b).is_some_and(|b| b.is_fluid()) {
-            continue;
-        }
-        if let Some(rho0) = law.reference_density() {
-            let (_, c0) = law.eval(rho0, 0.0);
-            let p = rho0 * c0 * c0;
-            best = Some(best.map_or(p, |q: Real| q.max(p)));
-        }
-    }
-    best
 }
 
 /// `(Σ_j (V_i² + V_j²) ∇_iW_ij, ∇·r_i)` over i's support.
@@ -124,7 +133,6 @@ pub fn background_sum<V: Vector>(support: &Support<'_, V>, volume: &[Real], i: u
 pub fn transport_particles<V: Vector>(
     settings: Res<Transport>,
     bodies: Res<Bodies>,
-    laws: Option<Res<BodyEos>>,
     clock: Res<SimClock>,
     kernel: Res<KernelRes>,
     nb: Res<Neighbours<V>>,
@@ -138,15 +146,15 @@ pub fn transport_particles<V: Vector>(
         &BodyId,
     )>,
 ) {
+    // nothing moves in the initial evaluation (no step has been taken)
+    if clock.initializing || clock.dt <= 0.0 {
+        return;
+    }
     let Some((mut pos, mut offset, h, m, rho, body)) =
         dualsph_core::store::single_table(q.contiguous_iter_mut().expect(DENSE))
     else {
         return;
     };
-    let pb = settings
-        .background
-        .or_else(|| laws.as_ref().and_then(|l| reference_pressure(l, &bodies)))
-        .unwrap_or(0.0);
     // the engine reads no change ticks (`dualsph_core::chunks`)
     let pos = pos.bypass_change_detection();
     let offset = offset.bypass_change_detection();
@@ -169,13 +177,17 @@ pub fn transport_particles<V: Vector>(
             }
             let (sum, div) = background_sum(&support, &volume, i);
             // δr = −(Δt²/2)(p_b/m_i) Σ: `shift` applies −d to its gradient
-            let d = 0.5 * dt * dt * pb / m[i].0;
+            let d = match settings.background {
+                Some(pb) => 0.5 * dt * dt * pb / m[i].0,
+                // p_b = G ρ_i h_i²/Δt²
+                None => 0.5 * settings.gain * h[i].0 * h[i].0 / volume[i],
+            };
             shift(sum, div, d, settings.surface)
         })
         .collect();
     for ((r, o), dr) in pos.iter_mut().zip(offset.iter_mut()).zip(shifts) {
         r.0 += dr;
-        o.0 = if dt > 0.0 { dr * (1.0 / dt) } else { V::zero() };
+        o.0 = dr * (1.0 / dt);
     }
 }
 
@@ -248,6 +260,12 @@ impl SimPlugin for TransportVelocity {
         "particles carried by a transport velocity with a background pressure (Adami et al. 2013)";
 
     fn validate(&self, _info: &SceneInfo) -> Result<(), String> {
+        if !(self.gain.is_finite() && self.gain > 0.0 && self.gain <= MAX_GAIN) {
+            return Err(format!(
+                "gain: must be in (0, {MAX_GAIN}] (the shift is unstable above about 0.17), got {}",
+                self.gain
+            ));
+        }
         if let Some(p) = self.background
             && !(p.is_finite() && p > 0.0)
         {
@@ -264,6 +282,7 @@ impl SimPlugin for TransportVelocity {
     fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
         sim.world.insert_resource(Transport {
             background: self.background,
+            gain: self.gain,
             surface: self
                 .surface
                 .unwrap_or_else(|| Shifting::default_surface(V::DIM)),

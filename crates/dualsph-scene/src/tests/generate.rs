@@ -224,3 +224,43 @@ fn generate_never_panics_on_invalid_scenes() {
         assert!(s.validate(path()).is_err());
     }
 }
+
+/// `jitter` moves every point of a block by less than `jitter · Δx` along each axis, in a
+/// pattern that is the same on every load, spread over the whole range (the mean offset near
+/// 0, the largest near the bound), and the velocity is taken at the moved point; a jitter
+/// outside [0, 0.25] is refused with the field named.
+#[test]
+fn a_jittered_block_moves_each_point_within_its_bound() {
+    let scene = |jitter: &str| {
+        format!(
+            r#"Scene(
+        name: "jitter", dimension: 2,
+        domain: (min: [0.0, 0.0], max: [1.0, 1.0], periodic: [true, true]),
+        kernel: WendlandC2, formulation: DualSupport,
+        particles: [
+            Block(min: [0.0, 0.0], max: [1.0, 1.0], spacing: 0.05, lattice: Square,
+                  jitter: {jitter}, density: 1.0, h_factor: 3.0, velocity: Linear([[1.0, 0.0], [0.0, 2.0]])),
+        ],
+        integrator: (dt: Fixed(1e-3)), end_time: 0.1,
+    )"#
+        )
+    };
+    let plain = load(&scene("0.0")).unwrap().generate();
+    let moved = load(&scene("0.2")).unwrap().generate();
+    assert_eq!(moved, load(&scene("0.2")).unwrap().generate());
+    assert_eq!(plain.len(), moved.len());
+    let (mut largest, mut mean) = (0.0f64, [0.0; 2]);
+    for (a, b) in plain.iter().zip(&moved) {
+        for k in 0..2 {
+            let off = (b.pos[k] - a.pos[k]) / 0.05;
+            assert!(off.abs() < 0.2, "{a:?} {b:?}");
+            largest = largest.max(off.abs());
+            mean[k] += off / plain.len() as f64;
+        }
+        assert!(close(b.vel[0], b.pos[0]) && close(b.vel[1], 2.0 * b.pos[1]));
+    }
+    assert!(largest > 0.19, "{largest}");
+    assert!(mean.iter().all(|m| m.abs() < 0.02), "{mean:?}");
+    let err = load(&scene("0.3")).unwrap_err().to_string();
+    assert!(err.contains("particles[0].jitter"), "{err}");
+}
