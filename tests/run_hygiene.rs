@@ -135,6 +135,11 @@ fn an_end_time_out_of_reach_stops_at_the_first_step() {
     assert!(started.elapsed() < Duration::from_secs(60));
 }
 
+/// Ctrl-C, then the resume command exactly as the message prints it (a path relative to the
+/// working directory, no `--out`): the resume continues in the interrupted run's own directory,
+/// and its `final.csv`, `diagnostics.csv` and `snapshots.csv` are bitwise those of an
+/// uninterrupted run. A resume into a directory holding another scene's run is refused before
+/// anything there is touched.
 #[test]
 fn ctrl_c_writes_a_checkpoint_that_resumes_bitwise() {
     let tmp = tempfile::tempdir().unwrap();
@@ -146,9 +151,8 @@ fn ctrl_c_writes_a_checkpoint_that_resumes_bitwise() {
 
     let out = tmp.path().join("cut");
     let mut child = bin()
-        .args(["run", "--quiet", "--out"])
-        .arg(&out)
-        .arg(&long)
+        .current_dir(tmp.path())
+        .args(["run", "--quiet", "--out", "cut", "long.ron"])
         .spawn()
         .unwrap();
     // wait until it is stepping (diagnostics beyond the first rows), then interrupt it: at
@@ -177,18 +181,55 @@ fn ctrl_c_writes_a_checkpoint_that_resumes_bitwise() {
     let message = record(&out, "ending/message");
     let message = message.as_str().unwrap();
     let checkpoint = message.rsplit("--resume ").next().unwrap().trim();
-    assert!(Path::new(checkpoint).is_file(), "{message}");
+    assert!(
+        checkpoint.starts_with("cut/") && tmp.path().join(checkpoint).is_file(),
+        "{message}"
+    );
     assert!(
         !out.join("final.csv").exists(),
         "an interrupted run has no final state"
     );
 
-    let resumed = run(&long, &out, &["--resume", checkpoint]);
+    // another scene's run: a resume into its directory is refused and leaves it as it was
+    let other = dam(tmp.path(), "other.ron", |t| {
+        t.replace("max_steps: 40", "max_steps: 30")
+    });
+    let other = {
+        let text = std::fs::read_to_string(&other).unwrap();
+        let edited = text.replacen("name: \"", "name: \"other ", 1);
+        assert_ne!(edited, text);
+        std::fs::write(&other, edited).unwrap();
+        other
+    };
+    let theirs = tmp.path().join("theirs");
+    assert!(run(&other, &theirs, &[]).status.success());
+    let before = std::fs::read(theirs.join("run.json")).unwrap();
+    let refused = bin()
+        .current_dir(tmp.path())
+        .args([
+            "run", "--quiet", "long.ron", "--resume", checkpoint, "--out", "theirs",
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(refused.status.code(), Some(2), "{}", stderr(&refused));
+    assert!(
+        stderr(&refused).contains("another scene"),
+        "{}",
+        stderr(&refused)
+    );
+    assert_eq!(std::fs::read(theirs.join("run.json")).unwrap(), before);
+
+    let resumed = bin()
+        .current_dir(tmp.path())
+        .args(["run", "--quiet", "long.ron", "--resume", checkpoint])
+        .output()
+        .unwrap();
     assert!(resumed.status.success(), "{}", stderr(&resumed));
-    for f in ["final.csv", "diagnostics.csv"] {
+    for f in ["final.csv", "diagnostics.csv", "snapshots.csv"] {
         assert!(
             std::fs::read(out.join(f)).unwrap() == std::fs::read(whole.join(f)).unwrap(),
             "{f} of the interrupted and resumed run differs from the uninterrupted one"
         );
     }
+    assert_eq!(record(&out, "ending/cause"), "completed");
 }

@@ -84,6 +84,59 @@ pub fn prepare_out_dir(dir: &Path, force: bool) -> Result<(), Failure> {
     Ok(())
 }
 
+/// The directory a resume writes to: `--out` when given, else the checkpoint's own directory
+/// (where the interrupted run wrote its files).
+pub fn resume_dir(checkpoint: &Path, out: Option<&Path>) -> PathBuf {
+    match out {
+        Some(o) => o.to_path_buf(),
+        None => match checkpoint.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+            _ => PathBuf::from("."),
+        },
+    }
+}
+
+/// Refuses to resume into `dir` unless it is empty, absent, or holds a run of the same scene
+/// (its `run.json` carries `fingerprint`): a resume never appends to another run's files.
+/// Nothing is written.
+pub fn check_resume_dir(dir: &Path, fingerprint: u64) -> Result<(), Failure> {
+    let refuse = |why: String| {
+        Failure::new(
+            exit::INVALID_INPUT,
+            format!(
+                "cannot resume into {}: {why}; resume into the interrupted run's own directory \
+                 (the default) or name an empty one with --out",
+                dir.display()
+            ),
+        )
+    };
+    let record = dir.join(RUN_FILE);
+    let text = match std::fs::read_to_string(&record) {
+        Ok(text) => text,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            let holds_files = std::fs::read_dir(dir)
+                .map(|mut entries| entries.next().is_some())
+                .unwrap_or(false);
+            return if holds_files {
+                Err(refuse("it holds files but no run.json".into()))
+            } else {
+                Ok(())
+            };
+        }
+        Err(e) => return Err(refuse(format!("{}: {e}", record.display()))),
+    };
+    let recorded = serde_json::from_str::<serde_json::Value>(&text)
+        .ok()
+        .and_then(|v| v.get("scene_fingerprint")?.as_str().map(str::to_owned));
+    match recorded {
+        Some(f) if f == format!("{fingerprint:016x}") => Ok(()),
+        Some(f) => Err(refuse(format!(
+            "its run.json is of another scene (fingerprint {f}, this scene's {fingerprint:016x})"
+        ))),
+        None => Err(refuse("its run.json names no scene fingerprint".into())),
+    }
+}
+
 /// The options a run was given.
 #[derive(Clone, Debug, Serialize)]
 pub struct RunSettings {
@@ -109,8 +162,9 @@ pub struct Ending {
     /// `running` (while it runs), `completed`, `blow-up`, `interrupted`, `invalid input`,
     /// `io error` or `failed`.
     pub cause: &'static str,
-    /// The process exit status.
-    pub exit_code: u8,
+    /// The process exit status; null while the run is running (so a run killed before it
+    /// could rewrite its record shows no status).
+    pub exit_code: Option<u8>,
     /// The error message, if it failed.
     pub message: Option<String>,
 }
@@ -174,6 +228,9 @@ pub struct RunRecord {
     pub scene_path: PathBuf,
     /// The scene file's text.
     pub scene_text: String,
+    /// The scene's fingerprint (16 hex digits): what a checkpoint of it carries, and what a
+    /// resume into this directory must match (`checkpoint::fingerprint`).
+    pub scene_fingerprint: String,
     /// The options of the run.
     pub settings: RunSettings,
     /// Start time, UTC (RFC 3339).
@@ -193,7 +250,12 @@ fn now() -> String {
 
 impl RunRecord {
     /// The record of a run starting now.
-    pub fn start(scene_path: &Path, scene_text: String, settings: RunSettings) -> Self {
+    pub fn start(
+        scene_path: &Path,
+        scene_text: String,
+        fingerprint: u64,
+        settings: RunSettings,
+    ) -> Self {
         RunRecord {
             version: env!("CARGO_PKG_VERSION"),
             git_revision: option_env!("DUALSPH_GIT_REVISION"),
@@ -201,12 +263,13 @@ impl RunRecord {
             working_directory: std::env::current_dir().ok(),
             scene_path: scene_path.to_path_buf(),
             scene_text,
+            scene_fingerprint: format!("{fingerprint:016x}"),
             settings,
             started: now(),
             ended: None,
             ending: Ending {
                 cause: "running",
-                exit_code: exit::SUCCESS,
+                exit_code: None,
                 message: None,
             },
             summary: None,
@@ -221,13 +284,13 @@ impl RunRecord {
                 self.summary = Some(summary.into());
                 Ending {
                     cause: exit::cause(exit::SUCCESS),
-                    exit_code: exit::SUCCESS,
+                    exit_code: Some(exit::SUCCESS),
                     message: None,
                 }
             }
             Err(f) => Ending {
                 cause: exit::cause(f.code),
-                exit_code: f.code,
+                exit_code: Some(f.code),
                 message: Some(f.message.clone()),
             },
         };
@@ -248,6 +311,46 @@ impl RunRecord {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A run's record says `running` with no exit status until the run rewrites it, so a
+    /// killed run is recognisable; it carries the scene's fingerprint, which a resume into
+    /// the directory must match.
+    #[test]
+    fn a_running_record_has_no_exit_status_and_a_resume_needs_the_same_scene() {
+        let tmp = tempfile::tempdir().unwrap();
+        let settings = RunSettings {
+            out: tmp.path().to_path_buf(),
+            formulation: "DualSupport".into(),
+            end_time: 1.0,
+            checkpoint_every: None,
+            resume: None,
+            force: false,
+            threads: 1,
+        };
+        let record = RunRecord::start(Path::new("a.ron"), String::new(), 0xabc, settings);
+        record.write(tmp.path()).unwrap();
+        let text = std::fs::read_to_string(tmp.path().join(RUN_FILE)).unwrap();
+        let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+        assert_eq!(v["ending"]["cause"], "running");
+        assert!(v["ending"]["exit_code"].is_null(), "{text}");
+        assert_eq!(v["scene_fingerprint"], "0000000000000abc");
+        assert!(check_resume_dir(tmp.path(), 0xabc).is_ok());
+        let other = check_resume_dir(tmp.path(), 0xabd).unwrap_err();
+        assert_eq!(other.code, exit::INVALID_INPUT);
+        assert!(other.message.contains("another scene"), "{}", other.message);
+        let foreign = tempfile::tempdir().unwrap();
+        std::fs::write(foreign.path().join("notes.txt"), "x").unwrap();
+        assert!(check_resume_dir(foreign.path(), 0xabc).is_err());
+        assert!(check_resume_dir(&foreign.path().join("absent"), 0xabc).is_ok());
+        assert_eq!(
+            resume_dir(Path::new("checkpoint_000010.ckpt"), None),
+            PathBuf::from(".")
+        );
+        assert_eq!(
+            resume_dir(Path::new("out/a/checkpoint_000010.ckpt"), None),
+            PathBuf::from("out/a")
+        );
+    }
 
     #[test]
     fn force_clears_what_a_run_wrote_and_nothing_else() {

@@ -3,7 +3,7 @@
 
 use super::FormulationArg;
 use super::exit::{self, Failure};
-use super::record::{RunRecord, RunSettings, prepare_out_dir};
+use super::record::{RunRecord, RunSettings, check_resume_dir, prepare_out_dir, resume_dir};
 use crate::runner::{self, Progress, RestartOptions, RunOptions, RunSummary};
 use dualsph_core::plugin::Registry;
 use dualsph_scene::Scene;
@@ -16,8 +16,9 @@ use std::sync::atomic::{AtomicU32, Ordering};
 pub(crate) struct RunArgs {
     /// The scene file (.ron).
     scene: PathBuf,
-    /// Output directory (default: out/<scene name>). It must be empty or not exist, unless
-    /// --force or --resume.
+    /// Output directory (default: out/<scene name>; with --resume, the checkpoint's own
+    /// directory). It must be empty or not exist, unless --force; a resume refuses a
+    /// directory that holds another scene's run.
     #[arg(long)]
     out: Option<PathBuf>,
     /// Run into a non-empty output directory, deleting what a previous run wrote there
@@ -96,16 +97,26 @@ pub(crate) fn run(args: RunArgs, registry: &Registry) -> Result<(), Failure> {
         }
         s.end_time = t;
     }
-    let out = args
-        .out
-        .clone()
-        .unwrap_or_else(|| runner::default_out_dir(&args.scene));
-    if args.resume.is_none() {
-        prepare_out_dir(&out, args.force)?;
-    }
+    let fingerprint = crate::checkpoint::fingerprint(&s);
+    let out = match &args.resume {
+        Some(ck) => {
+            let out = resume_dir(ck, args.out.as_deref());
+            check_resume(&args.scene, &s, ck, &out, fingerprint)?;
+            out
+        }
+        None => {
+            let out = args
+                .out
+                .clone()
+                .unwrap_or_else(|| runner::default_out_dir(&args.scene));
+            prepare_out_dir(&out, args.force)?;
+            out
+        }
+    };
     let mut record = RunRecord::start(
         &args.scene,
         text,
+        fingerprint,
         RunSettings {
             out: out.clone(),
             formulation: format!("{:?}", s.formulation),
@@ -124,6 +135,27 @@ pub(crate) fn run(args: RunArgs, registry: &Registry) -> Result<(), Failure> {
     let summary = result?;
     recorded?;
     report(&summary, &out)
+}
+
+/// Refuses a resume before anything is written: a checkpoint of another scene, or an output
+/// directory holding another run ([`check_resume_dir`]).
+fn check_resume(
+    scene_path: &Path,
+    s: &Scene,
+    checkpoint: &Path,
+    out: &Path,
+    fingerprint: u64,
+) -> Result<(), Failure> {
+    let ck = crate::checkpoint::Checkpoint::read(checkpoint)
+        .and_then(|ck| ck.check_scene(s, checkpoint));
+    if let Err(e) = ck {
+        let e = runner::RunError::from(e);
+        return Err(Failure::new(
+            exit::of_run(&e),
+            format!("{}: {e}", scene_path.display()),
+        ));
+    }
+    check_resume_dir(out, fingerprint)
 }
 
 /// Runs the scene into `out`.
