@@ -111,6 +111,40 @@ pub fn shift<V: Vector>(grad: V, div: Real, d: Real, surface: Real) -> V {
     }
 }
 
+/// Each fluid particle's shift `f(i)` (zero for the particles of other bodies), in parallel:
+/// the loop both regularisers share.
+pub fn fluid_shifts<V: Vector>(
+    bodies: &Bodies,
+    body: &[BodyId],
+    f: impl Fn(usize) -> V + Sync + Send,
+) -> Vec<V> {
+    let fluid: Vec<bool> = bodies.0.iter().map(|b| b.is_fluid()).collect();
+    (0..body.len())
+        .into_par_iter()
+        .with_min_len(256)
+        .map(|i| {
+            if fluid[body[i].0 as usize] {
+                f(i)
+            } else {
+                V::zero()
+            }
+        })
+        .collect()
+}
+
+/// `V_i = m_i/ρ_i` of every particle.
+pub fn volumes(m: &[Mass], rho: &[Density]) -> Vec<Real> {
+    m.iter().zip(rho).map(|(m, r)| m.0 / r.0).collect()
+}
+
+/// A free-surface threshold, when given, is a positive number.
+pub fn check_surface(surface: Option<Real>) -> Result<(), String> {
+    match surface {
+        Some(s) if !(s.is_finite() && s > 0.0) => Err(format!("surface: must be > 0, got {s}")),
+        _ => Ok(()),
+    }
+}
+
 /// Moves every fluid particle by its shift (module docs), after the corrector.
 #[allow(clippy::too_many_arguments)] // one system, its resources
 #[inline(never)] // a frame of its own in profiles
@@ -137,8 +171,7 @@ pub fn shift_particles<V: Vector>(
     };
     // the engine reads no change ticks (`dualsph_core::chunks`)
     let pos = pos.bypass_change_detection();
-    let fluid: Vec<bool> = bodies.0.iter().map(|b| b.is_fluid()).collect();
-    let volume: Vec<Real> = m.iter().zip(rho).map(|(m, r)| m.0 / r.0).collect();
+    let volume = volumes(m, rho);
     let support = Support {
         pos,
         h,
@@ -147,18 +180,11 @@ pub fn shift_particles<V: Vector>(
         formulation: *formulation,
     };
     let (a, dt) = (settings.coefficient, clock.dt);
-    let shifts: Vec<V> = (0..pos.len())
-        .into_par_iter()
-        .with_min_len(256)
-        .map(|i| {
-            if !fluid[body[i].0 as usize] {
-                return V::zero();
-            }
-            let (grad, div) = concentration_gradient(&support, &volume, i);
-            let d = a * 0.5 * h[i].0 * vel[i].0.length() * dt;
-            shift(grad, div, d, settings.surface)
-        })
-        .collect();
+    let shifts = fluid_shifts(&bodies, body, |i| {
+        let (grad, div) = concentration_gradient(&support, &volume, i);
+        let d = a * 0.5 * h[i].0 * vel[i].0.length() * dt;
+        shift(grad, div, d, settings.surface)
+    });
     for (r, dr) in pos.iter_mut().zip(shifts) {
         r.0 += dr;
     }
@@ -176,12 +202,7 @@ impl SimPlugin for ParticleShifting {
                 self.coefficient
             ));
         }
-        if let Some(s) = self.surface
-            && !(s.is_finite() && s > 0.0)
-        {
-            return Err(format!("surface: must be > 0, got {s}"));
-        }
-        Ok(())
+        check_surface(self.surface)
     }
 
     fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {

@@ -47,7 +47,7 @@
 //! energy pair by pair (above). The angular momentum changes by `Σ m δr × v` and by the
 //! stress term's torque.
 
-use crate::{Shifting, shift};
+use crate::{Shifting, check_surface, fluid_shifts, shift, volumes};
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::bodies::{Bodies, DriveBodies};
 use dualsph_core::chunks::DENSE;
@@ -55,7 +55,6 @@ use dualsph_core::neighbours::Neighbours;
 use dualsph_fluid::ensure_energy_equation;
 use dualsph_fluid::prelude::*;
 use dualsph_sweep::Support;
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// The largest `gain` a scene may set: the shift is unstable above about 0.17 (module docs).
@@ -158,8 +157,7 @@ pub fn transport_particles<V: Vector>(
     // the engine reads no change ticks (`dualsph_core::chunks`)
     let pos = pos.bypass_change_detection();
     let offset = offset.bypass_change_detection();
-    let fluid: Vec<bool> = bodies.0.iter().map(|b| b.is_fluid()).collect();
-    let volume: Vec<Real> = m.iter().zip(rho).map(|(m, r)| m.0 / r.0).collect();
+    let volume = volumes(m, rho);
     let support = Support {
         pos,
         h,
@@ -168,23 +166,16 @@ pub fn transport_particles<V: Vector>(
         formulation: *formulation,
     };
     let dt = clock.dt;
-    let shifts: Vec<V> = (0..pos.len())
-        .into_par_iter()
-        .with_min_len(256)
-        .map(|i| {
-            if !fluid[body[i].0 as usize] {
-                return V::zero();
-            }
-            let (sum, div) = background_sum(&support, &volume, i);
-            // δr = −(Δt²/2)(p_b/m_i) Σ: `shift` applies −d to its gradient
-            let d = match settings.background {
-                Some(pb) => 0.5 * dt * dt * pb / m[i].0,
-                // p_b = G ρ_i h_i²/Δt²
-                None => 0.5 * settings.gain * h[i].0 * h[i].0 / volume[i],
-            };
-            shift(sum, div, d, settings.surface)
-        })
-        .collect();
+    let shifts = fluid_shifts(&bodies, body, |i| {
+        let (sum, div) = background_sum(&support, &volume, i);
+        // δr = −(Δt²/2)(p_b/m_i) Σ: `shift` applies −d to its gradient
+        let d = match settings.background {
+            Some(pb) => 0.5 * dt * dt * pb / m[i].0,
+            // p_b = G ρ_i h_i²/Δt²
+            None => 0.5 * settings.gain * h[i].0 * h[i].0 / volume[i],
+        };
+        shift(sum, div, d, settings.surface)
+    });
     for ((r, o), dr) in pos.iter_mut().zip(offset.iter_mut()).zip(shifts) {
         r.0 += dr;
         o.0 = dr * (1.0 / dt);
@@ -271,12 +262,7 @@ impl SimPlugin for TransportVelocity {
         {
             return Err(format!("background: must be > 0, got {p}"));
         }
-        if let Some(s) = self.surface
-            && !(s.is_finite() && s > 0.0)
-        {
-            return Err(format!("surface: must be > 0, got {s}"));
-        }
-        Ok(())
+        check_surface(self.surface)
     }
 
     fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
