@@ -29,9 +29,10 @@ impl BoxRegion {
 }
 
 /// How lattice points fill a generator's box.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Deserialize, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Deserialize, Serialize)]
 pub enum Lattice {
-    /// Cell-centred square/cubic lattice: `min + (i + 0.5)·Δx` on every axis.
+    /// Cell-centred square/cubic lattice: `min + (i + 0.5)·Δx` on every axis. The default.
+    #[default]
     Square,
     /// Like `Square`, but alternate rows (index along axis 1; in 3-D alternate layers along
     /// axis 2, shifting axes 0 and 1) use offsets `0.25Δx` (even) and `0.75Δx` (odd) instead

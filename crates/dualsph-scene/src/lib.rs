@@ -110,7 +110,8 @@ pub struct Scene {
     pub domain: Domain,
     /// Smoothing kernel.
     pub kernel: KernelKind,
-    /// SPH formulation.
+    /// SPH formulation (default `DualSupport`).
+    #[serde(default)]
     pub formulation: Formulation,
     /// Neighbour search settings (optional section).
     #[serde(default)]

@@ -41,7 +41,8 @@ pub struct Block {
     pub max: Vec<f64>,
     /// Lattice spacing Δx.
     pub spacing: f64,
-    /// Lattice kind.
+    /// Lattice kind (default `Square`).
+    #[serde(default)]
     pub lattice: Lattice,
     /// Moves every lattice point by up to `jitter · Δx` along each axis (0 by default, at most
     /// 0.25 so that a point stays in its cell): a fixed pseudo-random pattern of the point's
@@ -85,7 +86,8 @@ pub struct Disk {
     pub radius: f64,
     /// Lattice spacing Δx.
     pub spacing: f64,
-    /// Lattice kind.
+    /// Lattice kind (default `Square`).
+    #[serde(default)]
     pub lattice: Lattice,
     /// Initial density; particle mass is `density · Δx^d`.
     pub density: f64,

@@ -136,12 +136,13 @@ pub struct SimConfig<V: Vector> {
 /// How pair interactions are summed: the method and the paper's comparison cases (the pair
 /// sweep of `dualsph-sweep` describes each). A scene names it by its variant
 /// (`formulation: DualSupport`).
-#[derive(Resource, Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[derive(Resource, Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub enum Formulation {
     /// Dual-support SPH: every pair interacts through the support of one particle and the
     /// dual-support of the other, once with its reaction, so momentum and energy are
     /// conserved exactly (§5 of Ren, Dai, Zhuang & Rabczuk, *Dual-support Smoothed Particle
-    /// Hydrodynamics*, preprint; RenDSSPH in docs/references.md).
+    /// Hydrodynamics*, preprint; RenDSSPH in docs/references.md). The default.
+    #[default]
     DualSupport,
     /// Variable-h SPH that uses only each particle's own support, without the reaction (not
     /// exactly conservative).

@@ -384,3 +384,24 @@ fn a_byte_order_mark_is_accepted_and_positions_count_without_it() {
     let e = load("\u{feff}Scene(name 1)").unwrap_err().to_string();
     assert!(e.contains(":1:12"), "{e}");
 }
+
+/// `formulation` (DualSupport) and a generator's `lattice` (Square) may be left out.
+#[test]
+fn formulation_and_lattice_have_defaults() {
+    let text = r#"Scene(
+        name: "defaults", dimension: 2,
+        domain: (min: [0.0, 0.0], max: [1.0, 1.0]),
+        kernel: WendlandC2,
+        particles: [
+            Block(min: [0.0, 0.0], max: [0.5, 0.5], spacing: 0.1, density: 1.0, h_factor: 3.0),
+            Disk(center: [0.7, 0.7], radius: 0.2, spacing: 0.1, density: 1.0, h_factor: 3.0),
+        ],
+        integrator: (dt: Fixed(1e-3)), end_time: 0.1,
+    )"#;
+    let s = load(text).unwrap();
+    assert_eq!(s.formulation, Formulation::DualSupport);
+    assert!(
+        matches!(&s.particles[0], Generator::Block(b) if b.lattice == Lattice::Square && b.jitter == 0.0)
+    );
+    assert!(matches!(&s.particles[1], Generator::Disk(d) if d.lattice == Lattice::Square));
+}
