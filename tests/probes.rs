@@ -177,7 +177,36 @@ fn cli_grid_and_plot_probes() {
         .args(["--dx", "0.01", "--field", "Temperature"])
         .output()
         .unwrap();
-    assert!(!out.status.success());
+    assert_eq!(out.status.code(), Some(2), "a bad field is invalid input");
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("--field") && err.contains("density"), "{err}");
+    // a missing file is an I/O failure, exit status 4, as for `run`
+    let out = bin()
+        .arg("grid")
+        .arg(scene_path("sod_1d.ron"))
+        .arg("--dir")
+        .arg(dir.path())
+        .args(["--dx", "0.01", "--file", "particles_999999.csv"])
+        .output()
+        .unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(4),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let empty = tempfile::tempdir().unwrap();
+    let out = bin().arg("plot-probes").arg(empty.path()).output().unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(4),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let missing_scene = bin()
+        .arg("run")
+        .arg(empty.path().join("absent.ron"))
+        .output()
+        .unwrap();
+    assert_eq!(missing_scene.status.code(), Some(4));
 }

@@ -133,6 +133,20 @@ enum Command {
     },
 }
 
+/// A file a command reads must be there: its absence is an I/O failure (exit status 4, as for
+/// `run`), told apart from a file that is there but holds what the command cannot use
+/// (invalid input, 2).
+fn require_file(path: &std::path::Path) -> Result<(), Failure> {
+    match std::fs::metadata(path) {
+        Ok(m) if m.is_file() => Ok(()),
+        Ok(_) => Err(Failure::new(
+            exit::IO,
+            format!("{}: not a regular file", path.display()),
+        )),
+        Err(e) => Err(Failure::new(exit::IO, format!("{}: {e}", path.display()))),
+    }
+}
+
 fn grid_command(
     scene_path: &std::path::Path,
     s: &Scene,
@@ -140,25 +154,39 @@ fn grid_command(
     file: &str,
     field: &str,
     dx: f64,
-) -> Result<(), String> {
+) -> Result<(), Failure> {
+    let invalid = |m: String| Failure::new(exit::INVALID_INPUT, m);
     let dir = dir.unwrap_or_else(|| runner::default_out_dir(scene_path));
-    let q = dualsph_probes::Quantity::parse(field).map_err(|e| format!("--field: {e}"))?;
+    let q = dualsph_probes::Quantity::parse(field).map_err(|e| invalid(format!("--field: {e}")))?;
     let path = dir.join(file);
-    let table = crate::gridded::read_particles(s, &path).map_err(|e| e.to_string())?;
+    require_file(&path)?;
+    let table = crate::gridded::read_particles(s, &path).map_err(invalid)?;
     let mut lo = [0.0; 3];
     let mut hi = [0.0; 3];
     lo[..s.dimension].copy_from_slice(&s.domain.min);
     hi[..s.dimension].copy_from_slice(&s.domain.max);
     let f = crate::gridded::sample_table(&table, s.dimension, s.kernel, &q, dx, Some((lo, hi)))
-        .map_err(|e| format!("--field {field}: {e}"))?;
+        .map_err(|e| invalid(format!("--field {field}: {e}")))?;
     let stem = format!("{}_grid", q.name().replace('.', "_"));
     let title = format!("{} — {q} from {file}", s.name);
     let encoding = runner::snapshots::output_options(&s.output).encoding;
     let (vti, png) = crate::gridded::write_field(&f, &dir, &stem, &title, encoding)
-        .map_err(|e| e.to_string())?;
+        .map_err(|e| Failure::new(exit::IO, e.to_string()))?;
     say!("wrote {}", vti.display());
     if s.dimension >= 2 {
         say!("wrote {}", png.display());
+    }
+    Ok(())
+}
+
+/// `plot-probes`: the probes file must be there (else exit status 4); what it holds must be a
+/// probes table (else 2).
+fn plot_probes_command(dir: &std::path::Path) -> Result<(), Failure> {
+    require_file(&dir.join(dualsph_probes::PROBES_FILE))?;
+    let pngs =
+        dualsph_probes::plot_probes(dir).map_err(|m| Failure::new(exit::INVALID_INPUT, m))?;
+    for p in pngs {
+        say!("wrote {}", p.display());
     }
     Ok(())
 }
@@ -244,15 +272,8 @@ pub fn main(registry: Registry) -> ExitCode {
             file,
             field,
             dx,
-        } => load(&scene, &registry)
-            .and_then(|s| Ok(grid_command(&scene, &s, dir, &file, &field, dx)?)),
-        Command::PlotProbes { dir } => dualsph_probes::plot_probes(&dir)
-            .map(|pngs| {
-                for p in pngs {
-                    say!("wrote {}", p.display());
-                }
-            })
-            .map_err(Failure::from),
+        } => load(&scene, &registry).and_then(|s| grid_command(&scene, &s, dir, &file, &field, dx)),
+        Command::PlotProbes { dir } => plot_probes_command(&dir),
         Command::Plugins => {
             for e in registry.entries() {
                 say!("{:<22} {}", e.name, e.summary);
