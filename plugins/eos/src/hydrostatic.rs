@@ -26,7 +26,6 @@
 use crate::Eos;
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::bodies::Bodies;
-use dualsph_core::chunks::DENSE;
 use dualsph_fluid::BodyEos;
 use dualsph_fluid::prelude::*;
 use dualsph_fluid::{GravityField, Liquid};
@@ -86,23 +85,13 @@ pub fn hydrostatic_start<V: Vector>(
     }
     let g = gravity.0.length();
     let down = gravity.0 * (1.0 / g);
-    for (r, b, mut rho, mut m) in q.contiguous_iter_mut().expect(DENSE) {
-        for (((r, b), rho), m) in r.iter().zip(b).zip(rho.iter_mut()).zip(m.iter_mut()) {
-            let body = b.0 as usize;
-            let depth = level.0 + r.0.dot(down);
-            if !bodies.0[body].is_fluid() || depth <= 0.0 {
-                continue;
-            }
-            let eos = laws.0[body].as_ref();
-            let rho_s = eos
-                .hydrostatic_pressure(g, depth)
-                .and_then(|p| eos.density_at(p));
-            if let Some(rho_s) = rho_s {
-                m.0 *= rho_s / rho.0;
-                rho.0 = rho_s;
-            }
+    crate::start_from_pressure(&bodies, &laws, &mut q, |r, eos| {
+        let depth = level.0 + r.dot(down);
+        if depth <= 0.0 {
+            return None;
         }
-    }
+        eos.hydrostatic_pressure(g, depth)
+    });
 }
 
 impl SimPlugin for HydrostaticStart {

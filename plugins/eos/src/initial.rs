@@ -21,7 +21,6 @@
 
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::bodies::Bodies;
-use dualsph_core::chunks::DENSE;
 use dualsph_fluid::prelude::*;
 use dualsph_fluid::{BodyEos, Liquid};
 use serde::{Deserialize, Serialize};
@@ -76,22 +75,10 @@ pub fn pressure_start<V: Vector>(
     if !clock.initializing {
         return;
     }
-    for (r, b, mut rho, mut m) in q.contiguous_iter_mut().expect(DENSE) {
-        for (((r, b), rho), m) in r.iter().zip(b).zip(rho.iter_mut()).zip(m.iter_mut()) {
-            let body = b.0 as usize;
-            if !bodies.0[body].is_fluid() {
-                continue;
-            }
-            let eos = laws.0[body].as_ref();
-            let Some(rho0) = eos.reference_density() else {
-                continue;
-            };
-            if let Some(rho_p) = eos.density_at(field.0.at(r.0, rho0)) {
-                m.0 *= rho_p / rho.0;
-                rho.0 = rho_p;
-            }
-        }
-    }
+    crate::start_from_pressure(&bodies, &laws, &mut q, |r, eos| {
+        let rho0 = eos.reference_density()?;
+        Some(field.0.at(r, rho0))
+    });
 }
 
 impl SimPlugin for InitialPressure {

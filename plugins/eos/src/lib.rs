@@ -424,6 +424,32 @@ impl SimPlugin for IdealGas {
     }
 }
 
+/// Sets each fluid particle's density to what its body's law gives at the pressure
+/// `pressure(x, law)` (`None`: the particle is left as generated), and scales its mass with it
+/// (`m ← m ρ/ρ_gen`) so that its volume stays the lattice cell it was generated in: the start
+/// of `HydrostaticStart` and of `InitialPressure`. Particles of bodies that are not fluid are
+/// left as generated.
+pub fn start_from_pressure<V: Vector>(
+    bodies: &Bodies,
+    laws: &BodyEos,
+    q: &mut Query<(&Position<V>, &BodyId, &mut Density, &mut Mass)>,
+    pressure: impl Fn(V, &dyn EosLaw) -> Option<Real>,
+) {
+    for (r, b, mut rho, mut m) in q.contiguous_iter_mut().expect(DENSE) {
+        for (((r, b), rho), m) in r.iter().zip(b).zip(rho.iter_mut()).zip(m.iter_mut()) {
+            let body = b.0 as usize;
+            if !bodies.0[body].is_fluid() {
+                continue;
+            }
+            let eos = laws.0[body].as_ref();
+            if let Some(rho_p) = pressure(r.0, eos).and_then(|p| eos.density_at(p)) {
+                m.0 *= rho_p / rho.0;
+                rho.0 = rho_p;
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
