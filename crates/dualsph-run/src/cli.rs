@@ -99,11 +99,15 @@ enum Command {
     Check {
         /// The scene file (.ron).
         scene: PathBuf,
+        #[command(flatten)]
+        set: SetArgs,
     },
     /// Print the systems (in order), pair terms and particle components a scene produces.
     Plan {
         /// The scene file (.ron).
         scene: PathBuf,
+        #[command(flatten)]
+        set: SetArgs,
     },
     /// List the registered plugins.
     Plugins,
@@ -131,6 +135,16 @@ enum Command {
         /// The run's output directory.
         dir: PathBuf,
     },
+}
+
+/// `--set PATH=VALUE`, repeatable: values of the scene replaced from the command line.
+#[derive(clap::Args, Clone, Default)]
+pub(crate) struct SetArgs {
+    /// Replace (or add) a value of the scene, as RON: `--set end_time=0.5`,
+    /// `--set particles[1].spacing=0.01`, `--set TaitEos.c0=60` (the scene's one TaitEos),
+    /// `--set integrator.dt.courant=0.1`. Repeatable; applied in order; recorded in run.json.
+    #[arg(long = "set", value_name = "PATH=VALUE")]
+    pub set: Vec<dualsph_scene::Override>,
 }
 
 /// A file a command reads must be there: its absence is an I/O failure (exit status 4, as for
@@ -193,12 +207,16 @@ fn plot_probes_command(dir: &std::path::Path) -> Result<(), Failure> {
 
 /// Reads, parses and validates a scene; the particle cap is also what fits in the machine's
 /// memory, checked from the estimate before any particle is generated.
-fn load(path: &std::path::Path, registry: &Registry) -> Result<Scene, Failure> {
-    load_with_text(path, registry).map(|(s, _)| s)
+fn load(path: &std::path::Path, registry: &Registry, set: &SetArgs) -> Result<Scene, Failure> {
+    load_with_text(path, registry, set).map(|(s, _)| s)
 }
 
-/// [`load`], also returning the file's text.
-fn load_with_text(path: &std::path::Path, registry: &Registry) -> Result<(Scene, String), Failure> {
+/// [`load`], also returning the file's text (as written, before `--set`).
+fn load_with_text(
+    path: &std::path::Path,
+    registry: &Registry,
+    set: &SetArgs,
+) -> Result<(Scene, String), Failure> {
     let scene_error =
         |e: dualsph_scene::SceneError| Failure::new(exit::of_scene(&e), e.to_string());
     let text = std::fs::read_to_string(path).map_err(|source| {
@@ -207,7 +225,7 @@ fn load_with_text(path: &std::path::Path, registry: &Registry) -> Result<(Scene,
             source,
         })
     })?;
-    let s = Scene::parse_only(&text, path, registry).map_err(scene_error)?;
+    let s = Scene::parse_overridden(&text, path, registry, &set.set).map_err(scene_error)?;
     let (limit, why) =
         runner::memory::particle_limit(s.dimension, runner::memory::memory_available());
     s.validate_with_limit(path, limit, &why)
@@ -221,7 +239,7 @@ pub fn main(registry: Registry) -> ExitCode {
     let cli = Cli::parse();
     let result: Result<(), Failure> = match cli.command {
         Command::Run(args) => run::run(args, &registry),
-        Command::Check { scene } => load(&scene, &registry).and_then(|s| {
+        Command::Check { scene, set } => load(&scene, &registry, &set).and_then(|s| {
             // building the simulation also checks what plugins require of each other
             runner::plan(&s)
                 .map_err(|e| Failure::new(exit::of_sim(&e), format!("{}: {e}", scene.display())))?;
@@ -234,7 +252,7 @@ pub fn main(registry: Registry) -> ExitCode {
             );
             Ok(())
         }),
-        Command::Plan { scene } => load(&scene, &registry).and_then(|s| {
+        Command::Plan { scene, set } => load(&scene, &registry, &set).and_then(|s| {
             let (plan, pair_terms) = runner::plan(&s)
                 .map_err(|e| Failure::new(exit::of_sim(&e), format!("{}: {e}", scene.display())))?;
             say!(
@@ -272,7 +290,8 @@ pub fn main(registry: Registry) -> ExitCode {
             file,
             field,
             dx,
-        } => load(&scene, &registry).and_then(|s| grid_command(&scene, &s, dir, &file, &field, dx)),
+        } => load(&scene, &registry, &SetArgs::default())
+            .and_then(|s| grid_command(&scene, &s, dir, &file, &field, dx)),
         Command::PlotProbes { dir } => plot_probes_command(&dir),
         Command::Plugins => {
             for e in registry.entries() {

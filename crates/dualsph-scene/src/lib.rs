@@ -72,6 +72,7 @@ mod files;
 mod generate;
 mod lattice;
 mod output;
+mod overrides;
 mod particle;
 mod particles_file;
 mod plugins_list;
@@ -87,6 +88,7 @@ pub use error::SceneError;
 pub use generate::MAX_PARTICLES;
 pub use lattice::{BoxRegion, Lattice, Velocity};
 pub use output::{DEFAULT_SNAPSHOT_EVERY, OutputFormat, OutputSettings, VtkEncoding};
+pub use overrides::Override;
 pub use particle::ParticleSpec;
 pub use particles_file::{FileParticles, ReadParticles};
 pub use schema::{Block, BodySettings, Disk, Domain, Generator, NeighbourSettings};
@@ -205,6 +207,62 @@ impl Scene {
         let dir = path.parent().unwrap_or(Path::new(""));
         files::load(&mut scene.particles, dir, scene.dimension).map_err(|p| p.into_error(path))?;
         Ok(scene)
+    }
+
+    /// [`Scene::parse_only`] of `text` with `overrides` applied first (see [`Override`]):
+    /// positions in syntax errors are those of the file; an error inside an override's
+    /// value, or an override naming no value of the scene, is [`SceneError::Invalid`] naming
+    /// the override (`--set PATH=VALUE`).
+    pub fn parse_overridden(
+        text: &str,
+        path: &Path,
+        registry: &Registry,
+        overrides: &[Override],
+    ) -> Result<Scene, SceneError> {
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+        if overrides.is_empty() {
+            return Scene::parse_only(text, path, registry);
+        }
+        let invalid = |k: usize, message: String| SceneError::Invalid {
+            path: path.to_path_buf(),
+            field: format!("--set {}", overrides[k].given),
+            message,
+        };
+        let edited = match overrides::apply(text, overrides) {
+            Ok(e) => e,
+            Err(overrides::ApplyError::Set(k, m)) => return Err(invalid(k, m)),
+            Err(overrides::ApplyError::Text(at, message)) => {
+                // the scene parser tells best what is wrong with the file itself
+                Scene::parse_only(text, path, registry)?;
+                let (line, col) = overrides::line_col(text, at);
+                return Err(SceneError::Parse {
+                    path: path.to_path_buf(),
+                    line,
+                    col,
+                    message,
+                });
+            }
+        };
+        match Scene::parse_only(&edited.text, path, registry) {
+            Err(SceneError::Parse {
+                line, col, message, ..
+            }) => {
+                let at = overrides::offset_of(&edited.text, line, col);
+                Err(match edited.origin(at) {
+                    overrides::Origin::Set(k) => invalid(k, message),
+                    overrides::Origin::File(at) => {
+                        let (line, col) = overrides::line_col(text, at);
+                        SceneError::Parse {
+                            path: path.to_path_buf(),
+                            line,
+                            col,
+                            message,
+                        }
+                    }
+                })
+            }
+            other => other,
+        }
     }
 
     /// Checks every value (see the crate docs for the list) and returns the first problem as

@@ -142,6 +142,8 @@ pub fn check_resume_dir(dir: &Path, fingerprint: u64) -> Result<(), Failure> {
 pub struct RunSettings {
     /// Output directory.
     pub out: PathBuf,
+    /// The `--set PATH=VALUE` overrides, in order (applied to `scene_text`).
+    pub set: Vec<String>,
     /// `--formulation`, as the scene ended up with.
     pub formulation: String,
     /// The end time the run was given (the scene's, or `--end-time`).
@@ -326,6 +328,7 @@ mod tests {
             resume: None,
             force: false,
             threads: 1,
+            set: vec!["end_time=1".into()],
         };
         let record = RunRecord::start(Path::new("a.ron"), String::new(), 0xabc, settings);
         record.write(tmp.path()).unwrap();
@@ -334,6 +337,7 @@ mod tests {
         assert_eq!(v["ending"]["cause"], "running");
         assert!(v["ending"]["exit_code"].is_null(), "{text}");
         assert_eq!(v["scene_fingerprint"], "0000000000000abc");
+        assert_eq!(v["settings"]["set"][0], "end_time=1", "{text}");
         assert!(check_resume_dir(tmp.path(), 0xabc).is_ok());
         let other = check_resume_dir(tmp.path(), 0xabd).unwrap_err();
         assert_eq!(other.code, exit::INVALID_INPUT);

@@ -47,6 +47,8 @@ pub(crate) struct RunArgs {
     /// Print the wall time of every system of the step at the end (where the time goes).
     #[arg(long)]
     profile: bool,
+    #[command(flatten)]
+    set: super::SetArgs,
     /// Run on N threads (default: RAYON_NUM_THREADS, else one per core); the results are
     /// bitwise the same whatever N.
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..))]
@@ -84,7 +86,7 @@ pub(crate) fn run(args: RunArgs, registry: &Registry) -> Result<(), Failure> {
     if let Some(n) = args.threads {
         set_threads(n)?;
     }
-    let (mut s, text) = super::load_with_text(&args.scene, registry)?;
+    let (mut s, text) = super::load_with_text(&args.scene, registry, &args.set)?;
     if let Some(f) = args.formulation {
         s.formulation = f.0;
     }
@@ -119,6 +121,7 @@ pub(crate) fn run(args: RunArgs, registry: &Registry) -> Result<(), Failure> {
         fingerprint,
         RunSettings {
             out: out.clone(),
+            set: args.set.set.iter().map(|o| o.given.clone()).collect(),
             formulation: format!("{:?}", s.formulation),
             end_time: s.end_time,
             checkpoint_every: args.checkpoint_every,
@@ -186,8 +189,16 @@ fn run_scene(args: &RunArgs, s: &Scene, out: &Path) -> Result<RunSummary, Failur
         progress,
         profile: args.profile,
     };
-    runner::run_with(s, &opts, &restart)
-        .map_err(|e| Failure::new(exit::of_run(&e), format!("{}: {e}", args.scene.display())))
+    runner::run_with(s, &opts, &restart).map_err(|e| {
+        let mut message = format!("{}: {e}", args.scene.display());
+        if matches!(e, runner::RunError::Interrupted { .. }) {
+            // the resume must give the scene the same values
+            for o in &args.set.set {
+                message.push_str(&format!(" --set '{}'", o.given));
+            }
+        }
+        Failure::new(exit::of_run(&e), message)
+    })
 }
 
 /// Prints what a finished run did.
