@@ -90,12 +90,13 @@ pub(crate) fn diagnostics_header(extra: &[String]) -> Vec<String> {
 }
 
 /// Open a headered CSV reader on `path`, mapping errors to [`OutputError`].
-fn open_reader(path: &Path) -> Result<csv::Reader<std::fs::File>, OutputError> {
-    let file = std::fs::File::open(path).map_err(|source| OutputError::Io {
-        path: path.to_path_buf(),
-        op: "open",
-        source,
-    })?;
+fn open_reader(path: &Path) -> Result<csv::Reader<impl std::io::Read>, OutputError> {
+    let file =
+        crate::bounded_reader(path, crate::INPUT_FILE_LIMIT).map_err(|source| OutputError::Io {
+            path: path.to_path_buf(),
+            op: "open",
+            source,
+        })?;
     Ok(csv::ReaderBuilder::new()
         .has_headers(true)
         .trim(csv::Trim::All)
@@ -135,22 +136,35 @@ pub(crate) fn parse_field<T: FromStr>(
     i: usize,
     column: &str,
 ) -> Result<T, OutputError> {
+    // the value is not quoted: a file that is not what it should be stays unprinted
     let raw = rec.get(i).unwrap_or("");
     raw.parse().map_err(|_| OutputError::Parse {
         path: path.to_path_buf(),
         line,
-        msg: format!("column `{column}`: cannot parse {raw:?}"),
+        msg: format!("column {} ({}): not a number", i + 1, printable(column)),
     })
 }
 
-/// Error for a header that differs from the expected one.
+/// A column label fit to print: one of the engine's own (letters, digits, `_`, `.`, up to 32
+/// characters), else only its length, so a file that is not a particle file is never
+/// echoed.
+fn printable(label: &str) -> String {
+    let own = |c: char| c.is_ascii_alphanumeric() || c == '_' || c == '.';
+    if label.len() <= 32 && label.chars().all(own) {
+        format!("`{label}`")
+    } else {
+        format!("a label of {} characters", label.chars().count())
+    }
+}
+
+/// Error for a header that differs from the expected one (the header found is not quoted).
 pub(crate) fn header_mismatch(path: &Path, found: &[String], expected: &[String]) -> OutputError {
     OutputError::Parse {
         path: path.to_path_buf(),
         line: 1,
         msg: format!(
-            "unexpected header `{}`, expected `{}`",
-            found.join(","),
+            "unexpected header ({} columns), expected `{}`",
+            found.len(),
             expected.join(",")
         ),
     }

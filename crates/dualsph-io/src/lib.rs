@@ -35,6 +35,7 @@
 
 mod atomic;
 mod csv_out;
+mod input;
 mod loads;
 mod output_dir;
 mod table;
@@ -55,6 +56,9 @@ pub use atomic::{write_atomic, write_atomic_with};
 pub use csv_out::{
     DIAGNOSTICS_FIXED_COLUMNS, SNAPSHOT_INDEX_COLUMNS, SnapshotEntry, read_diagnostics_csv,
     read_particle_table_csv,
+};
+pub use input::{
+    INPUT_FILE_LIMIT, SCENE_FILE_LIMIT, bounded_reader, open_input, read_input, read_input_text,
 };
 pub use loads::{BODIES_COLUMNS, BODIES_FILE, BodyLoadRow};
 pub use output_dir::{

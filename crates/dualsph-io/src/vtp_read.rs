@@ -36,11 +36,12 @@ pub fn read_particle_table_vtp(path: &Path) -> Result<ParticleTable, OutputError
 /// The file's XML text (closed after the appended section, which is cut out) and the
 /// appended bytes.
 fn read_parts(path: &Path) -> Result<(String, Vec<u8>), OutputError> {
-    let bytes = std::fs::read(path).map_err(|source| OutputError::Io {
-        path: path.to_path_buf(),
-        op: "read",
-        source,
-    })?;
+    let bytes =
+        crate::read_input(path, crate::INPUT_FILE_LIMIT).map_err(|source| OutputError::Io {
+            path: path.to_path_buf(),
+            op: "read",
+            source,
+        })?;
     let (head, data) = split(&bytes);
     let mut text = String::from_utf8_lossy(head).into_owned();
     if !data.is_empty() {
@@ -149,11 +150,11 @@ impl File<'_> {
                         .map(|w| {
                             w.parse::<i64>()
                                 .map(|v| v as Real)
-                                .map_err(|e| format!("`{w}`: {e}"))
+                                .map_err(|e| format!("not an integer: {e}"))
                         })
                         .collect::<Result<_, _>>()?,
                     _ => words
-                        .map(|w| w.parse::<Real>().map_err(|e| format!("`{w}`: {e}")))
+                        .map(|w| w.parse::<Real>().map_err(|e| format!("not a number: {e}")))
                         .collect::<Result<_, _>>()?,
                 }
             }

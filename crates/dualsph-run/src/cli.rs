@@ -219,12 +219,13 @@ fn load_with_text(
 ) -> Result<(Scene, String), Failure> {
     let scene_error =
         |e: dualsph_scene::SceneError| Failure::new(exit::of_scene(&e), e.to_string());
-    let text = std::fs::read_to_string(path).map_err(|source| {
-        scene_error(dualsph_scene::SceneError::Io {
-            path: path.to_path_buf(),
-            source,
-        })
-    })?;
+    let text =
+        dualsph_io::read_input_text(path, dualsph_io::SCENE_FILE_LIMIT).map_err(|source| {
+            scene_error(dualsph_scene::SceneError::Io {
+                path: path.to_path_buf(),
+                source,
+            })
+        })?;
     let s = Scene::parse_overridden(&text, path, registry, &set.set).map_err(scene_error)?;
     let (limit, why) =
         runner::memory::particle_limit(s.dimension, runner::memory::memory_available());

@@ -165,10 +165,13 @@ impl Scene {
 
     /// Reads, parses and validates the scene file at `path`.
     pub fn load(path: &Path, registry: &Registry) -> Result<Scene, SceneError> {
-        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let text =
+            dualsph_io::read_input_text(path, dualsph_io::SCENE_FILE_LIMIT).map_err(|source| {
+                SceneError::Io {
+                    path: path.to_path_buf(),
+                    source,
+                }
+            })?;
         Scene::from_str(&text, path, registry)
     }
 

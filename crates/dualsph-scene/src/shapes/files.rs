@@ -68,12 +68,13 @@ pub(crate) fn load_shape(
         }
         Shape::PolygonFile { file, outline } if d == 2 => {
             let path = dir.join(&*file);
-            let text = std::fs::read_to_string(&path).map_err(|e| {
-                Problem::new(
-                    &at,
-                    format!("cannot read polygon file `{}`: {e}", path.display()),
-                )
-            })?;
+            let text =
+                dualsph_io::read_input_text(&path, dualsph_io::INPUT_FILE_LIMIT).map_err(|e| {
+                    Problem::new(
+                        &at,
+                        format!("cannot read polygon file `{}`: {e}", path.display()),
+                    )
+                })?;
             let rows = read_rows(&text)
                 .map_err(|e| Problem::new(&at, format!("`{}`:{e}", path.display())))?;
             *outline = Outline(Some(Arc::new(rows)));
@@ -108,10 +109,18 @@ pub(crate) fn read_rows(text: &str) -> Result<(Vec<Vec<f64>>, Vec<usize>), Strin
                 lines.push(n + 1);
             }
             _ if header && numbers.iter().any(Option::is_none) => {}
+            // the row is not quoted: a file that is not an outline stays unprinted
             _ => {
                 return Err(format!(
-                    "{}: expected a row of two finite numbers `x, y`, got `{line}`",
-                    n + 1
+                    "{}: expected a row of two finite numbers `x, y`, got {} field{}{}",
+                    n + 1,
+                    fields.len(),
+                    if fields.len() == 1 { "" } else { "s" },
+                    if fields.len() == 2 {
+                        " that are not both finite numbers"
+                    } else {
+                        ""
+                    }
                 ));
             }
         }

@@ -45,13 +45,22 @@ impl Mesh {
 
 /// Reads the STL file at `path` (binary or ASCII).
 pub(crate) fn read_stl(path: &Path) -> Result<Mesh, String> {
-    let fail =
-        |e: &dyn std::fmt::Display| format!("cannot read STL file `{}`: {e}", path.display());
-    let mut file = std::fs::File::open(path).map_err(|e| fail(&e))?;
-    let reader = stl_io::create_stl_reader(&mut file).map_err(|e| fail(&e))?;
+    // the STL reader's own message can quote the file; a file that is not an STL mesh is
+    // never printed, so its content errors are told in our words
+    let fail = |e: std::io::Error| {
+        let why = match e.kind() {
+            std::io::ErrorKind::InvalidData | std::io::ErrorKind::UnexpectedEof => {
+                "not a binary or ASCII STL mesh".to_owned()
+            }
+            _ => e.to_string(),
+        };
+        format!("cannot read STL file `{}`: {why}", path.display())
+    };
+    let mut file = dualsph_io::open_input(path, dualsph_io::INPUT_FILE_LIMIT).map_err(fail)?;
+    let reader = stl_io::create_stl_reader(&mut file).map_err(fail)?;
     let mut corners = Vec::new();
     for t in reader {
-        let t = t.map_err(|e| fail(&e))?;
+        let t = t.map_err(fail)?;
         corners.push(t.vertices.map(|v| v.0.map(f64::from)));
     }
     if corners.is_empty() {

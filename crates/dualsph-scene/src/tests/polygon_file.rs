@@ -51,13 +51,12 @@ fn a_bad_row_or_a_crossing_is_refused_with_its_line() {
     let (field, m) = invalid_with(&text, "x,y\n0.0, 0.0\n1.0, 0.0, 2.0\n");
     assert_eq!(field, "particles[0].shape.file");
     assert!(
-        m.contains(
-            "outline.csv`:3: expected a row of two finite numbers `x, y`, got `1.0, 0.0, 2.0`"
-        ),
+        m.contains("outline.csv`:3: expected a row of two finite numbers `x, y`, got 3 fields"),
         "{m}"
     );
     let (_, m) = invalid_with(&text, "0.0, 0.0\n1.0, abc\n");
     assert!(m.contains("outline.csv`:2: expected a row"), "{m}");
+    assert!(!m.contains("abc"), "the file's text is not quoted: {m}");
     // a bow tie: edges 0 and 2 cross
     let (field, m) = invalid_with(&text, "x,y\n0,0\n1,1\n1,0\n0,1\n");
     assert_eq!(field, "particles[0].shape.file");
