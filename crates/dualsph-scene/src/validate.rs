@@ -9,6 +9,7 @@ use crate::schema::Generator;
 use crate::shapes;
 use dualsph_core::plugin::{Role, SceneInfo};
 
+mod close;
 mod overlap;
 mod support;
 
@@ -391,5 +392,7 @@ pub(crate) fn validate(s: &Scene, limit: Limit) -> Check {
         ));
     }
     overlaps(s, &bounds)?;
+    close::across_periodic_faces(s)?;
+    close::coincident_in_files(s)?;
     support::enough_neighbours(s)
 }

@@ -8,7 +8,7 @@
 //!         Point(name: "P1", at: [4.0, 0.16], quantity: "pressure"),
 //!         Line(name: "u", start: [0.0, 0.1], end: [1.0, 0.1], n: 101, quantity: "velocity.x"),
 //!         WaterHeight(name: "H1", at: [0.3]),          // 2-D: at = [x]; 3-D: [x, y]
-//!         Sensor(name: "P1", start: [3.2125, 0.151], end: [3.2125, 0.16], n: 10, floor: 0.0),
+//!         Sensor(name: "P1", start: [3.2125, 0.07], end: [3.2125, 0.16], n: 10, floor: 0.0),
 //!     ],
 //! )
 //! ```

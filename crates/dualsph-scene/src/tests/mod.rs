@@ -5,6 +5,7 @@ mod generate;
 mod output;
 mod parse;
 mod particles_file;
+mod periodic;
 mod polygon_file;
 mod shapes;
 mod shapes_validate;

@@ -101,3 +101,55 @@ fn bad_particle_files_are_refused_naming_the_field_and_line() {
         "{m}"
     );
 }
+
+#[test]
+fn an_internal_energy_below_zero_as_a_run_writes_it_is_read_back() {
+    // round-off below zero, and the heat account of a liquid that gave energy back
+    let header = "id,x,y,z,vx,vy,vz,m,rho,p,h,e\n";
+    let rows =
+        "0,0.1,0.2,0,0,0,0,0.1,1000,0,0.02,-1.8e-8\n1,0.2,0.2,0,0,0,0,0.1,1000,0,0.02,-0.07\n";
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("particles.csv"), format!("{header}{rows}")).unwrap();
+    let s = Scene::from_str(
+        &one("particles.csv"),
+        &dir.path().join("s.ron"),
+        &registry(),
+    );
+    let e: Vec<f64> = s
+        .unwrap()
+        .generate()
+        .iter()
+        .map(|p| p.internal_energy)
+        .collect();
+    assert_eq!(e, [-1.8e-8, -0.07]);
+    std::fs::write(
+        dir.path().join("particles.csv"),
+        format!("{header}{}", rows.replace("-0.07", "NaN")),
+    )
+    .unwrap();
+    let e = Scene::from_str(
+        &one("particles.csv"),
+        &dir.path().join("s.ron"),
+        &registry(),
+    );
+    assert!(
+        e.unwrap_err()
+            .to_string()
+            .contains("`e` must be a finite number")
+    );
+}
+
+#[test]
+fn coincident_particles_in_a_file_are_refused_and_close_ones_are_not() {
+    let text = one("particles.csv");
+    let twice = format!("{ROWS}{}", ROWS.replace("0,0.1,0.2,", "3,0.1,0.2,"));
+    let (field, m) = invalid_with(&text, &twice);
+    assert_eq!(field, "particles[0].path");
+    assert!(
+        m.contains("particles 1 and 4 of the file") && m.contains("same place"),
+        "{m}"
+    );
+    // a pair a tenth of a spacing apart, as an impact may leave it, is a state, not an error
+    let close = "0,0.1,0.2,0,0,0,0,0.1,1000,0,0.02\n1,0.101,0.2,0,0,0,0,0.1,1000,0,0.02\n";
+    assert!(with_rows(&text, close).is_ok());
+}

@@ -187,10 +187,10 @@ pub fn run(opts: &ReportOptions) -> Result<(Section, SensorGrade), ReportError> 
          the sensor and over a box of 0.05 in t*. References: Buchner (2002), digitised; \
          Marrone et al. (2011), δ-SPH, on the first impact only \
          (`crates/dualsph-reference/data/dam_break_pressure/`). The last column measures as \
-         TrixiParticles.jl does: the probe `P1_sensor`, the mean of 10 points over the 9 mm \
-         below y = 0.16 m half a spacing off the wall face (a dry point and suction read as \
-         0), against the experiment over t* 2–6.5 (TrixiParticles reports 0.104 at H/40 and \
-         0.094 at H/80 by this measure).\n\n",
+         TrixiParticles.jl does: the probe `P1_sensor`, the mean of 10 points over the sensor's \
+         0.09 m (y = 0.07–0.16 m, TrixiParticles' `sensor_size = 0.09`) half a spacing off \
+         the wall face (a dry point and suction read as 0), against the experiment over t* \
+         2–6.5.\n\n",
     );
     body += &table.render();
     body += &failures(std::iter::once(&run));
