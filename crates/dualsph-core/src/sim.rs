@@ -160,6 +160,8 @@ pub struct Sim<V: Vector> {
     systems: Vec<SystemEntry>,
     /// What plugins need present at [`Sim::finish`]: a test of the world and the message.
     requirements: Vec<(fn(&World) -> bool, String)>,
+    /// Checks of the scene's particles that plugins ask for (see [`Sim::advise`]).
+    advisories: Vec<fn(&mut World) -> Option<String>>,
     /// The plugin being built (systems added now are its own), `core` otherwise.
     building: &'static str,
     schedule: Option<Schedule>,
@@ -208,6 +210,7 @@ impl<V: Vector> Sim<V> {
             world,
             systems: Vec::new(),
             requirements: Vec::new(),
+            advisories: Vec::new(),
             building: "core",
             schedule: None,
             labels: Vec::new(),
@@ -239,6 +242,19 @@ impl<V: Vector> Sim<V> {
     pub fn require<M: Resource>(&mut self, message: impl Into<String>) {
         self.requirements
             .push((World::contains_resource::<M>, message.into()));
+    }
+
+    /// Adds a check of the scene as built (its particles and resources) that cannot refuse it
+    /// but may warn: `check` returns a warning naming the plugin and the setting, or `None`.
+    /// [`Sim::advice`] runs them; the command line prints what they say on `check` and `run`.
+    pub fn advise(&mut self, check: fn(&mut World) -> Option<String>) {
+        self.advisories.push(check);
+    }
+
+    /// The warnings of the checks added with [`Sim::advise`], in the order they were added.
+    pub fn advice(&mut self) -> Vec<String> {
+        let checks = self.advisories.clone();
+        checks.iter().filter_map(|c| c(&mut self.world)).collect()
     }
 
     /// Adds a system to a set, after every system already in that set unless the returned

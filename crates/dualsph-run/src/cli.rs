@@ -242,8 +242,11 @@ pub fn main(registry: Registry) -> ExitCode {
         Command::Run(args) => run::run(args, &registry),
         Command::Check { scene, set } => load(&scene, &registry, &set).and_then(|s| {
             // building the simulation also checks what plugins require of each other
-            runner::plan(&s)
+            let planned = runner::plan(&s)
                 .map_err(|e| Failure::new(exit::of_sim(&e), format!("{}: {e}", scene.display())))?;
+            for w in &planned.warnings {
+                eprintln!("warning: {}: {w}", scene.display());
+            }
             say!(
                 "{}: ok ({}-D, {} particles, {} plugins)",
                 scene.display(),
@@ -254,7 +257,9 @@ pub fn main(registry: Registry) -> ExitCode {
             Ok(())
         }),
         Command::Plan { scene, set } => load(&scene, &registry, &set).and_then(|s| {
-            let (plan, pair_terms) = runner::plan(&s)
+            let runner::Planned {
+                plan, pair_terms, ..
+            } = runner::plan(&s)
                 .map_err(|e| Failure::new(exit::of_sim(&e), format!("{}: {e}", scene.display())))?;
             say!(
                 "scene {} ({}-D, formulation {:?}, kernel {:?})",

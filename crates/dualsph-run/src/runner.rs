@@ -276,6 +276,9 @@ pub fn run_dim_with<V: Vector>(
     let n = scene.generate().len();
     memory::check_memory(scene.dimension, n, memory::memory_available())?;
     let mut sim = build_sim::<V>(scene)?;
+    for w in sim.advice() {
+        eprintln!("warning: {w}");
+    }
     sim.world.insert_resource(RunOutputDir(opts.out.clone()));
     if let Some(limit) = scene.max_steps {
         sim.world.insert_resource(StepLimit(limit));
@@ -446,7 +449,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunSummary, RunError> {
 
 /// What a scene will run: the schedule and the particle columns ([`Plan`](dualsph_core::sim::Plan)), and the
 /// pair terms as `sweep: term`.
-pub fn plan(scene: &Scene) -> Result<(dualsph_core::sim::Plan, Vec<String>), SimError> {
+pub fn plan(scene: &Scene) -> Result<Planned, SimError> {
     memory::check_memory(
         scene.dimension,
         scene.generate().len(),
@@ -455,8 +458,24 @@ pub fn plan(scene: &Scene) -> Result<(dualsph_core::sim::Plan, Vec<String>), Sim
     with_dimension!(scene.dimension, V => {
         let mut sim = build_sim::<V>(scene)?;
         sim.finish()?;
-        Ok((sim.plan(), sim.pair_terms()))
+        Ok(Planned {
+            plan: sim.plan(),
+            pair_terms: sim.pair_terms(),
+            warnings: sim.advice(),
+        })
     })
+}
+
+/// What [`plan`] finds: the schedule, the pair terms and the plugins' warnings about the
+/// scene (`Sim::advise`).
+#[derive(Debug)]
+pub struct Planned {
+    /// The systems and components.
+    pub plan: dualsph_core::sim::Plan,
+    /// The pair terms by sweep.
+    pub pair_terms: Vec<String>,
+    /// What the plugins warn of.
+    pub warnings: Vec<String>,
 }
 
 /// Default output directory for a scene file: `out/<file stem>`.

@@ -5,6 +5,7 @@
 
 pub mod hydrostatic;
 pub mod initial;
+pub mod mach;
 pub use hydrostatic::HydrostaticStart;
 pub use initial::InitialPressure;
 
@@ -369,6 +370,7 @@ impl SimPlugin for TaitEos {
             )
             .collect::<Result<Vec<Eos>, SimError>>()?;
         sim.enable::<Liquid>();
+        sim.advise(mach::sound_speed_advice::<V>);
         install(sim, eos, materials, "tait_eos (Eq. 7.5)")
     }
 }
