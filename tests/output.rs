@@ -171,7 +171,14 @@ fn chosen_columns_are_written_with_id_and_position_only() {
         .collect();
     assert_eq!(
         names,
-        ["id", "density", "pressure", "connectivity", "offsets"]
+        [
+            "body_names",
+            "id",
+            "density",
+            "pressure",
+            "connectivity",
+            "offsets"
+        ]
     );
 }
 

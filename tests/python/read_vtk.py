@@ -96,6 +96,13 @@ def check_snapshot(vtp, csv_path):
     at = 0
     for name in names[1:]:
         arr = pd.GetArray(name)
+        if name == "volume":
+            # derived for viewers: each particle's m/rho, from the CSV's m and rho
+            m, rho = header.index("m"), header.index("rho")
+            for i, vals in enumerate(values(arr)):
+                if not close(vals[0], rows[i][m] / rows[i][rho]):
+                    fail(f"{vtp}: volume[{i}] = {vals[0]!r}, m/rho = {rows[i][m] / rows[i][rho]!r}")
+            continue
         c = arr.GetNumberOfComponents()
         cols = rest[at:at + c]
         if len(cols) != c:
@@ -107,6 +114,14 @@ def check_snapshot(vtp, csv_path):
         at += c
     if at != len(rest):
         fail(f"{vtp}: CSV columns {[header[j] for j in rest[at:]]} have no VTK array")
+    # the body names, as field data: every `body` index names one
+    names_array = poly.GetFieldData().GetAbstractArray("body_names")
+    if names_array is None or names_array.GetNumberOfValues() < 1:
+        fail(f"{vtp}: no body_names field data")
+    bodies = [names_array.GetValue(k) for k in range(names_array.GetNumberOfValues())]
+    b = header.index("body")
+    if any(not (0 <= int(r[b]) < len(bodies)) for r in rows):
+        fail(f"{vtp}: a body index outside the names {bodies}")
     return encoding_of(vtp), n, len(names)
 
 

@@ -69,7 +69,10 @@ pub use table::{
     DENSITY, INTERNAL_ENERGY, MASS, POSITION, PRESSURE, ParticleRow, ParticleTable,
     SMOOTHING_LENGTH, STANDARD_COLUMNS, TableColumn, VELOCITY,
 };
-pub use vtk::{ArrayValues, ImageGrid, VtkArray, VtkEncoding, ZLIB_BLOCK, write_vti};
+pub use vtk::{
+    ArrayValues, BODY_NAMES_ARRAY, ImageGrid, VOLUME_ARRAY, VtkArray, VtkEncoding, ZLIB_BLOCK,
+    write_vti,
+};
 pub use vtp_read::read_particle_table_vtp;
 
 /// Floating-point type of all written quantities.

@@ -75,6 +75,8 @@ pub struct OutputDir {
     loads: Option<LoadsTable>,
     /// The step a resumed run continues from ([`OutputDir::reopen`]).
     resumed_at: Option<u64>,
+    /// The body names the `.vtp` files list ([`OutputDir::set_body_names`]).
+    bodies: Vec<String>,
 }
 
 impl OutputDir {
@@ -165,6 +167,12 @@ impl OutputDir {
         Ok(())
     }
 
+    /// The body names, by body index, that every `.vtp` written from now on lists in its
+    /// field data (`body_names`), so that a viewer can tell the `body` indices apart.
+    pub fn set_body_names(&mut self, names: Vec<String>) {
+        self.bodies = names;
+    }
+
     /// Number of rows currently in `bodies.csv` (0 without it).
     pub fn body_loads_len(&self) -> usize {
         self.loads.as_ref().map_or(0, LoadsTable::len)
@@ -215,6 +223,7 @@ impl OutputDir {
             snapshots: Vec::new(),
             loads: None,
             resumed_at: None,
+            bodies: Vec::new(),
         })
     }
 
@@ -342,7 +351,7 @@ impl OutputDir {
         }
         if self.options.vtk {
             write_atomic_with(&self.path(&format!("{stem}.vtp")), |w| {
-                vtk::write_vtp(w, particles, self.options.encoding)
+                vtk::write_vtp(w, particles, self.options.encoding, &self.bodies)
             })?;
         }
         Ok(())

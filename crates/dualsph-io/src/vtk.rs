@@ -234,18 +234,49 @@ impl VtkXml {
     }
 }
 
+/// The name of the point-data array that carries each particle's volume `m/ρ` in a `.vtp`
+/// (derived for the viewer, so that fine and coarse particles can be sized apart; no column
+/// of the state, and not read back).
+pub const VOLUME_ARRAY: &str = "volume";
+
+/// The name of the field-data array of a `.vtp` that lists the body names, in `BodyId` order
+/// (the `body` point array holds the index).
+pub const BODY_NAMES_ARRAY: &str = "body_names";
+
 /// Writes a VTK XML PolyData file: one point and one vertex cell per particle, the
 /// [`POSITION`] column as the points (Float64), and point data `id` (Int64) and every other
-/// column of the table (Float64, as many components as it has labels). Connectivity and
-/// offsets are Int64. Ids above `i64::MAX` are written as their two's complement bits.
+/// column of the table (Float64, as many components as it has labels), then [`VOLUME_ARRAY`]
+/// `= mass/density` when the table has both. `bodies` (the body names by index, may be empty)
+/// goes into the field data as the string array [`BODY_NAMES_ARRAY`] (ASCII: each name as its
+/// byte codes, ended by 0, as VTK writes strings). Connectivity and offsets are Int64. Ids
+/// above `i64::MAX` are written as their two's complement bits.
 pub(crate) fn write_vtp(
     w: &mut dyn Write,
     table: &ParticleTable,
     encoding: VtkEncoding,
+    bodies: &[String],
 ) -> io::Result<()> {
     let n = table.len();
     let mut x = VtkXml::new("PolyData", encoding);
     x.line("  <PolyData>");
+    if !bodies.is_empty() {
+        let codes: Vec<String> = bodies
+            .iter()
+            .map(|b| {
+                let mut c: Vec<String> = b.bytes().map(|u| u.to_string()).collect();
+                c.push("0".into());
+                c.join(" ")
+            })
+            .collect();
+        x.line("    <FieldData>");
+        x.line(&format!(
+            "      <DataArray type=\"String\" Name=\"{BODY_NAMES_ARRAY}\" NumberOfTuples=\"{}\" format=\"ascii\">",
+            bodies.len()
+        ));
+        x.line(&format!("        {}", codes.join(" ")));
+        x.line("      </DataArray>");
+        x.line("    </FieldData>");
+    }
     x.line(&format!(
         "    <Piece NumberOfPoints=\"{n}\" NumberOfVerts=\"{n}\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">"
     ));
@@ -265,6 +296,20 @@ pub(crate) fn write_vtp(
             &c.name,
             c.width(),
             ArrayValues::Float64(&c.values),
+        ))?;
+    }
+    let one = |name: &str| table.column(name).filter(|c| c.width() == 1);
+    if let (Some(m), Some(rho)) = (one("mass"), one("density")) {
+        let volume: Vec<f64> = m
+            .values
+            .iter()
+            .zip(&rho.values)
+            .map(|(m, r)| m / r)
+            .collect();
+        x.array(&VtkArray::new(
+            VOLUME_ARRAY,
+            1,
+            ArrayValues::Float64(&volume),
         ))?;
     }
     x.line("      </PointData>");

@@ -162,7 +162,7 @@ fn bits(v: &[f64]) -> Vec<u64> {
 fn vtp_round_trip(n: usize, encoding: VtkEncoding) {
     let t = table(n);
     let mut file = Vec::new();
-    vtk::write_vtp(&mut file, &t, encoding).unwrap();
+    vtk::write_vtp(&mut file, &t, encoding, &[]).unwrap();
     let arrays = read_arrays(&file);
     let names: Vec<&str> = arrays.iter().map(|a| a.name.as_str()).collect();
     assert_eq!(
@@ -176,6 +176,7 @@ fn vtp_round_trip(n: usize, encoding: VtkEncoding) {
             "internal_energy",
             "smoothing_length",
             "stress",
+            "volume",
             "Points",
             "connectivity",
             "offsets"
@@ -215,7 +216,7 @@ fn compressed_vtp_reads_back_bitwise_across_blocks() {
         vtp_round_trip(n, VtkEncoding::Compressed);
     }
     let mut file = Vec::new();
-    vtk::write_vtp(&mut file, &table(1), VtkEncoding::Compressed).unwrap();
+    vtk::write_vtp(&mut file, &table(1), VtkEncoding::Compressed, &[]).unwrap();
     let text = String::from_utf8_lossy(&file);
     assert!(text.contains("compressor=\"vtkZLibDataCompressor\""));
 }
@@ -317,6 +318,7 @@ pub(crate) fn check_vtp(path: &std::path::Path, n: usize) {
             "pressure",
             "internal_energy",
             "smoothing_length",
+            "volume",
             "Points",
             "connectivity",
             "offsets"
@@ -326,6 +328,40 @@ pub(crate) fn check_vtp(path: &std::path::Path, n: usize) {
         assert_eq!(a.bytes.len(), 8 * n * a.comps, "array {}", a.name);
     }
     assert_eq!(arrays[1].comps, 3);
-    assert_eq!(arrays[7].comps, 3);
-    assert_eq!(arrays[9].i64s(), (1..=n as i64).collect::<Vec<_>>());
+    assert_eq!(arrays[8].comps, 3);
+    assert_eq!(arrays[10].i64s(), (1..=n as i64).collect::<Vec<_>>());
+    // the volume is m/ρ of each particle
+    let (m, rho, vol) = (arrays[2].f64s(), arrays[3].f64s(), arrays[7].f64s());
+    for k in 0..n {
+        let expected = f64::from_bits(m[k]) / f64::from_bits(rho[k]);
+        assert_eq!(vol[k], expected.to_bits());
+    }
+}
+
+/// The body names go into the field data as VTK writes strings in ASCII: each name's byte
+/// codes, ended by 0 (ParaView and VTK's reader give back `["water", "light"]`, which
+/// `tests/python/read_vtk.py` checks with VTK itself).
+#[test]
+fn body_names_are_a_string_array_of_the_field_data() {
+    for encoding in [VtkEncoding::Ascii, VtkEncoding::Binary] {
+        let mut file = Vec::new();
+        let names = ["water".to_string(), "light".to_string()];
+        vtk::write_vtp(&mut file, &table(2), encoding, &names).unwrap();
+        let text = String::from_utf8_lossy(&file);
+        let field = &text[text.find("<FieldData>").unwrap()..text.find("</FieldData>").unwrap()];
+        assert!(
+            field.contains(
+                "type=\"String\" Name=\"body_names\" NumberOfTuples=\"2\" format=\"ascii\""
+            ),
+            "{field}"
+        );
+        assert!(
+            field.contains("119 97 116 101 114 0 108 105 103 104 116 0"),
+            "{field}"
+        );
+        assert!(
+            text.find("<FieldData>") < text.find("<Piece"),
+            "{encoding:?}"
+        );
+    }
 }

@@ -43,8 +43,10 @@ impl DiagnosticsOutput {
         columns
     }
 
-    /// Starts `bodies.csv` in `out` when the scene has a fixed or prescribed body.
+    /// Starts `bodies.csv` in `out` when the scene has a fixed or prescribed body, and gives
+    /// `out` the body names its `.vtp` files list.
     pub(crate) fn open(&self, out: &mut OutputDir) -> Result<(), OutputError> {
+        out.set_body_names(self.names.clone());
         if self.loads {
             out.enable_body_loads()?;
         }
