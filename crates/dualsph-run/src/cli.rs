@@ -227,8 +227,7 @@ fn load_with_text(
             })
         })?;
     let s = Scene::parse_overridden(&text, path, registry, &set.set).map_err(scene_error)?;
-    let (limit, why) =
-        runner::memory::particle_limit(s.dimension, runner::memory::memory_available());
+    let (limit, why) = runner::memory::particle_limit(&s, runner::memory::memory_available());
     s.validate_with_limit(path, limit, &why)
         .map_err(scene_error)?;
     Ok((s, text))

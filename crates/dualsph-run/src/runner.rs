@@ -274,7 +274,7 @@ pub fn run_dim_with<V: Vector>(
     restart: &RestartOptions,
 ) -> Result<RunSummary, RunError> {
     let n = scene.generate().len();
-    memory::check_memory(scene.dimension, n, memory::memory_available())?;
+    memory::check_memory(scene, n, memory::memory_available())?;
     let mut sim = build_sim::<V>(scene)?;
     for w in sim.advice() {
         eprintln!("warning: {w}");
@@ -450,11 +450,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunSummary, RunError> {
 /// What a scene will run: the schedule and the particle columns ([`Plan`](dualsph_core::sim::Plan)), and the
 /// pair terms as `sweep: term`.
 pub fn plan(scene: &Scene) -> Result<Planned, SimError> {
-    memory::check_memory(
-        scene.dimension,
-        scene.generate().len(),
-        memory::memory_available(),
-    )?;
+    memory::check_memory(scene, scene.generate().len(), memory::memory_available())?;
     with_dimension!(scene.dimension, V => {
         let mut sim = build_sim::<V>(scene)?;
         sim.finish()?;

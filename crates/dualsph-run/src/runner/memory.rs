@@ -5,15 +5,50 @@
 //! available (`MemAvailable` in `/proc/meminfo`; no check where that cannot be read).
 
 use dualsph_core::prelude::SimError;
+use dualsph_scene::Scene;
 
-/// Estimated peak bytes per particle by dimension (index = dimension): 3-D is the measured
-/// 4,557 bytes of docs/performance.md (~51 candidates per particle); 1-D and 2-D scale the
-/// neighbour-list part down with their fewer neighbours.
-pub const BYTES_PER_PARTICLE: [u64; 4] = [0, 1_500, 3_000, 4_600];
+/// Bytes per particle besides its neighbour lists, by dimension (index = dimension): the
+/// columns, the archetype tables of the set-up and the search grid. With
+/// [`BYTES_PER_CANDIDATE`] at the usual `h_factor` 2 and skin 0.15 this gives 1.5 / 3.0 /
+/// 4.6 kB in 1-/2-/3-D, above the measured peak of 2,581 bytes per particle of a 3-D run of
+/// 10^6 particles with ~51 candidates each (docs/performance.md, "Memory").
+pub const BASE_BYTES: [u64; 4] = [0, 1_350, 2_470, 2_970];
 
-/// Estimated peak memory of a run with `n` particles in `dim` dimensions.
-pub fn memory_needed(dim: usize, n: usize) -> u64 {
-    BYTES_PER_PARTICLE[dim.clamp(1, 3)].saturating_mul(n as u64)
+/// Bytes per candidate pair of the neighbour lists and the sweep: support, dual support and
+/// the dual entries' slots (12), the sweep's route (4), the reaction records of pairs across
+/// blocks, and the rows of the build (docs/performance.md, "Memory"); rounded up.
+pub const BYTES_PER_CANDIDATE: f64 = 32.0;
+
+/// The candidate neighbours of a particle on a lattice of its own spacing whose support is
+/// `h_factor` spacings, searched to `h (1 + skin)`: the lattice points in that ball (segment,
+/// disk), `ω_d (h_factor (1 + skin))^d` with `ω = 2, π, 4π/3`.
+pub fn candidates(dim: usize, h_factor: f64, skin: f64) -> f64 {
+    let r = h_factor * (1.0 + skin.max(0.0));
+    match dim {
+        1 => 2.0 * r,
+        2 => std::f64::consts::PI * r * r,
+        _ => 4.0 / 3.0 * std::f64::consts::PI * r * r * r,
+    }
+}
+
+/// Estimated peak bytes per particle of `scene`: [`BASE_BYTES`] and the neighbour lists of its
+/// largest `h_factor` ([`candidates`] × [`BYTES_PER_CANDIDATE`]).
+pub fn bytes_per_particle(scene: &Scene) -> u64 {
+    let dim = scene.dimension.clamp(1, 3);
+    let h_factor = scene
+        .particles
+        .iter()
+        .map(|g| g.h_factor())
+        .filter(|h| h.is_finite())
+        .fold(0.0, f64::max);
+    let lists = BYTES_PER_CANDIDATE * candidates(dim, h_factor, scene.neighbours.skin);
+    // a float beyond u64 saturates, as the memory it stands for is beyond any machine
+    BASE_BYTES[dim].saturating_add(lists.ceil() as u64)
+}
+
+/// Estimated peak memory of a run of `scene` with `n` particles.
+pub fn memory_needed(scene: &Scene, n: usize) -> u64 {
+    bytes_per_particle(scene).saturating_mul(n as u64)
 }
 
 /// `MemAvailable` of `/proc/meminfo` in bytes, if it can be read.
@@ -24,15 +59,16 @@ pub fn memory_available() -> Option<u64> {
     Some(kib.saturating_mul(1024))
 }
 
-/// The most particles of a `dim`-dimensional scene that fit in `available` bytes, and the
-/// reason to print with it (`usize::MAX` and "" when the memory is unknown).
-pub fn particle_limit(dim: usize, available: Option<u64>) -> (usize, String) {
+/// The most particles of `scene` that fit in `available` bytes, and the reason to print with
+/// it (`usize::MAX` and "" when the memory is unknown).
+pub fn particle_limit(scene: &Scene, available: Option<u64>) -> (usize, String) {
     match available {
         Some(have) => {
-            let per = BYTES_PER_PARTICLE[dim.clamp(1, 3)];
+            let per = bytes_per_particle(scene).max(1);
             let n = usize::try_from(have / per).unwrap_or(usize::MAX);
             let why = format!(
-                " (what fits in the {:.1} GB of memory available at ~{per} bytes per particle)",
+                " (what fits in the {:.1} GB of memory available at ~{per} bytes per particle, \
+                 its neighbour lists included)",
                 have as f64 / 1e9
             );
             (n, why)
@@ -41,15 +77,23 @@ pub fn particle_limit(dim: usize, available: Option<u64>) -> (usize, String) {
     }
 }
 
-/// An error when `n` particles in `dim` dimensions need more than `available` bytes.
-pub fn check_memory(dim: usize, n: usize, available: Option<u64>) -> Result<(), SimError> {
-    let need = memory_needed(dim, n);
+/// An error when `n` particles of `scene` need more than `available` bytes.
+pub fn check_memory(scene: &Scene, n: usize, available: Option<u64>) -> Result<(), SimError> {
+    let need = memory_needed(scene, n);
     match available {
         Some(have) if need > have => Err(SimError::Build(format!(
-            "{n} particles in {dim}-D need about {:.1} GB of memory (~{} bytes per particle), \
-             more than the {:.1} GB available; increase the spacing",
+            "{n} particles in {}-D need about {:.1} GB of memory (~{} bytes per particle, of \
+             which the neighbour lists of h_factor up to {} take {}), more than the {:.1} GB \
+             available; increase the spacing or lower the h_factor",
+            scene.dimension,
             need as f64 / 1e9,
-            BYTES_PER_PARTICLE[dim.clamp(1, 3)],
+            bytes_per_particle(scene),
+            scene
+                .particles
+                .iter()
+                .map(|g| g.h_factor())
+                .fold(0.0, f64::max),
+            bytes_per_particle(scene) - BASE_BYTES[scene.dimension.clamp(1, 3)],
             have as f64 / 1e9
         ))),
         _ => Ok(()),
@@ -60,15 +104,43 @@ pub fn check_memory(dim: usize, n: usize, available: Option<u64>) -> Result<(), 
 mod tests {
     use super::*;
 
+    fn scene(dim: usize, h_factor: f64) -> Scene {
+        let (min, max) = match dim {
+            2 => ("[0.0, 0.0]", "[1.0, 1.0]"),
+            _ => ("[0.0, 0.0, 0.0]", "[1.0, 1.0, 1.0]"),
+        };
+        let text = format!(
+            "Scene(name: \"m\", dimension: {dim}, domain: (min: {min}, max: {max}),
+             kernel: WendlandC2, particles: [Block(min: {min}, max: {max}, spacing: 0.1,
+             density: 1000.0, h_factor: {h_factor})], integrator: (dt: Fixed(1e-4)),
+             end_time: 1.0)"
+        );
+        let path = std::path::Path::new("m.ron");
+        Scene::parse_only(&text, path, &dualsph_builtin::default_registry()).unwrap()
+    }
+
     #[test]
-    fn refuses_what_does_not_fit_and_accepts_what_does() {
+    fn the_usual_h_factor_gives_the_measured_figures_with_margin() {
+        // 3-D, h_factor 2, skin 0.15: ~51 candidates, as measured (2,581 bytes at 10^6)
+        assert!((candidates(3, 2.0, 0.15) - 50.97).abs() < 0.01);
+        assert_eq!(bytes_per_particle(&scene(3, 2.0)), 4_601);
+        assert_eq!(bytes_per_particle(&scene(2, 2.0)), 3_002);
+        assert_eq!(candidates(1, 2.0, 0.15), 4.6);
+    }
+
+    #[test]
+    fn a_wide_support_counts_its_neighbour_lists() {
+        // h_factor 16 in 3-D: ~26,000 candidates, ~0.8 MB per particle
+        let s = scene(3, 16.0);
+        let per = bytes_per_particle(&s);
+        assert!(per > 800_000 && per < 900_000, "{per}");
         let gb = 1_000_000_000;
-        assert!(check_memory(3, 1_000_000, Some(8 * gb)).is_ok());
-        let e = check_memory(3, 10_000_000, Some(8 * gb)).unwrap_err();
-        assert!(e.to_string().contains("46.0 GB"), "{e}");
-        assert!(check_memory(2, usize::MAX, None).is_ok());
-        assert_eq!(memory_needed(2, usize::MAX), u64::MAX);
-        assert_eq!(particle_limit(3, Some(4_600_000)).0, 1000);
-        assert_eq!(particle_limit(3, None).0, usize::MAX);
+        let e = check_memory(&s, 20_000, Some(8 * gb)).unwrap_err();
+        assert!(e.to_string().contains("h_factor up to 16"), "{e}");
+        assert!(check_memory(&scene(3, 2.0), 20_000, Some(8 * gb)).is_ok());
+        assert!(check_memory(&s, usize::MAX, None).is_ok());
+        assert_eq!(memory_needed(&s, usize::MAX), u64::MAX);
+        assert_eq!(particle_limit(&scene(3, 2.0), Some(4_601_000)).0, 1000);
+        assert_eq!(particle_limit(&s, None).0, usize::MAX);
     }
 }
