@@ -305,9 +305,38 @@ fn bodies(s: &Scene) -> Check {
                 ));
             }
             vector(&at, c, s.dimension)?;
+            moment_arm_bounded(&at, c, s)?;
         }
     }
     Ok(())
+}
+
+/// How far outside the domain (in domain diagonals from its centre) a moment may be taken:
+/// farther, the arms times the forces lose every digit of the moment, or overflow.
+const MAX_MOMENT_ARM: f64 = 1e3;
+
+/// `c` lies within [`MAX_MOMENT_ARM`] domain diagonals of the domain's centre.
+fn moment_arm_bounded(at: &str, c: &[f64], s: &Scene) -> Check {
+    let d = s.dimension.min(c.len());
+    let (min, max) = (&s.domain.min, &s.domain.max);
+    let diagonal = (0..d)
+        .map(|k| (max[k] - min[k]).powi(2))
+        .sum::<f64>()
+        .sqrt();
+    // the largest offset along an axis: squares of far points would overflow
+    let off = (0..d)
+        .map(|k| (c[k] - 0.5 * (min[k] + max[k])).abs())
+        .fold(0.0, f64::max);
+    if off.is_finite() && off <= MAX_MOMENT_ARM * diagonal {
+        return Ok(());
+    }
+    Err(Problem::new(
+        at,
+        format!(
+            "{off:e} from the domain's centre along an axis, more than {MAX_MOMENT_ARM:e} \
+             domain diagonals ({diagonal}): the moment's arms would swamp its digits or overflow"
+        ),
+    ))
 }
 
 /// A cap on the particle count: the number and why it is what it is (empty for the fixed

@@ -25,6 +25,9 @@ use serde::{Deserialize, Serialize};
 mod settings;
 pub use settings::{check_box, lattice};
 
+/// The most particles one inlet layer may hold (checked before the lattice is built).
+pub const MAX_LAYER_PARTICLES: Real = 1e7;
+
 /// An inlet (see the module docs).
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
@@ -108,6 +111,29 @@ impl SimPlugin for Inlet {
             return Err("velocity: must not be zero (the layers would never leave)".into());
         }
         positive("spacing", self.spacing)?;
+        // |v|² and the layer period Δx/|v| must be numbers: an overflowing speed made the
+        // period zero, and layers came due without end
+        let speed2: Real = self.velocity.iter().map(|v| v * v).sum();
+        let period = self.spacing / speed2.sqrt();
+        if !(speed2.is_finite() && period.is_finite() && period > 0.0) {
+            return Err(format!(
+                "velocity: |velocity|² = {speed2:e} and the layer period spacing/|velocity| = \
+                 {period:e} must be finite and > 0"
+            ));
+        }
+        let layer: Real = (0..d)
+            .map(|k| {
+                ((self.max[k] - self.min[k]) / self.spacing)
+                    .round()
+                    .max(1.0)
+            })
+            .product();
+        if layer > MAX_LAYER_PARTICLES {
+            return Err(format!(
+                "spacing: a layer over the box would hold about {layer:.3e} particles, more than \
+                 {MAX_LAYER_PARTICLES:e}"
+            ));
+        }
         positive("density", self.density)?;
         positive("h_factor", self.h_factor)?;
         if !self.internal_energy.is_finite() {

@@ -204,6 +204,9 @@ enum What {
     },
 }
 
+/// The most samples a water-height gauge takes along the domain's height per reading.
+pub const MAX_GAUGE_SAMPLES: Real = 1e6;
+
 /// The point `x` lies in the scene's domain; the error names the field.
 fn check_inside(field: &str, x: &[Real], info: &SceneInfo) -> Result<(), String> {
     if info.in_domain(x) {
@@ -480,6 +483,19 @@ impl SimPlugin for Probes {
                         && !(dy.is_finite() && *dy > 0.0)
                     {
                         return Err(format!("{}: must be > 0, got {dy}", f("dy")));
+                    }
+                    // every reading walks the domain's height in steps of dy
+                    let height = info.domain.1[d - 1] - info.domain.0[d - 1];
+                    if let Some(dy) = dy
+                        && height.is_finite()
+                        && height / dy > MAX_GAUGE_SAMPLES
+                    {
+                        return Err(format!(
+                            "{}: {dy} takes {:.3e} samples over the domain's height {height} \
+                             per reading, more than {MAX_GAUGE_SAMPLES:e}",
+                            f("dy"),
+                            height / dy
+                        ));
                     }
                     name
                 }

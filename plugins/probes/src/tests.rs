@@ -435,3 +435,24 @@ fn a_sensor_across_the_surface_reads_its_wet_and_dry_points() {
     let e = SimPlugin::validate(&parse(bad).unwrap(), &info(2)).unwrap_err();
     assert!(e.starts_with("probes[0].n"), "{e}");
 }
+
+/// A gauge whose step would take more than a million samples over the domain's height per
+/// reading is refused (a 1e-300 step read nothing but zeros before).
+#[test]
+fn a_gauge_step_too_fine_for_the_domain_is_refused() {
+    let mut bounded = info(2);
+    bounded.domain = (vec![0.0, 0.0], vec![1.0, 2.0]);
+    let gauge = |dy: &str| {
+        parse(&format!(
+            r#"(every: 1, probes: [WaterHeight(name: "H", at: [0.5], dy: {dy})])"#
+        ))
+        .unwrap()
+    };
+    let e = SimPlugin::validate(&gauge("1e-300"), &bounded).unwrap_err();
+    assert!(
+        e.contains("probes[0].dy") && e.contains("2.000e300 samples"),
+        "{e}"
+    );
+    assert!(SimPlugin::validate(&gauge("1e-5"), &bounded).is_ok());
+    assert!(SimPlugin::validate(&gauge("1e-6"), &bounded).is_err());
+}
