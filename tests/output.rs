@@ -292,3 +292,44 @@ fn an_independent_reader_reads_the_vtk_files_as_the_csv_says() {
     assert!(o.status.success(), "read_vtk.py failed:\n{text}");
     assert!(text.contains("all VTK files match"), "{text}");
 }
+
+/// `grid` reads a `.vtp` snapshot as it reads the CSV of the same step: a vector component
+/// (`velocity.x`, whose VTK array has three components) gives the same field bit for bit.
+#[test]
+fn grid_reads_a_vtp_snapshot_as_its_csv() {
+    let tmp = tempfile::tempdir().unwrap();
+    let s = scene(tmp.path(), "(snapshot_every: 20)");
+    let out = tmp.path().join("out");
+    run(&s, &out, &[]);
+    let mut fields = Vec::new();
+    for (file, dir) in [
+        ("particles_000020.csv", "csv"),
+        ("particles_000020.vtp", "vtp"),
+    ] {
+        let to = tmp.path().join(dir);
+        std::fs::create_dir_all(&to).unwrap();
+        std::fs::copy(out.join(file), to.join(file)).unwrap();
+        let o = dualsph(&[
+            "grid",
+            s.to_str().unwrap(),
+            "--dir",
+            to.to_str().unwrap(),
+            "--file",
+            file,
+            "--field",
+            "velocity.x",
+            "--dx",
+            "0.05",
+        ]);
+        assert!(
+            o.status.success(),
+            "{file}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        fields.push(std::fs::read(to.join("velocity_x_grid.vti")).unwrap());
+    }
+    assert!(
+        fields[0] == fields[1],
+        "the .vtp and the CSV give different fields"
+    );
+}

@@ -235,10 +235,6 @@ pub fn read_particles(scene: &dualsph_scene::Scene, path: &Path) -> Result<Parti
     let vtp = path
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("vtp"));
-    if vtp {
-        return dualsph_io::read_particle_table_vtp(path).map_err(|e| e.to_string());
-    }
-    let table = dualsph_io::read_particle_table_csv(path).map_err(|e| e.to_string())?;
     let groups = crate::with_dimension!(scene.dimension, V => {
         let sim = crate::build_sim::<V>(scene).map_err(|e| e.to_string())?;
         let columns = sim.world.resource::<dualsph_core::columns::Columns>();
@@ -248,6 +244,21 @@ pub fn read_particles(scene: &dualsph_scene::Scene, path: &Path) -> Result<Parti
             .map(|c| (c.spec.name.to_string(), c.labels(V::DIM)))
             .collect::<Vec<_>>()
     });
+    if vtp {
+        // a VTK array is named by its column; its components take the column's labels
+        // (`vx, vy, vz`), which tell a vector from a matrix as in the CSV
+        let mut table = dualsph_io::read_particle_table_vtp(path).map_err(|e| e.to_string())?;
+        for c in &mut table.columns {
+            let own = groups
+                .iter()
+                .find(|(n, l)| *n == c.name && l.len() == c.width());
+            if let Some((_, labels)) = own {
+                c.labels = labels.clone();
+            }
+        }
+        return Ok(table);
+    }
+    let table = dualsph_io::read_particle_table_csv(path).map_err(|e| e.to_string())?;
     Ok(table.grouped(&groups))
 }
 
