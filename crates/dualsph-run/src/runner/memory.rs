@@ -31,17 +31,22 @@ pub fn candidates(dim: usize, h_factor: f64, skin: f64) -> f64 {
     }
 }
 
-/// Estimated peak bytes per particle of `scene`: [`BASE_BYTES`] and the neighbour lists of its
-/// largest `h_factor` ([`candidates`] × [`BYTES_PER_CANDIDATE`]).
-pub fn bytes_per_particle(scene: &Scene) -> u64 {
-    let dim = scene.dimension.clamp(1, 3);
-    let h_factor = scene
+/// The largest finite `h_factor` of the scene's generators (0 without one).
+fn largest_h_factor(scene: &Scene) -> f64 {
+    scene
         .particles
         .iter()
         .map(|g| g.h_factor())
         .filter(|h| h.is_finite())
-        .fold(0.0, f64::max);
-    let lists = BYTES_PER_CANDIDATE * candidates(dim, h_factor, scene.neighbours.skin);
+        .fold(0.0, f64::max)
+}
+
+/// Estimated peak bytes per particle of `scene`: [`BASE_BYTES`] and the neighbour lists of its
+/// largest `h_factor` ([`candidates`] × [`BYTES_PER_CANDIDATE`]).
+pub fn bytes_per_particle(scene: &Scene) -> u64 {
+    let dim = scene.dimension.clamp(1, 3);
+    let lists =
+        BYTES_PER_CANDIDATE * candidates(dim, largest_h_factor(scene), scene.neighbours.skin);
     // a float beyond u64 saturates, as the memory it stands for is beyond any machine
     BASE_BYTES[dim].saturating_add(lists.ceil() as u64)
 }
@@ -79,21 +84,17 @@ pub fn particle_limit(scene: &Scene, available: Option<u64>) -> (usize, String) 
 
 /// An error when `n` particles of `scene` need more than `available` bytes.
 pub fn check_memory(scene: &Scene, n: usize, available: Option<u64>) -> Result<(), SimError> {
-    let need = memory_needed(scene, n);
+    let per = bytes_per_particle(scene);
+    let need = per.saturating_mul(n as u64);
     match available {
         Some(have) if need > have => Err(SimError::Build(format!(
-            "{n} particles in {}-D need about {:.1} GB of memory (~{} bytes per particle, of \
+            "{n} particles in {}-D need about {:.1} GB of memory (~{per} bytes per particle, of \
              which the neighbour lists of h_factor up to {} take {}), more than the {:.1} GB \
              available; increase the spacing or lower the h_factor",
             scene.dimension,
             need as f64 / 1e9,
-            bytes_per_particle(scene),
-            scene
-                .particles
-                .iter()
-                .map(|g| g.h_factor())
-                .fold(0.0, f64::max),
-            bytes_per_particle(scene) - BASE_BYTES[scene.dimension.clamp(1, 3)],
+            largest_h_factor(scene),
+            per - BASE_BYTES[scene.dimension.clamp(1, 3)],
             have as f64 / 1e9
         ))),
         _ => Ok(()),
