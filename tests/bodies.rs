@@ -239,7 +239,8 @@ fn viscosities_given_per_body_equal_to_the_uniform_one_give_the_same_run() {
 
 /// A kind of body from outside the engine: the lid accelerates uniformly along x,
 /// `x(t) = x_0 + a t²/2`, `v = a t` (`Glide(accel: a)`).
-#[derive(Debug, serde::Deserialize, serde::Serialize)]
+#[derive(Debug, serde::Deserialize, serde::Serialize, dualsph::core::schemars::JsonSchema)]
+#[schemars(crate = "dualsph::core::schemars")]
 #[serde(deny_unknown_fields)]
 struct Glide {
     accel: f64,

@@ -269,3 +269,86 @@ fn threads_sets_the_thread_count_and_changes_no_bit() {
         "final.csv differs between 1 and 2 threads"
     );
 }
+
+fn stdout_of(args: &[&str]) -> (Option<i32>, String, String) {
+    let out = bin().args(args).output().unwrap();
+    (
+        out.status.code(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn doc_prints_each_field_with_its_type_default_and_unit() {
+    let (code, text, _) = stdout_of(&["doc", "TaitEos"]);
+    assert_eq!(code, Some(0));
+    assert!(text.starts_with("TaitEos(..) — plugin: "), "{text}");
+    assert!(
+        text.contains("  c0: number (optional) = none\n      Reference sound speed c0 (m/s).\n"),
+        "{text}"
+    );
+    assert!(text.contains("  rho0: number (required)\n"), "{text}");
+    assert!(text.contains("\nTaitMaterial:\n"), "{text}");
+    let (_, integrator, _) = stdout_of(&["doc", "integrator"]);
+    assert!(
+        integrator.contains("  Fixed(number)\n      A constant step (s)"),
+        "{integrator}"
+    );
+    assert!(
+        integrator.contains("      courant: number = 0.1\n"),
+        "{integrator}"
+    );
+    let (_, probes, _) = stdout_of(&["doc", "Probes"]);
+    assert!(
+        probes.contains("      dry: Zero | Skip | Nan = Zero\n"),
+        "{probes}"
+    );
+    let (code, out, err) = stdout_of(&["doc", "Gravty"]);
+    assert_eq!((code, out.as_str()), (Some(2), ""));
+    assert!(
+        err.contains("no plugin, scene section or body kind named `Gravty`; known: "),
+        "{err}"
+    );
+    assert!(err.contains(" Gravity,"), "{err}");
+}
+
+#[test]
+fn plugins_with_fields_documents_every_listed_name() {
+    let (code, list, _) = stdout_of(&["plugins"]);
+    assert_eq!(code, Some(0));
+    let (code, all, _) = stdout_of(&["plugins", "--fields"]);
+    assert_eq!(code, Some(0));
+    let names: Vec<&str> = list
+        .lines()
+        .take_while(|l| !l.is_empty())
+        .filter_map(|l| l.split_whitespace().next())
+        .collect();
+    assert!(names.len() > 20, "{list}");
+    for n in names {
+        assert!(
+            all.contains(&format!("\n{n}(..) — plugin: ")) || all.starts_with(&format!("{n}(..)")),
+            "{n}"
+        );
+    }
+    for title in [
+        "integrator: (..) — scene section",
+        "kind: Prescribed — body kind: ",
+    ] {
+        assert!(all.contains(title), "{title}");
+    }
+}
+
+#[test]
+fn the_readme_shows_doc_as_it_prints() {
+    let readme =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("README.md")).unwrap();
+    let start = readme
+        .find("$ dualsph doc Gravity\n")
+        .expect("the README's example");
+    let block = &readme[start..];
+    let shown = &block["$ dualsph doc Gravity\n".len()..block.find("```").unwrap()];
+    let (code, printed, _) = stdout_of(&["doc", "Gravity"]);
+    assert_eq!(code, Some(0));
+    assert_eq!(shown, printed);
+}

@@ -32,6 +32,7 @@ pub use dualsph_neighbours::sampling;
 
 pub use bevy_ecs;
 pub use glam;
+pub use schemars;
 
 /// The most used items.
 pub mod prelude {

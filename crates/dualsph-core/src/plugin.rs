@@ -8,6 +8,7 @@
 //! the kinds of body a scene may name (`kind: Fixed`) with
 //! `registry.register_body_kind::<Kind>()` (see [`crate::bodies::kind`]).
 
+pub mod fields;
 pub mod section;
 
 use crate::bodies::{BodyKind, BodyKindEntry};
@@ -91,7 +92,13 @@ pub enum Role {
 
 /// A plugin: its settings (deserialized from the scene; serialized for the scene's canonical
 /// form, see [`PluginConfig::canonical`]) and how it builds itself.
-pub trait SimPlugin: Serialize + DeserializeOwned + Debug + Send + Sync + 'static {
+///
+/// The settings' JSON schema ([`schemars::JsonSchema`], derived beside `Deserialize` so that
+/// it follows the same serde attributes) is what `dualsph doc NAME` prints: each field's type,
+/// default and doc comment.
+pub trait SimPlugin:
+    Serialize + DeserializeOwned + schemars::JsonSchema + Debug + Send + Sync + 'static
+{
     /// The name used in RON scenes.
     const NAME: &'static str;
     /// One line for listings and error messages.
@@ -183,6 +190,8 @@ pub struct PluginEntry {
     pub role: Role,
     /// Settings parser.
     pub parse: ParseFn,
+    /// The settings' schema (fields, types, defaults, doc comments).
+    pub schema: fn() -> schemars::Schema,
 }
 
 impl Debug for PluginEntry {
@@ -221,6 +230,7 @@ impl Registry {
             summary: P::SUMMARY,
             role: P::ROLE,
             parse: parse_plugin::<P>,
+            schema: fields::schema_of::<P>,
         });
         self
     }
@@ -247,8 +257,14 @@ impl Registry {
         self.sections.push(SectionEntry {
             key: S::KEY,
             parse: section::parse_section::<S>,
+            schema: fields::schema_of::<S>,
         });
         self
+    }
+
+    /// The registered sections, in registration order.
+    pub fn sections(&self) -> &[SectionEntry] {
+        &self.sections
     }
 
     /// The section registered under `key`.

@@ -33,7 +33,7 @@ use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
 /// The kernels a scene can choose.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, schemars::JsonSchema)]
 pub enum KernelKind {
     /// Cubic B-spline M4 (Monaghan & Lattanzio 1985); `s = 2q`.
     CubicSpline,

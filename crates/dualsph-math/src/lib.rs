@@ -145,7 +145,16 @@ pub trait Matrix<V>:
 }
 
 /// A one-dimensional vector.
-#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    serde::Serialize,
+    serde::Deserialize,
+    schemars::JsonSchema,
+)]
 pub struct Vec1(pub Real);
 
 /// A 1 × 1 matrix.

@@ -37,6 +37,7 @@ macro_rules! say {
     }};
 }
 
+mod doc;
 mod run;
 
 #[derive(Parser)]
@@ -109,8 +110,19 @@ enum Command {
         #[command(flatten)]
         set: SetArgs,
     },
-    /// List the registered plugins.
-    Plugins,
+    /// List the registered plugins, scene sections and body kinds (with --fields, each one's
+    /// fields: type, default and meaning).
+    Plugins {
+        /// Print every plugin's, section's and body kind's fields.
+        #[arg(long)]
+        fields: bool,
+    },
+    /// Print the fields of a plugin, scene section or body kind: type, default and meaning
+    /// (`dualsph doc TaitEos`, `dualsph doc integrator`).
+    Doc {
+        /// The plugin's (section's, body kind's) name as a scene writes it.
+        name: String,
+    },
     /// Sample a field of a run's particle file on a regular grid: DIR/<field>_grid.vti
     /// (ParaView) and DIR/<field>_grid.png (filled contours, white outside the fluid).
     Grid {
@@ -298,16 +310,13 @@ pub fn main(registry: Registry) -> ExitCode {
         } => load(&scene, &registry, &SetArgs::default())
             .and_then(|s| grid_command(&scene, &s, dir, &file, &field, dx)),
         Command::PlotProbes { dir } => plot_probes_command(&dir),
-        Command::Plugins => {
-            for e in registry.entries() {
-                say!("{:<22} {}", e.name, e.summary);
-            }
-            say!("\nbody kinds (`Body(name: .., kind: ..)`):");
-            for e in registry.body_kinds() {
-                say!("{:<22} {}", e.name, e.summary);
-            }
+        Command::Plugins { fields } => {
+            say!("{}", doc::listing(&registry, fields).trim_end());
             Ok(())
         }
+        Command::Doc { name } => doc::doc(&registry, &name).map(|text| {
+            say!("{}", text.trim_end());
+        }),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

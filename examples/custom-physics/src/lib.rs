@@ -29,7 +29,7 @@ use dualsph::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// The settings, as written in a scene: `PairDrag(gamma: 2e4, gamma_gradient: [1e4, 0.0])`.
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct PairDrag {
     /// Drag coefficient γ at the origin (1/(kg·s)).

@@ -62,10 +62,10 @@ use serde::{Deserialize, Serialize};
 struct DiffusionOn;
 
 /// δ-SPH density diffusion settings.
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DensityDiffusion {
-    /// δ, on the classical smoothing length h/2 (Molteni & Colagrossi, Antuono et al.: 0.1).
+    /// δ (dimensionless), on the classical smoothing length h/2 (Molteni & Colagrossi, Antuono et al.: 0.1).
     #[serde(default = "default_delta")]
     pub delta: Real,
     /// Diffuse the departure from hydrostatics (module docs); needs `Gravity` and `TaitEos`

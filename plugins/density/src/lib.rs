@@ -15,7 +15,7 @@ use dualsph_fluid::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// `ρ_i = Σ_{j ∈ H_i ∪ {i}} m_j W(r_ij, h_i)` every step.
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SummationDensity {}
 
@@ -92,7 +92,9 @@ impl<V: Vector> BoundTerm<V> for BoundSummation<'_, V> {
 }
 
 /// Which discrete form of `dρ/dt = −ρ ∇·v`.
-#[derive(Debug, Clone, Copy, Default, Deserialize, Serialize, PartialEq, Eq)]
+#[derive(
+    Debug, Clone, Copy, Default, Deserialize, Serialize, PartialEq, Eq, schemars::JsonSchema,
+)]
 pub enum ContinuityForm {
     /// `dρ_i/dt = Σ_j m_j v_ij · ∇_iW_ij` (Eq. 4.9).
     #[default]
@@ -102,7 +104,7 @@ pub enum ContinuityForm {
 }
 
 /// Integrated density.
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ContinuityDensity {
     /// Discrete form (default `Pairwise`).

@@ -31,7 +31,7 @@ use serde::{Deserialize, Serialize};
 
 /// `Diagnostics()`: the plugin (no settings; the cadence is the scene's
 /// `output.diagnostics_every`, the health factors its `health` section, [`HealthSettings`]).
-#[derive(Debug, Clone, Default, Deserialize, Serialize)]
+#[derive(Debug, Clone, Default, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DiagnosticsPlugin {}
 

@@ -77,7 +77,7 @@ pub struct Diagnostics {
 /// `AveragedKernel`, the pair forces are not opposite and that balance holds only to the
 /// formulation's error). The sign convention: the force *on* the body. In 2-D the moment is
 /// about the z axis (`moment[2]`), in 1-D there is none.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct BodyLoad {
     /// The body (its [`BodyId`]).
     pub body: usize,
@@ -113,7 +113,7 @@ impl BodyLoad {
 }
 
 /// Mass, momentum and energies of one body's particles.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct BodyTotals {
     /// Σ m.
     pub mass: Real,

@@ -33,10 +33,10 @@ use dualsph_gravity::GravityAccel;
 use serde::{Deserialize, Serialize};
 
 /// The fluid starts hydrostatic below a free surface (module docs).
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct HydrostaticStart {
-    /// The height `H` of the free surface along `−g`.
+    /// The height `H` of the free surface along `−g` (m).
     pub surface: Real,
 }
 

@@ -26,14 +26,14 @@ use dualsph_fluid::{BodyEos, Liquid};
 use serde::{Deserialize, Serialize};
 
 /// A pressure field given in closed form (module docs).
-#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub enum PressureField {
     /// The Taylor–Green vortex's pressure (module docs).
     TaylorGreen {
-        /// `U`.
+        /// `U`, the vortex's velocity scale (m/s).
         speed: Real,
-        /// `L`.
+        /// `L`, its wavelength (m).
         wavelength: Real,
     },
 }
@@ -52,7 +52,7 @@ impl PressureField {
 }
 
 /// The fluid starts with a given pressure (module docs).
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct InitialPressure {
     /// The field.

@@ -22,20 +22,20 @@ use std::sync::Arc;
 
 /// Weakly compressible Tait equation (Eq. 7.5): `p = p0((ρ/ρ0)^γ − 1)`, `p0 = c0²ρ0/γ`,
 /// `c = c0 (ρ/ρ0)^{(γ−1)/2}`. Give either `c0` or `p0`.
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct TaitEos {
-    /// Reference density ρ0.
+    /// Reference density ρ0 (kg/m³).
     pub rho0: Real,
-    /// Exponent γ (7 for water).
+    /// Exponent γ (dimensionless; 7 for water).
     pub gamma: Real,
-    /// Reference sound speed c0.
+    /// Reference sound speed c0 (m/s).
     #[serde(default)]
     pub c0: Option<Real>,
-    /// Bulk modulus p0 (alternative to c0).
+    /// Bulk modulus p0 (Pa; alternative to c0).
     #[serde(default)]
     pub p0: Option<Real>,
-    /// Pressure floor `p_min`: `p = max(p0((ρ/ρ0)^γ − 1), p_min)`. None (the default) keeps
+    /// Pressure floor `p_min` (Pa): `p = max(p0((ρ/ρ0)^γ − 1), p_min)`. None (the default) keeps
     /// the tension Eq. 7.5 gives. `Some(0.0)` is the usual choice for free-surface flows with
     /// walls that truncate the kernel (specular walls, Eq. 7.7): there the truncated support
     /// reads as tension, which clumps particles (the tensile instability). The floor acts
@@ -43,7 +43,7 @@ pub struct TaitEos {
     /// energy equation uses the same `p`: conservation is unchanged.
     #[serde(default)]
     pub min_pressure: Option<Real>,
-    /// Background pressure `p_b`, added to Eq. 7.5: `p = p0((ρ/ρ0)^γ − 1) + p_b` (0 by
+    /// Background pressure `p_b` (Pa), added to Eq. 7.5: `p = p0((ρ/ρ0)^γ − 1) + p_b` (0 by
     /// default). A positive `p_b` keeps an enclosed or periodic flow without a free surface
     /// out of tension, where the tensile instability clumps particles (Morris, Fox & Zhu
     /// 1997, *J. Comput. Phys.* 136, 214, §2.2, take `p = c²ρ`, i.e. `p_b = c²ρ0` for γ = 1).
@@ -59,17 +59,17 @@ pub struct TaitEos {
 }
 
 /// A body's Tait parameters (see [`TaitEos::materials`]).
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct TaitMaterial {
     /// The body's name.
     pub body: String,
-    /// Reference density ρ0.
+    /// Reference density ρ0 (kg/m³).
     pub rho0: Real,
-    /// Reference sound speed c0.
+    /// Reference sound speed c0 (m/s).
     #[serde(default)]
     pub c0: Option<Real>,
-    /// Bulk modulus p0 (alternative to c0).
+    /// Bulk modulus p0 (Pa; alternative to c0).
     #[serde(default)]
     pub p0: Option<Real>,
 }
@@ -87,10 +87,10 @@ pub fn materials(laws: &BodyEos) -> Vec<Eos> {
 }
 
 /// Ideal gas (Eq. 7.3): `p = (γ − 1) ρ ε`, `c = sqrt(γ p / ρ)`.
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct IdealGas {
-    /// Adiabatic index γ.
+    /// Adiabatic index γ (dimensionless).
     pub gamma: Real,
 }
 

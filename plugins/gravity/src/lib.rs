@@ -19,10 +19,10 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// Uniform gravity.
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Gravity {
-    /// Acceleration vector, one component per dimension.
+    /// Acceleration vector (m/s²), one component per dimension.
     pub g: Vec<Real>,
 }
 

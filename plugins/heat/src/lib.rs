@@ -11,12 +11,12 @@ use dualsph_fluid::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// Heat conduction.
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct HeatConduction {
-    /// Thermal conductivity κ.
+    /// Thermal conductivity κ (W/(m K)).
     pub conductivity: Real,
-    /// Specific heat c_v (T = ε / c_v), default 1.
+    /// Specific heat c_v (J/(kg K); T = ε / c_v), default 1.
     #[serde(default = "one")]
     pub heat_capacity: Real,
 }

@@ -29,28 +29,28 @@ pub use settings::{check_box, lattice};
 pub const MAX_LAYER_PARTICLES: Real = 1e7;
 
 /// An inlet (see the module docs).
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Inlet {
-    /// Lower corner of the box the layer fills.
+    /// Lower corner of the box the layer fills (m).
     pub min: Vec<Real>,
-    /// Upper corner of the box the layer fills.
+    /// Upper corner of the box the layer fills (m).
     pub max: Vec<Real>,
-    /// Particle spacing Δx (of the lattice and between layers).
+    /// Particle spacing Δx (m; of the lattice and between layers).
     pub spacing: Real,
-    /// Velocity of the entering particles.
+    /// Velocity of the entering particles (m/s).
     pub velocity: Vec<Real>,
-    /// Density of the entering particles.
+    /// Density of the entering particles (kg/m³).
     pub density: Real,
-    /// Support radius over spacing.
+    /// Support radius over spacing (dimensionless).
     pub h_factor: Real,
-    /// Specific internal energy of the entering particles (with an energy equation).
+    /// Specific internal energy of the entering particles (J/kg) (with an energy equation).
     #[serde(default)]
     pub internal_energy: Real,
     /// The fluid body the particles join.
     #[serde(default = "default_body")]
     pub body: String,
-    /// No layer is due after this time (none: for the whole run).
+    /// No layer is due after this time (s) (none: for the whole run).
     #[serde(default)]
     pub until: Option<Real>,
 }
@@ -60,12 +60,12 @@ fn default_body() -> String {
 }
 
 /// An outlet (see the module docs).
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Outlet {
-    /// Lower corner of the box.
+    /// Lower corner of the box (m).
     pub min: Vec<Real>,
-    /// Upper corner of the box.
+    /// Upper corner of the box (m).
     pub max: Vec<Real>,
 }
 

@@ -47,7 +47,9 @@ use serde::{Deserialize, Serialize};
 
 /// How a scheme advances the internal energy (`energy:` of `LeapfrogPC(...)` and
 /// `PositionVerlet(...)`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize, schemars::JsonSchema,
+)]
 pub enum EnergyUpdate {
     /// The rates, then the work-consistent correction (see the module docs): total energy
     /// kept to round-off by the time integration (the default).

@@ -69,7 +69,7 @@ fn only_scheme<V: Vector>(sim: &Sim<V>, name: &str) -> Result<(), SimError> {
 }
 
 /// `LeapfrogPC()`: the leapfrog predictor–corrector of RenDSSPH §6 (see [`leapfrog`]).
-#[derive(Debug, Clone, Default, Deserialize, Serialize)]
+#[derive(Debug, Clone, Default, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct LeapfrogPC {
     /// How the internal energy is advanced (see [`energy`]): `Consistent` (the default) or
@@ -91,7 +91,7 @@ impl SimPlugin for LeapfrogPC {
 }
 
 /// `PositionVerlet()`: the Störmer–Verlet scheme in drift–kick–drift form (see [`verlet`]).
-#[derive(Debug, Clone, Default, Deserialize, Serialize)]
+#[derive(Debug, Clone, Default, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct PositionVerlet {
     /// How the internal energy is advanced (see [`energy`]): `Consistent` (the default) or

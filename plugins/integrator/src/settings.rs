@@ -22,33 +22,33 @@ fn default_viscous() -> f64 {
 }
 
 /// How the time step is chosen.
-#[derive(Clone, Copy, Debug, PartialEq, Deserialize, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub enum TimeStep {
-    /// A constant step `Fixed(1e-4)`.
+    /// A constant step (s): `Fixed(1e-4)`.
     Fixed(f64),
     /// CFL-type step from the three coefficients, each in (0, 1].
     Adaptive {
-        /// Acoustic (Courant) coefficient on the support radius h, at most [`CFL_LIMIT`];
+        /// Acoustic (Courant) coefficient (dimensionless) on the support radius h, at most [`CFL_LIMIT`];
         /// default 0.1.
         #[serde(default = "default_courant")]
         courant: f64,
-        /// Force (acceleration) coefficient; default 0.25.
+        /// Force (acceleration) coefficient (dimensionless); default 0.25.
         #[serde(default = "default_force")]
         force: f64,
-        /// Viscous-diffusion coefficient; default 0.125.
+        /// Viscous-diffusion coefficient (dimensionless); default 0.125.
         #[serde(default = "default_viscous")]
         viscous: f64,
     },
 }
 
 /// The `integrator` section of a scene.
-#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct IntegratorSettings {
     /// Time-step rule.
     pub dt: TimeStep,
-    /// Upper bound on an adaptive step (none when absent).
+    /// Upper bound on an adaptive step (s; none when absent).
     #[serde(default)]
     pub max_dt: Option<f64>,
 }

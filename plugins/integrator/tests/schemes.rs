@@ -18,7 +18,7 @@ use glam::DVec2;
 use serde::Deserialize;
 
 /// `a = g − ω² r − γ v`, `dρ/dt = −λ ρ`.
-#[derive(Debug, Clone, Copy, Deserialize, serde::Serialize)]
+#[derive(Debug, Clone, Copy, Deserialize, serde::Serialize, schemars::JsonSchema)]
 struct Ode {
     g: [Real; 2],
     omega: Real,

@@ -15,7 +15,7 @@ use dualsph_fluid::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// Kernel-gradient correction.
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct KernelCorrection {}
 

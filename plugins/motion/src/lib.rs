@@ -17,7 +17,7 @@ use std::sync::Arc;
 
 /// A prescribed body's law of motion (time from the start of the run; vectors with the
 /// scene's dimension).
-#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub enum Prescribed {
     /// `x = x_0 + velocity·t`.
@@ -44,9 +44,9 @@ pub enum Prescribed {
     /// A rotation at `omega` (rad/s, counter-clockwise) about `center`, about the z axis in
     /// 2-D and about `axis` in 3-D.
     Rotate {
-        /// The point on the axis.
+        /// The point on the axis (m).
         center: Vec<f64>,
-        /// The axis direction (3-D only).
+        /// The axis direction (dimensionless; 3-D only).
         #[serde(default)]
         axis: Option<Vec<f64>>,
         /// Angular velocity (rad/s).

@@ -24,10 +24,10 @@ use dualsph_fluid::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// Artificial stress settings.
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ArtificialStress {
-    /// ε: the strength of the repulsion relative to the tension (Monaghan: 0.2 for fluids).
+    /// ε (dimensionless): the strength of the repulsion relative to the tension (Monaghan: 0.2 for fluids).
     #[serde(default = "default_epsilon")]
     pub epsilon: Real,
     /// n: the exponent of `F_ij` (Monaghan: 4).

@@ -17,7 +17,7 @@ use dualsph_fluid::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// Pressure force.
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct PressureForce {}
 

@@ -74,14 +74,14 @@ pub const PROBES_FILE: &str = "probes.csv";
 pub const PROBE_POINTS_FILE: &str = "probes_points.csv";
 
 /// One probe of the scene.
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub enum Probe {
     /// A fixed point.
     Point {
         /// Column name.
         name: String,
-        /// Position (one component per dimension).
+        /// Position (m; one component per dimension).
         at: Vec<Real>,
         /// What to sample.
         quantity: Quantity,
@@ -90,9 +90,9 @@ pub enum Probe {
     Line {
         /// Column prefix: the columns are `name[0]` … `name[n-1]`.
         name: String,
-        /// First point.
+        /// First point (m).
         start: Vec<Real>,
-        /// Last point.
+        /// Last point (m).
         end: Vec<Real>,
         /// Number of points (≥ 2).
         n: usize,
@@ -105,9 +105,9 @@ pub enum Probe {
     Sensor {
         /// Column name.
         name: String,
-        /// One end of the sensor's extent.
+        /// One end of the sensor's extent (m).
         start: Vec<Real>,
-        /// The other end.
+        /// The other end (m).
         end: Vec<Real>,
         /// Number of points (≥ 2).
         n: usize,
@@ -117,7 +117,7 @@ pub enum Probe {
         /// What a dry point (no particle within reach) counts as (default `Zero`).
         #[serde(default)]
         dry: Dry,
-        /// Values below it are read as it (`floor: 0.0` reads suction as zero); default none.
+        /// Values below it (in the quantity's unit) are read as it (`floor: 0.0` reads suction as zero); default none.
         #[serde(default)]
         floor: Option<Real>,
     },
@@ -125,19 +125,21 @@ pub enum Probe {
     WaterHeight {
         /// Column name.
         name: String,
-        /// Horizontal position (dimension − 1 components).
+        /// Horizontal position (m; dimension − 1 components).
         at: Vec<Real>,
-        /// Shepard-sum level of the surface (default 0.5).
+        /// Shepard-sum level of the surface (dimensionless; default 0.5).
         #[serde(default)]
         threshold: Option<Real>,
-        /// Vertical sampling step (default: a quarter of the smallest h).
+        /// Vertical sampling step (m; default: a quarter of the smallest h).
         #[serde(default)]
         dy: Option<Real>,
     },
 }
 
 /// What a [`Probe::Sensor`]'s dry point counts as.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize)]
+#[derive(
+    Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize, schemars::JsonSchema,
+)]
 pub enum Dry {
     /// Zero (a dry sensor reads no pressure).
     #[default]
@@ -154,12 +156,12 @@ fn pressure() -> Quantity {
 }
 
 /// The plugin's settings.
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Probes {
     /// Sample every this many steps (≥ 1).
     pub every: u64,
-    /// Smallest Shepard sum for which a point value is reported (else NaN); default 0.
+    /// Smallest Shepard sum (dimensionless) for which a point value is reported (else NaN); default 0.
     #[serde(default)]
     pub min_shepard: Real,
     /// The bodies whose particles the probes sample, by name; empty (the default) means

@@ -30,12 +30,12 @@ const AXES: [char; 3] = ['x', 'y', 'z'];
 
 /// What a point or line probe measures: a column name, a component of one, `speed` or
 /// `shepard_sum` (see the [module docs](self)).
-#[derive(Debug, Clone, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Eq, Hash, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(try_from = "Spelling", into = "String")]
 pub struct Quantity(String);
 
 /// A quantity as written in a scene: a string or a bare identifier.
-#[derive(Deserialize)]
+#[derive(Deserialize, schemars::JsonSchema)]
 #[serde(untagged)]
 enum Spelling {
     Name(String),

@@ -351,7 +351,7 @@ struct Tracer(Real);
 dualsph_core::scalar_column!(Tracer);
 
 /// A user's plugin that registers the column `tracer` = 2 + x.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 struct TracerPlugin;
 
 impl SimPlugin for TracerPlugin {

@@ -42,13 +42,13 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// Particle shifting (module docs).
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ParticleShifting {
-    /// `A` in `D_i = A (h_i/2) |v_i| Δt` (default 2).
+    /// `A` in `D_i = A (h_i/2) |v_i| Δt` (dimensionless; default 2).
     #[serde(default = "two")]
     pub coefficient: Real,
-    /// The free-surface threshold on `∇·r` (default 1.5 in 2-D, 2.75 in 3-D, 0.75 in 1-D).
+    /// The free-surface threshold on `∇·r` (dimensionless; default 1.5 in 2-D, 2.75 in 3-D, 0.75 in 1-D).
     #[serde(default)]
     pub surface: Option<Real>,
 }

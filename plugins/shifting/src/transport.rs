@@ -67,17 +67,17 @@ pub struct TransportOffset<V: Vector>(pub V);
 dualsph_core::vector_column!(TransportOffset);
 
 /// The transport-velocity formulation (module docs).
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct TransportVelocity {
     /// The background pressure `p_b` (Pa), fixed; by default `p_b = G ρ_i h_i²/Δt²` with
     /// `G` = `gain`.
     #[serde(default)]
     pub background: Option<Real>,
-    /// `G`, the shift's gain per step when `background` is not given (default 0.12).
+    /// `G` (dimensionless), the shift's gain per step when `background` is not given (default 0.12).
     #[serde(default = "default_gain")]
     pub gain: Real,
-    /// The free-surface threshold on `∇·r` (default 1.5 in 2-D, 2.75 in 3-D, 0.75 in 1-D).
+    /// The free-surface threshold on `∇·r` (dimensionless; default 1.5 in 2-D, 2.75 in 3-D, 0.75 in 1-D).
     #[serde(default)]
     pub surface: Option<Real>,
     /// Whether the momentum equation carries the stress `A = ρ v ⊗ (ṽ − v)` (default true).

@@ -27,12 +27,12 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// Settings of the isotropy enlargement (see the module docs).
-#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Isotropy {
-    /// Smallest admissible `I_i = det S_i / (tr S_i / d)^d`, in (0, 1).
+    /// Smallest admissible `I_i = det S_i / (tr S_i / d)^d` (dimensionless), in (0, 1).
     pub min: Real,
-    /// Largest factor by which `h_i` may exceed its Eq. 6.1 value (≥ 1).
+    /// Largest factor by which `h_i` may exceed its Eq. 6.1 value (dimensionless, ≥ 1).
     pub max_growth: Real,
 }
 

@@ -18,14 +18,14 @@ use dualsph_fluid::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// The h-update of §6.
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SmoothingLengthUpdate {
     /// Update period m in steps (paper: about 50).
     pub every: u64,
-    /// h in units of the particle size (paper: 1.5 to 3).
+    /// h in units of the particle size (dimensionless; paper: 1.5 to 3).
     pub n: Real,
-    /// Largest ratio `h_j/h_i` allowed between a particle i and a neighbour j whose support
+    /// Largest ratio `h_j/h_i` (dimensionless) allowed between a particle i and a neighbour j whose support
     /// holds it (`|r_ij| < h_j`): after Eq. 6.1, `h_i ← max(h_i, max_j h_j/R)`. None (the
     /// default) applies Eq. 6.1 alone. Where the particle spacing jumps by more than R (a
     /// 1:4 or 1:8 refinement interface), the small particles next to the interface would

@@ -49,10 +49,10 @@ use dualsph_fluid::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// Pairwise cohesion surface tension (Akinci et al. 2013), calibrated to a surface tension σ.
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SurfaceTension {
-    /// Surface tension σ (N/m in 3-D, N in 2-D), ≥ 0.
+    /// Surface tension σ (N/m; N in 2-D), ≥ 0.
     pub sigma: Real,
 }
 

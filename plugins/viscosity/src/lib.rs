@@ -32,14 +32,14 @@ use dualsph_kernel_correction::ensure_velocity_gradient;
 use serde::{Deserialize, Serialize};
 
 /// Monaghan artificial viscosity.
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ArtificialViscosity {
-    /// Linear coefficient α.
+    /// Linear coefficient α (dimensionless).
     pub alpha: Real,
-    /// Quadratic coefficient β.
+    /// Quadratic coefficient β (dimensionless).
     pub beta: Real,
-    /// η = eta_factor · h̄ (default 0.1).
+    /// η = eta_factor · h̄ (dimensionless; default 0.1).
     #[serde(default = "default_eta")]
     pub eta_factor: Real,
     /// Other coefficients by body: `materials: [(body: "oil", alpha: 0.1, beta: 0.0)]`.
@@ -54,14 +54,14 @@ pub struct ArtificialViscosity {
 }
 
 /// A body's own artificial-viscosity coefficients (see [`ArtificialViscosity::materials`]).
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct AvMaterial {
     /// The body's name.
     pub body: String,
-    /// α.
+    /// α (dimensionless).
     pub alpha: Real,
-    /// β.
+    /// β (dimensionless).
     pub beta: Real,
 }
 
@@ -72,9 +72,9 @@ fn default_eta() -> Real {
 /// The artificial-viscosity pair term.
 #[derive(Debug, Clone)]
 pub struct ArtificialViscosityTerm {
-    /// α.
+    /// α (dimensionless).
     pub alpha: Real,
-    /// β.
+    /// β (dimensionless).
     pub beta: Real,
     /// η / h̄.
     pub eta_factor: Real,
@@ -260,12 +260,12 @@ impl SimPlugin for ArtificialViscosity {
 }
 
 /// Morris-type physical viscosity.
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct PhysicalViscosity {
-    /// Dynamic viscosity μ.
+    /// Dynamic viscosity μ (Pa s).
     pub mu: Real,
-    /// `η/h_i` of the regularisation `r² + η²` (default 0.1, the paper's). It lowers the
+    /// `η/h_i` (dimensionless) of the regularisation `r² + η²` (default 0.1, the paper's). It lowers the
     /// Laplacian the term makes: on a square lattice with Wendland C2 and a support of 3Δx,
     /// the sum that should be 1 is 0.950 at 0.1 and 0.997 at 0.01 (see the unit test
     /// `regularisation_lowers_the_laplacian`), so a viscous flow that must be accurate to a
@@ -278,19 +278,19 @@ pub struct PhysicalViscosity {
 }
 
 /// A body's own dynamic viscosity (see [`PhysicalViscosity::materials`]).
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct MuMaterial {
     /// The body's name.
     pub body: String,
-    /// μ.
+    /// μ (Pa s).
     pub mu: Real,
 }
 
 /// The physical-viscosity pair term (Eq. 4.23).
 #[derive(Debug, Clone)]
 pub struct PhysicalViscosityTerm {
-    /// μ.
+    /// μ (Pa s).
     pub mu: Real,
     /// `η/h_i`.
     pub eta_factor: Real,
@@ -397,12 +397,12 @@ impl SimPlugin for PhysicalViscosity {
 }
 
 /// Newtonian viscous stress.
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct NewtonianViscosity {
-    /// Dynamic viscosity μ.
+    /// Dynamic viscosity μ (Pa s).
     pub mu: Real,
-    /// Second viscosity coefficient λ (default 0, as in the paper's Eq. 4.6 example).
+    /// Second viscosity coefficient λ (Pa s) (default 0, as in the paper's Eq. 4.6 example).
     #[serde(default)]
     pub lambda: Real,
 }
@@ -410,7 +410,7 @@ pub struct NewtonianViscosity {
 /// The viscous-stress pair term.
 #[derive(Debug, Clone, Copy)]
 pub struct ViscousStressTerm {
-    /// μ.
+    /// μ (Pa s).
     pub mu: Real,
     /// λ.
     pub lambda: Real,

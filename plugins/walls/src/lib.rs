@@ -29,10 +29,10 @@ use serde::{Deserialize, Serialize};
 pub struct WallBodies(pub Vec<bool>);
 
 /// Specular reflection on the domain box.
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SpecularWalls {
-    /// κ: a particle closer to a face than `κ h_i` and approaching it is reflected.
+    /// κ (dimensionless): a particle closer to a face than `κ h_i` and approaching it is reflected.
     #[serde(default)]
     pub clearance: Real,
 }

@@ -43,7 +43,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// Wall particles take the pressure extrapolated from the fluid (module docs).
-#[derive(Debug, Clone, Default, Deserialize, Serialize)]
+#[derive(Debug, Clone, Default, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct WallPressure {
     /// The bodies treated so, by name; empty (the default) means every fixed or prescribed

@@ -25,7 +25,9 @@ use dualsph_core::math::Vector;
 use serde::{Deserialize, Serialize};
 
 /// What velocity wall particles show the viscous terms (module docs).
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize)]
+#[derive(
+    Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize, schemars::JsonSchema,
+)]
 pub enum ViscousWall {
     /// Their own (the wall's) velocity: the viscous terms see the fluid slide past wall
     /// particles that move with the wall.

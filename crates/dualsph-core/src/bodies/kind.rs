@@ -16,7 +16,9 @@ use std::fmt::Debug;
 use std::sync::Arc;
 
 /// A kind of body, as a scene names it.
-pub trait BodyKind: Serialize + DeserializeOwned + Debug + Send + Sync + 'static {
+pub trait BodyKind:
+    Serialize + DeserializeOwned + schemars::JsonSchema + Debug + Send + Sync + 'static
+{
     /// The name used in scenes.
     const NAME: &'static str;
     /// One line for listings and error messages.
@@ -88,6 +90,8 @@ pub struct BodyKindEntry {
     pub bare: bool,
     /// Settings parser.
     pub parse: BodyKindParseFn,
+    /// The settings' schema (see [`crate::plugin::fields`]).
+    pub schema: fn() -> schemars::Schema,
 }
 
 impl Debug for BodyKindEntry {
@@ -104,6 +108,7 @@ impl BodyKindEntry {
             summary: K::SUMMARY,
             bare: K::BARE,
             parse: parse_kind::<K>,
+            schema: crate::plugin::fields::schema_of::<K>,
         }
     }
 }
@@ -116,7 +121,7 @@ fn parse_kind<K: BodyKind>(
 }
 
 /// A body whose particles are integrated in time by the forces on them (the default kind).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Fluid;
 
 impl BodyKind for Fluid {
@@ -129,7 +134,7 @@ impl BodyKind for Fluid {
 }
 
 /// A body held at its initial positions with zero velocity: a wall, a fixed obstacle.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Fixed;
 
 impl BodyKind for Fixed {

@@ -35,7 +35,9 @@ impl SectionProblem {
 }
 
 /// The settings of a scene section, owned by the crate that uses them.
-pub trait SceneSection: Serialize + DeserializeOwned + Debug + Send + Sync + 'static {
+pub trait SceneSection:
+    Serialize + DeserializeOwned + schemars::JsonSchema + Debug + Send + Sync + 'static
+{
     /// The section's field name in a scene.
     const KEY: &'static str;
     /// Rejects meaningless settings (checked with the rest of the scene, in order).
@@ -94,6 +96,8 @@ pub struct SectionEntry {
     pub key: &'static str,
     /// Settings parser.
     pub parse: SectionParseFn,
+    /// The settings' schema (see [`super::fields`]).
+    pub schema: fn() -> schemars::Schema,
 }
 
 impl Debug for SectionEntry {

@@ -20,7 +20,7 @@ use serde::{Deserialize, Serialize};
 use std::path::Path;
 
 /// Test plugin with settings.
-#[derive(Debug, Deserialize, Serialize)]
+#[derive(Debug, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(super) struct Gravity {
     pub g: Vec<f64>,
@@ -46,7 +46,7 @@ impl SimPlugin for Gravity {
 }
 
 /// Test plugin without settings.
-#[derive(Debug, Deserialize, Serialize)]
+#[derive(Debug, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(super) struct Walls {}
 
@@ -59,7 +59,7 @@ impl SimPlugin for Walls {
 }
 
 /// Test `integrator` section: `(dt: Fixed(x))` or `(dt: Adaptive(courant: x))`.
-#[derive(Debug, PartialEq, Deserialize, Serialize)]
+#[derive(Debug, PartialEq, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(super) struct Steps {
     pub dt: Dt,
@@ -68,7 +68,7 @@ pub(super) struct Steps {
 }
 
 /// The test section's step rule.
-#[derive(Debug, PartialEq, Deserialize, Serialize)]
+#[derive(Debug, PartialEq, Deserialize, Serialize, schemars::JsonSchema)]
 pub(super) enum Dt {
     Fixed(f64),
     Adaptive {
@@ -91,7 +91,7 @@ impl SceneSection for Steps {
 }
 
 /// Test `health` section.
-#[derive(Debug, PartialEq, Deserialize, Serialize)]
+#[derive(Debug, PartialEq, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(super) struct Health {
     pub limit: f64,
@@ -102,7 +102,7 @@ impl SceneSection for Health {
 }
 
 /// Test body kind with settings: `Spin(rate: 2.0)`, a rate > 0 (the law is not used).
-#[derive(Debug, Deserialize, Serialize)]
+#[derive(Debug, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(super) struct Spin {
     pub rate: f64,

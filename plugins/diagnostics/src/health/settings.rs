@@ -16,22 +16,22 @@ pub const DEFAULT_DT_BELOW: Real = 1e6;
 /// The `health` section: the sane ranges `[min/below, max·above]` of density and h around
 /// their initial ranges (see [`HealthBounds`]), and the floor of dt. Each factor must be a
 /// finite number > 1; a bad value is a parse error at its own position.
-#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct HealthSettings {
-    /// Factor below the initial minimum density; default 300.
+    /// Factor (dimensionless) below the initial minimum density; default 300.
     #[serde(deserialize_with = "factor")]
     pub density_below: Real,
-    /// Factor above the initial maximum density; default 10.
+    /// Factor (dimensionless) above the initial maximum density; default 10.
     #[serde(deserialize_with = "factor")]
     pub density_above: Real,
-    /// Factor below the initial minimum h; default 10.
+    /// Factor (dimensionless) below the initial minimum h; default 10.
     #[serde(deserialize_with = "factor")]
     pub h_below: Real,
-    /// Factor above the initial maximum h; default 300.
+    /// Factor (dimensionless) above the initial maximum h; default 300.
     #[serde(deserialize_with = "factor")]
     pub h_above: Real,
-    /// The run stops as a blow-up when dt falls this factor below the dt of its first step;
+    /// The run stops as a blow-up when dt falls this factor (dimensionless) below the dt of its first step;
     /// default 10^6.
     #[serde(deserialize_with = "factor")]
     pub dt_below: Real,
