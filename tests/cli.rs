@@ -284,10 +284,13 @@ fn doc_prints_each_field_with_its_type_default_and_unit() {
     let (code, text, _) = stdout_of(&["doc", "TaitEos"]);
     assert_eq!(code, Some(0));
     assert!(text.starts_with("TaitEos(..) — plugin: "), "{text}");
+    assert!(text.contains("  c0: SoundSpeed (optional) = none\n      Reference sound speed c0 (m/s), or `Auto(factor: 10.0)`"), "{text}");
+    assert!(text.contains("\nSoundSpeed:\n"), "{text}");
     assert!(
-        text.contains("  c0: number (optional) = none\n      Reference sound speed c0 (m/s).\n"),
+        text.contains("  number\n      The value (m/s).\n  Auto(..)\n"),
         "{text}"
     );
+    assert!(text.contains("      factor: number = 10.0\n"), "{text}");
     assert!(text.contains("  rho0: number (required)\n"), "{text}");
     assert!(text.contains("\nTaitMaterial:\n"), "{text}");
     let (_, integrator, _) = stdout_of(&["doc", "integrator"]);

@@ -26,7 +26,7 @@ fn run_steps_with(
             TaitEos {
                 rho0: 1000.0,
                 gamma: 7.0,
-                c0: Some(20.0),
+                c0: Some(20.0.into()),
                 p0: None,
                 min_pressure: None,
                 background: 0.0,

@@ -210,3 +210,137 @@ fn cli_grid_and_plot_probes() {
         .unwrap();
     assert_eq!(missing_scene.status.code(), Some(4));
 }
+
+/// The tutorial's tank with probes in the water (a point, a line, a sensor, a gauge),
+/// sampled every 50 steps, snapshots every 50, 100 steps.
+fn tank_with_probes(probes: &str) -> String {
+    let text = std::fs::read_to_string(scene_path("tutorial_tank_2d.ron")).unwrap();
+    let start = text.find("        Probes(every: 50, probes: [").unwrap();
+    let end = start + text[start..].find("]),\n").unwrap() + 4;
+    let text = format!(
+        "{}        Probes(every: 50, probes: [{probes}]),\n{}",
+        &text[..start],
+        &text[end..]
+    );
+    text.replace("end_time: 1.0,", "end_time: 1.0, max_steps: Some(100),")
+        .replace("snapshot_every: 500", "snapshot_every: 50")
+}
+
+const TANK_PROBES: &str = "Point(name: \"p\", at: [0.2, 0.1], quantity: \"pressure\"), \
+    Line(name: \"u\", start: [0.05, 0.3], end: [0.35, 0.3], n: 4, quantity: \"velocity.y\"), \
+    Sensor(name: \"s\", start: [0.395, 0.02], end: [0.395, 0.12], n: 5, floor: 0.0), \
+    WaterHeight(name: \"h\", at: [0.2])";
+
+fn dualsph(args: &[&std::ffi::OsStr]) -> (Option<i32>, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_dualsph"))
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status.code(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn probe_samples_a_finished_runs_snapshots_as_the_live_probes_did() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("tank.ron");
+    std::fs::write(&scene, tank_with_probes(TANK_PROBES)).unwrap();
+    let run = dir.path().join("run");
+    let os = |s: &str| std::ffi::OsString::from(s);
+    let (code, _, err) = dualsph(&[&os("run"), scene.as_os_str(), &os("--out"), run.as_os_str()]);
+    assert_eq!(code, Some(0), "{err}");
+    // the run's own scene (from its run.json): every probe, bitwise as sampled live
+    let (code, out, err) = dualsph(&[&os("probe"), run.as_os_str()]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(out.contains("(3 snapshots)"), "{out}");
+    let live = std::fs::read_to_string(run.join("probes.csv")).unwrap();
+    let post = std::fs::read_to_string(run.join("snapshot_probes/probes.csv")).unwrap();
+    assert_eq!(live.lines().count(), 4, "{live}");
+    assert_eq!(post, live);
+    assert!(
+        live.lines()
+            .nth(3)
+            .unwrap()
+            .split(',')
+            .skip(2)
+            .all(|v| v.parse::<f64>().unwrap().is_finite()),
+        "{live}"
+    );
+    let points = std::fs::read_to_string(run.join("probes_points.csv")).unwrap();
+    let post_points =
+        std::fs::read_to_string(run.join("snapshot_probes/probes_points.csv")).unwrap();
+    assert_eq!(post_points, points);
+    // a probe added after the run, from another scene file, into another directory
+    let later = dir.path().join("later.ron");
+    let added =
+        format!("{TANK_PROBES}, Point(name: \"q\", at: [0.1, 0.05], quantity: \"density\")");
+    std::fs::write(&later, tank_with_probes(&added)).unwrap();
+    let out_dir = dir.path().join("later");
+    let (code, _, err) = dualsph(&[
+        &os("probe"),
+        run.as_os_str(),
+        &os("--scene"),
+        later.as_os_str(),
+        &os("--out"),
+        out_dir.as_os_str(),
+    ]);
+    assert_eq!(code, Some(0), "{err}");
+    let table = read_probes(&out_dir).unwrap();
+    assert_eq!(table.columns.last().map(String::as_str), Some("q"));
+    assert_eq!(table.step, vec![0, 50, 100]);
+    assert!(
+        table
+            .values
+            .iter()
+            .all(|r| (r.last().unwrap() - 1000.0).abs() < 50.0),
+        "{:?}",
+        table.values
+    );
+}
+
+#[test]
+fn probe_refuses_what_it_cannot_sample_with_the_exit_table() {
+    let dir = tempfile::tempdir().unwrap();
+    let os = |s: &str| std::ffi::OsString::from(s);
+    // no run there: a missing file (4)
+    let (code, _, err) = dualsph(&[&os("probe"), dir.path().join("nothing").as_os_str()]);
+    assert_eq!(code, Some(4), "{err}");
+    assert!(err.contains("run.json"), "{err}");
+    // a scene without probes: invalid input (2)
+    let scene = dir.path().join("tank.ron");
+    std::fs::write(&scene, tank_with_probes(TANK_PROBES)).unwrap();
+    let run = dir.path().join("run");
+    let (code, _, err) = dualsph(&[
+        &os("run"),
+        scene.as_os_str(),
+        &os("--out"),
+        run.as_os_str(),
+        &os("--set"),
+        &os("max_steps=2"),
+    ]);
+    assert_eq!(code, Some(0), "{err}");
+    let bare = dir.path().join("bare.ron");
+    let text = tank_with_probes(TANK_PROBES);
+    let start = text.find("        Probes(").unwrap();
+    let end = start + text[start..].find("]),\n").unwrap() + 4;
+    std::fs::write(&bare, format!("{}{}", &text[..start], &text[end..])).unwrap();
+    let (code, _, err) = dualsph(&[
+        &os("probe"),
+        run.as_os_str(),
+        &os("--scene"),
+        bare.as_os_str(),
+    ]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("has no Probes plugin"), "{err}");
+    // a snapshot index that is not one: its line named
+    std::fs::write(run.join("snapshots.csv"), "step,t,file\nfive,0.1,x.csv\n").unwrap();
+    let (code, _, err) = dualsph(&[&os("probe"), run.as_os_str()]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(
+        err.contains("snapshots.csv:2: expected `step,t,file`"),
+        "{err}"
+    );
+}

@@ -90,7 +90,7 @@ fn drop_sim(
         &TaitEos {
             rho0: RHO,
             gamma: 7.0,
-            c0: Some(100.0),
+            c0: Some(100.0.into()),
             p0: None,
             min_pressure: None,
             background: 0.0,

@@ -12,7 +12,7 @@ pub fn tait() -> dualsph::plugins::TaitEos {
     dualsph::plugins::TaitEos {
         rho0: 1000.0,
         gamma: 7.0,
-        c0: Some(20.0),
+        c0: Some(20.0.into()),
         p0: None,
         min_pressure: None,
         background: 0.0,

@@ -162,6 +162,7 @@ pub struct Sim<V: Vector> {
     requirements: Vec<(fn(&World) -> bool, String)>,
     /// Checks of the scene's particles that plugins ask for (see [`Sim::advise`]).
     advisories: Vec<fn(&mut World) -> Option<String>>,
+    notes: Vec<String>,
     /// The plugin being built (systems added now are its own), `core` otherwise.
     building: &'static str,
     schedule: Option<Schedule>,
@@ -211,6 +212,7 @@ impl<V: Vector> Sim<V> {
             systems: Vec::new(),
             requirements: Vec::new(),
             advisories: Vec::new(),
+            notes: Vec::new(),
             building: "core",
             schedule: None,
             labels: Vec::new(),
@@ -255,6 +257,17 @@ impl<V: Vector> Sim<V> {
     pub fn advice(&mut self) -> Vec<String> {
         let checks = self.advisories.clone();
         checks.iter().filter_map(|c| c(&mut self.world)).collect()
+    }
+
+    /// Records what a plugin derived from the scene as it was built (`c0 = 48.5 m/s, from
+    /// …`): the command line prints it on `check` and `run`, so the value a run uses is seen.
+    pub fn note(&mut self, text: impl Into<String>) {
+        self.notes.push(text.into());
+    }
+
+    /// The notes of [`Sim::note`], in the order they were recorded.
+    pub fn notes(&self) -> &[String] {
+        &self.notes
     }
 
     /// Adds a system to a set, after every system already in that set unless the returned

@@ -23,6 +23,7 @@ pub mod checks;
 pub mod components;
 mod eos;
 mod equations;
+pub mod speeds;
 mod sums;
 
 pub use eos::{BodyEos, EosLaw};

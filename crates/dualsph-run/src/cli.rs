@@ -38,6 +38,7 @@ macro_rules! say {
 }
 
 mod doc;
+mod probe;
 mod run;
 
 #[derive(Parser)]
@@ -141,6 +142,23 @@ enum Command {
         /// Grid spacing (m).
         #[arg(long)]
         dx: f64,
+    },
+    /// Sample a scene's probes over a finished run's snapshots (those snapshots.csv lists,
+    /// CSV or .vtp) into OUT/probes.csv and OUT/probes_points.csv, as the Probes plugin
+    /// samples a running simulation.
+    Probe {
+        /// The run's output directory (its run.json gives the scene, its snapshots.csv the
+        /// snapshots).
+        dir: PathBuf,
+        /// Sample this scene's probes instead of the run's own (the run's scene with probes
+        /// added after the run); its particles and plugins must be the run's.
+        #[arg(long)]
+        scene: Option<PathBuf>,
+        /// Output directory (default: DIR/snapshot_probes).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        #[command(flatten)]
+        set: SetArgs,
     },
     /// Plot DIR/probes.csv (written by the Probes plugin) into PNGs next to it.
     PlotProbes {
@@ -255,6 +273,9 @@ pub fn main(registry: Registry) -> ExitCode {
             // building the simulation also checks what plugins require of each other
             let planned = runner::plan(&s)
                 .map_err(|e| Failure::new(exit::of_sim(&e), format!("{}: {e}", scene.display())))?;
+            for n in &planned.notes {
+                eprintln!("note: {}: {n}", scene.display());
+            }
             for w in &planned.warnings {
                 eprintln!("warning: {}: {w}", scene.display());
             }
@@ -310,6 +331,14 @@ pub fn main(registry: Registry) -> ExitCode {
         } => load(&scene, &registry, &SetArgs::default())
             .and_then(|s| grid_command(&scene, &s, dir, &file, &field, dx)),
         Command::PlotProbes { dir } => plot_probes_command(&dir),
+        Command::Probe {
+            dir,
+            scene,
+            out,
+            set,
+        } => probe::probe_command(&dir, scene.as_deref(), out, &set, &registry).map(|(file, n)| {
+            say!("wrote {} ({n} snapshots)", file.display());
+        }),
         Command::Plugins { fields } => {
             say!("{}", doc::listing(&registry, fields).trim_end());
             Ok(())

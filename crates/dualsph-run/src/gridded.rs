@@ -27,7 +27,7 @@ use dualsph_io::{ArrayValues, ImageGrid, POSITION, ParticleTable, VtkArray, VtkE
 use dualsph_probes::Quantity;
 use std::path::{Path, PathBuf};
 
-mod field;
+pub(crate) mod field;
 
 /// Points with a Shepard sum below this are outside the fluid.
 pub const INSIDE_SHEPARD: Real = 0.5;

@@ -276,6 +276,9 @@ pub fn run_dim_with<V: Vector>(
     let n = scene.generate().len();
     memory::check_memory(scene, n, memory::memory_available())?;
     let mut sim = build_sim::<V>(scene)?;
+    for n in sim.notes() {
+        eprintln!("note: {n}");
+    }
     for w in sim.advice() {
         eprintln!("warning: {w}");
     }
@@ -458,6 +461,7 @@ pub fn plan(scene: &Scene) -> Result<Planned, SimError> {
             plan: sim.plan(),
             pair_terms: sim.pair_terms(),
             warnings: sim.advice(),
+            notes: sim.notes().to_vec(),
         })
     })
 }
@@ -472,6 +476,8 @@ pub struct Planned {
     pub pair_terms: Vec<String>,
     /// What the plugins warn of.
     pub warnings: Vec<String>,
+    /// What the plugins derived from the scene (`Sim::note`).
+    pub notes: Vec<String>,
 }
 
 /// Default output directory for a scene file: `out/<file stem>`.

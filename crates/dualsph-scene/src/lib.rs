@@ -129,8 +129,12 @@ pub struct Scene {
     pub plugins: Vec<Box<dyn PluginConfig>>,
     /// Time stepping: the `integrator` section, parsed and checked by the settings type the
     /// registry holds under that key (`dualsph_integrator::IntegratorSettings` in the default
-    /// registry); read it with [`Scene::section`].
-    #[serde(deserialize_with = "sections::integrator")]
+    /// registry); read it with [`Scene::section`]. Optional: left out, it is the settings
+    /// type's default (the adaptive step).
+    #[serde(
+        default = "sections::default_integrator",
+        deserialize_with = "sections::integrator"
+    )]
     pub integrator: Box<dyn SectionConfig>,
     /// Simulated time at which the run stops (> 0).
     pub end_time: f64,

@@ -37,6 +37,45 @@ pub(crate) fn integrator<'de, D: Deserializer<'de>>(
     section("integrator", d)
 }
 
+/// The `integrator` section a scene leaves out: its registered settings type parsed from
+/// `()` (its defaults). A registry without one (or whose type has no defaults) gives a
+/// section that [`validate`](SectionConfig::validate) refuses, with why.
+pub(crate) fn default_integrator() -> Box<dyn SectionConfig> {
+    let parsed = lookup("integrator").and_then(|entry| {
+        let mut d = ron::Deserializer::from_str("()").map_err(|e| e.to_string())?;
+        let mut erased = <dyn erased_serde::Deserializer>::erase(&mut d);
+        (entry.parse)(&mut erased).map_err(|e| {
+            format!("the scene has no `integrator` section and its settings have no default: {e}")
+        })
+    });
+    parsed.unwrap_or_else(|why| Box::new(Missing(why)))
+}
+
+/// A section that could not be given a default: `validate` says why.
+#[derive(Debug, serde::Serialize)]
+struct Missing(String);
+
+impl SectionConfig for Missing {
+    fn key(&self) -> &'static str {
+        "integrator"
+    }
+    fn validate(
+        &self,
+        _: &dualsph_core::plugin::SceneInfo,
+    ) -> Result<(), dualsph_core::plugin::SectionProblem> {
+        Err(dualsph_core::plugin::SectionProblem::new(
+            "integrator",
+            self.0.clone(),
+        ))
+    }
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+    fn canonical(&self) -> Vec<u8> {
+        self.0.as_bytes().to_vec()
+    }
+}
+
 /// `deserialize_with` function for `Scene::health`.
 pub(crate) fn health<'de, D: Deserializer<'de>>(
     d: D,

@@ -6,8 +6,10 @@
 pub mod hydrostatic;
 pub mod initial;
 pub mod mach;
+pub mod sound_speed;
 pub use hydrostatic::HydrostaticStart;
 pub use initial::InitialPressure;
+pub use sound_speed::SoundSpeedSetting;
 
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::bodies::Bodies;
@@ -21,7 +23,8 @@ use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
 /// Weakly compressible Tait equation (Eq. 7.5): `p = p0((ρ/ρ0)^γ − 1)`, `p0 = c0²ρ0/γ`,
-/// `c = c0 (ρ/ρ0)^{(γ−1)/2}`. Give either `c0` or `p0`.
+/// `c = c0 (ρ/ρ0)^{(γ−1)/2}`. Give either `c0` (a value, or `Auto(factor: 10.0)` to derive
+/// it from the speeds the scene implies: [`sound_speed`]) or `p0`.
 #[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct TaitEos {
@@ -29,9 +32,10 @@ pub struct TaitEos {
     pub rho0: Real,
     /// Exponent γ (dimensionless; 7 for water).
     pub gamma: Real,
-    /// Reference sound speed c0 (m/s).
+    /// Reference sound speed c0 (m/s), or `Auto(factor: 10.0)`: factor × the largest speed
+    /// the scene implies.
     #[serde(default)]
-    pub c0: Option<Real>,
+    pub c0: Option<SoundSpeedSetting>,
     /// Bulk modulus p0 (Pa; alternative to c0).
     #[serde(default)]
     pub p0: Option<Real>,
@@ -66,9 +70,10 @@ pub struct TaitMaterial {
     pub body: String,
     /// Reference density ρ0 (kg/m³).
     pub rho0: Real,
-    /// Reference sound speed c0 (m/s).
+    /// Reference sound speed c0 (m/s), or `Auto(factor: 10.0)`: factor × the largest speed
+    /// the scene implies.
     #[serde(default)]
-    pub c0: Option<Real>,
+    pub c0: Option<SoundSpeedSetting>,
     /// Bulk modulus p0 (Pa; alternative to c0).
     #[serde(default)]
     pub p0: Option<Real>,
@@ -358,17 +363,19 @@ impl SimPlugin for TaitEos {
     }
 
     fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
-        let eos = self.tait(self.rho0, self.c0, self.p0)?;
+        let c0 = resolve(sim, self.c0, "c0")?;
+        let eos = self.tait(self.rho0, c0, self.p0)?;
         let bodies = sim.world.resource::<Bodies>().names();
-        let materials = bodies
-            .iter()
-            .map(
-                |name| match self.materials.iter().find(|m| &m.body == name) {
-                    Some(m) => self.tait(m.rho0, m.c0, m.p0),
-                    None => Ok(eos),
-                },
-            )
-            .collect::<Result<Vec<Eos>, SimError>>()?;
+        let mut materials = Vec::with_capacity(bodies.len());
+        for name in &bodies {
+            materials.push(match self.materials.iter().find(|m| &m.body == name) {
+                Some(m) => {
+                    let field = format!("materials[{name}].c0");
+                    self.tait(m.rho0, resolve(sim, m.c0, &field)?, m.p0)?
+                }
+                None => eos,
+            });
+        }
         sim.enable::<Liquid>();
         sim.advise(mach::sound_speed_advice::<V>);
         install(sim, eos, materials, "tait_eos (Eq. 7.5)")
@@ -395,11 +402,46 @@ impl TaitEos {
     }
 }
 
+/// The sound speed `c0` gives: its value, or one derived from the speeds the scene implies
+/// (`Auto`, noted on the simulation; gravity and inlets built later then refuse, naming the
+/// order); `None` when the scene gives `p0` instead.
+fn resolve<V: Vector>(
+    sim: &mut Sim<V>,
+    c0: Option<SoundSpeedSetting>,
+    field: &str,
+) -> Result<Option<Real>, SimError> {
+    let factor = match c0 {
+        None => return Ok(None),
+        Some(SoundSpeedSetting::Value(c)) => return Ok(Some(c)),
+        Some(SoundSpeedSetting::Auto { factor }) => factor,
+    };
+    let (u, what) = mach::implied_speed::<V>(&mut sim.world)
+        .filter(|(u, _)| u.is_finite() && *u > 0.0)
+        .ok_or_else(|| {
+            SimError::Build(format!(
+                "TaitEos.{field}: Auto(..) finds no speed in the scene (no fall under gravity, \
+                 no initial velocity, no inlet; list Gravity and Inlet before TaitEos): give \
+                 c0 in m/s"
+            ))
+        })?;
+    let c = factor * u;
+    sim.world
+        .insert_resource(dualsph_fluid::speeds::SoundSpeedDerived("TaitEos"));
+    sim.note(format!(
+        "TaitEos.{field} = {c:.4} m/s: Auto(factor: {factor}) × {u:.4} m/s, {what}"
+    ));
+    Ok(Some(c))
+}
+
 /// Exactly one of `c0` and `p0`, positive; `at` prefixes the field names.
-fn reference_scale(at: &str, c0: Option<Real>, p0: Option<Real>) -> Result<(), String> {
+fn reference_scale(
+    at: &str,
+    c0: Option<SoundSpeedSetting>,
+    p0: Option<Real>,
+) -> Result<(), String> {
     let dot = if at.is_empty() { "" } else { "." };
     match (c0, p0) {
-        (Some(c), None) => positive(&format!("{at}{dot}c0"), c),
+        (Some(c), None) => c.validate(&format!("{at}{dot}c0")),
         (None, Some(p)) => positive(&format!("{at}{dot}p0"), p),
         _ => Err(format!(
             "{at}{dot}c0, {at}{dot}p0: give exactly one of them"
@@ -555,13 +597,13 @@ mod tests {
         let material = |body: &str, c0: Option<Real>, p0: Option<Real>| TaitMaterial {
             body: body.into(),
             rho0: 500.0,
-            c0,
+            c0: c0.map(SoundSpeedSetting::Value),
             p0,
         };
         let eos = |materials| TaitEos {
             rho0: 1000.0,
             gamma: 7.0,
-            c0: Some(20.0),
+            c0: Some(20.0.into()),
             p0: None,
             min_pressure: None,
             background: 0.0,

@@ -6,13 +6,14 @@
 //! height `H` under gravity `g` (`H` the drop from its highest free surface to its lowest, or
 //! to an empty floor beside it: a dam-break column falls its height, a tank at rest does not
 //! fall; no fall where gravity lies along a periodic axis and drives a flow instead), and the
-//! fastest initial particle. Below that the run may still
+//! fastest initial particle, and the speeds plugins impose (an inlet's). Below that the run may still
 //! work, or stall on its time step when the density runs away (warned, not refused).
 
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::bodies::Bodies;
 use dualsph_fluid::BodyEos;
 use dualsph_fluid::prelude::*;
+use dualsph_fluid::speeds::SpeedScales;
 use dualsph_gravity::GravityAccel;
 
 /// The ratio `c0 / U_max` below which [`sound_speed_advice`] warns.
@@ -49,7 +50,10 @@ pub fn implied_speed<V: Vector>(world: &mut World) -> Option<(Real, String)> {
         return None;
     }
     let fall = g.map(|g| (fall_height(&seen, g, &domain), g.length()));
-    match fall {
+    let imposed = world
+        .get_resource::<SpeedScales>()
+        .and_then(|s| s.0.iter().cloned().max_by(|a, b| a.0.total_cmp(&b.0)));
+    let own = match fall {
         Some((h, g)) if (2.0 * g * h).sqrt() >= fastest && h > 0.0 => Some((
             (2.0 * g * h).sqrt(),
             format!(
@@ -58,6 +62,10 @@ pub fn implied_speed<V: Vector>(world: &mut World) -> Option<(Real, String)> {
             ),
         )),
         _ => Some((fastest, "the fastest initial fluid particle".to_string())),
+    };
+    match (own, imposed) {
+        (Some(o), Some(i)) if i.0 > o.0 => Some(i),
+        (own, _) => own,
     }
 }
 

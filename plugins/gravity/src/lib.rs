@@ -83,6 +83,7 @@ impl SimPlugin for Gravity {
     fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
         let g = V::from_slice(&self.g)
             .ok_or_else(|| SimError::Build(format!("Gravity.g needs {} components", V::DIM)))?;
+        dualsph_fluid::speeds::refuse_after_derived(&sim.world, "Gravity")?;
         sim.enable::<dualsph_fluid::GravityField>();
         sim.world.insert_resource(GravityAccel(g));
         let mut pots = sim.world.resource_mut::<ExternalPotentials>();

@@ -172,6 +172,11 @@ impl SimPlugin for Inlet {
             vector(&self.max)?,
             vector(&self.velocity)?,
         );
+        dualsph_fluid::speeds::impose_speed(
+            &mut sim.world,
+            velocity.length(),
+            "Inlet (its velocity)",
+        )?;
         let dx = self.spacing;
         let template = ParticleInit {
             pos: V::zero(),

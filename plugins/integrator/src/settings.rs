@@ -42,11 +42,22 @@ pub enum TimeStep {
     },
 }
 
-/// The `integrator` section of a scene.
+/// The default time-step rule: `Adaptive` with its default coefficients.
+fn default_dt() -> TimeStep {
+    TimeStep::Adaptive {
+        courant: default_courant(),
+        force: default_force(),
+        viscous: default_viscous(),
+    }
+}
+
+/// The `integrator` section of a scene (optional: left out, or `()`, it is the adaptive step
+/// with its default coefficients).
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct IntegratorSettings {
-    /// Time-step rule.
+    /// Time-step rule (default `Adaptive(courant: 0.1, force: 0.25, viscous: 0.125)`).
+    #[serde(default = "default_dt")]
     pub dt: TimeStep,
     /// Upper bound on an adaptive step (s; none when absent).
     #[serde(default)]

@@ -61,7 +61,9 @@ mod sample;
 
 pub use plot::{ProbeTable, plot_probes, read_probes};
 pub use quantity::Quantity;
-pub use sample::{sample_probes, sensor_mean, water_height};
+pub use sample::{
+    ProbedParticles, evaluate, sample_probes, sensor_mean, water_height, write_files,
+};
 
 use dualsph_core::bevy_ecs::prelude::*;
 
@@ -237,6 +239,14 @@ pub struct ProbeState<V: Vector> {
     sources: Vec<(Quantity, quantity::Source)>,
     /// The last error writing the files (the run goes on; the message says which file).
     pub write_error: Option<String>,
+}
+
+impl<V: Vector> ProbeState<V> {
+    /// Every quantity the probes sample, each once (resolved when the simulation is
+    /// finished: empty before).
+    pub fn quantities(&self) -> impl Iterator<Item = &Quantity> {
+        self.sources.iter().map(|(q, _)| q)
+    }
 }
 
 fn check_name(field: &str, name: &str) -> Result<(), String> {

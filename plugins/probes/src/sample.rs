@@ -102,12 +102,47 @@ fn sample_columns<V: Vector>(world: &mut World, state: &ProbeState<V>) -> Vec<Re
     let kernel = world.resource::<KernelRes>().0;
     let domain = *world.resource::<Domain<V>>();
     let s = Sampled::<V>::of(world, &state.sampled);
-    let cloud = SamplingCloud::from_particles(kernel, s.pos.clone(), &s.mass, &s.rho, s.h.clone());
-    let mut cache: Vec<(&Quantity, Vec<Real>)> = Vec::new();
+    let mut cache: Vec<(Quantity, Vec<Real>)> = Vec::new();
     for (q, source) in &state.sources {
-        cache.push((q, s.values(world, source)));
+        cache.push((q.clone(), s.values(world, source)));
     }
-    let array = |q: &Quantity| cache.iter().find(|c| c.0 == q).map(|c| &c.1);
+    let particles = ProbedParticles {
+        pos: s.pos,
+        mass: s.mass,
+        rho: s.rho,
+        h: s.h,
+    };
+    evaluate(state, kernel, &domain, &particles, &cache)
+}
+
+/// The particles a probe reads (those of its sampled bodies): positions, masses, densities
+/// and support radii, in one order.
+#[derive(Clone, Debug, Default)]
+pub struct ProbedParticles<V: Vector> {
+    /// Positions.
+    pub pos: Vec<V>,
+    /// Masses.
+    pub mass: Vec<Real>,
+    /// Densities.
+    pub rho: Vec<Real>,
+    /// Support radii.
+    pub h: Vec<Real>,
+}
+
+/// The value of every column of `state` from `particles`, with `values` holding each sampled
+/// quantity's values of those particles (in their order): the live probes' reading of the
+/// simulation, and `dualsph probe`'s of a snapshot. A quantity missing from `values` reads
+/// NaN.
+pub fn evaluate<V: Vector>(
+    state: &ProbeState<V>,
+    kernel: Kernel,
+    domain: &Domain<V>,
+    particles: &ProbedParticles<V>,
+    values: &[(Quantity, Vec<Real>)],
+) -> Vec<Real> {
+    let s = particles;
+    let cloud = SamplingCloud::from_particles(kernel, s.pos.clone(), &s.mass, &s.rho, s.h.clone());
+    let array = |q: &Quantity| values.iter().find(|c| &c.0 == q).map(|c| &c.1);
     let h_min = s.h.iter().copied().fold(Real::INFINITY, Real::min);
     state
         .columns
@@ -151,7 +186,7 @@ fn sample_columns<V: Vector>(world: &mut World, state: &ProbeState<V>) -> Vec<Re
                 &cloud,
                 &s.pos,
                 x,
-                &domain,
+                domain,
                 *threshold,
                 dy.unwrap_or(0.25 * h_min),
             ),
@@ -224,7 +259,7 @@ pub fn water_height<V: Vector>(
 
 /// Rewrites `probes_points.csv` (at the first sample, or when it is missing) and
 /// `probes.csv` in `dir`.
-fn write_files<V: Vector>(
+pub fn write_files<V: Vector>(
     dir: &Path,
     state: &ProbeState<V>,
     rows: &[(u64, Real, Vec<Real>)],

@@ -368,7 +368,7 @@ mod tests {
         let eos = dualsph_eos::TaitEos {
             rho0: 1000.0,
             gamma: 7.0,
-            c0: Some(10.0),
+            c0: Some(10.0.into()),
             p0: None,
             min_pressure: None,
             background: 0.0,
