@@ -438,14 +438,15 @@ fn a_sensor_across_the_surface_reads_its_wet_and_dry_points() {
 
 /// A sensor with `reach: 2.0` and `clip: 0.0` reads, bit for bit, the mean of the Shepard
 /// interpolants of the particles' values clipped at zero, with every support radius doubled
-/// (TrixiParticles.jl's sensor); with neither it reads the particles' own supports, unclipped.
+/// (TrixiParticles.jl's sensor; its cut-off finds no wall here); with neither it reads the
+/// particles' own supports, unclipped.
 #[test]
 fn a_sensor_interpolates_with_its_reach_and_clipped_values() {
     let mut sim = block_sim(0.4, 0.02);
     let text = r#"(every: 1, probes: [
         Sensor(name: "own", start: [0.3, 0.1], end: [0.3, 0.3], n: 3, quantity: "velocity.x"),
         Sensor(name: "trixi", start: [0.3, 0.1], end: [0.3, 0.3], n: 3, quantity: "velocity.x",
-               clip: 0.0, reach: 2.0),
+               clip: 0.0, reach: 2.0, cut_off: true),
     ])"#;
     let probes = parse(text).unwrap();
     SimPlugin::validate(&probes, &info(2)).unwrap();
