@@ -33,7 +33,14 @@
 //! sensor (a transducer face, not a point): the interpolant at `n` equally spaced points from
 //! `start` to `end`, a dry point counted as zero (`dry: Zero`, the default), left out
 //! (`Skip`) or making the reading NaN (`Nan`), and with `floor: x` every value below x read as
-//! x (`floor: 0.0` reads suction as zero, as the published sensor curves do).
+//! x (`floor: 0.0` reads suction as zero, as the published sensor curves do). With `clip: x`
+//! each particle's value below x is read as x before the interpolation instead, and with
+//! `reach: r` the sensor interpolates with every support radius times r,
+//! `A(x) = Σ_j A_j V_j W(x − x_j, r h_j) / Σ_j V_j W(x − x_j, r h_j)`: TrixiParticles.jl's
+//! dam-break validation (`validation/dam_break_2d`) reads its sensors with
+//! `clip_negative_pressure = true`, twice the fluid's smoothing length and `cut_off_bnd`
+//! (a point where the walls' kernel-weighted mass `Σ_b m_b W_b` exceeds the fluid's is
+//! dry), i.e. `clip: 0.0, reach: 2.0, cut_off: true`.
 //!
 //! A water-height gauge reports the height (above the domain's bottom) of the highest point of
 //! the vertical line through `at` where the Shepard sum `σ = Σ V_j W_j` is at least
@@ -122,6 +129,25 @@ pub enum Probe {
         /// Values below it (in the quantity's unit) are read as it (`floor: 0.0` reads suction as zero); default none.
         #[serde(default)]
         floor: Option<Real>,
+        /// Each particle's value below it is read as it *before* the interpolation; default
+        /// none. `clip: 0.0` is TrixiParticles.jl's `clip_negative_pressure = true`, which a
+        /// `floor` on the interpolated value is not: a point between a compressed and a
+        /// suction particle reads the compressed one's share.
+        #[serde(default)]
+        clip: Option<Real>,
+        /// Factor on every particle's support radius for this sensor's interpolation
+        /// (default 1: the particles' own): the points read `Σ_j A_j V_j W(x − x_j, r h_j) /
+        /// Σ_j V_j W(x − x_j, r h_j)`. TrixiParticles.jl's dam-break validation interpolates
+        /// its sensors with twice the fluid's smoothing length (`reach: 2.0`).
+        #[serde(default)]
+        reach: Option<Real>,
+        /// A point where the particles the probes do not sample (the walls) put more
+        /// kernel-weighted mass than the sampled fluid, `Σ_b m_b W_b > Σ_f m_f W_f` (with the
+        /// same `reach`), is dry (default false): TrixiParticles.jl's `cut_off_bnd`, which
+        /// keeps a point next to a wall from reading a film of fluid a particle thick as a
+        /// full value.
+        #[serde(default)]
+        cut_off: bool,
     },
     /// Free-surface height on the vertical line through `at` (2-D: `[x]`, 3-D: `[x, y]`).
     WaterHeight {
@@ -201,12 +227,21 @@ enum What {
         points: Vec<[Real; 3]>,
         dry: Dry,
         floor: Option<Real>,
+        /// Per-particle clip before the interpolation.
+        clip: Option<Real>,
+        /// Factor on the support radii.
+        reach: Real,
+        /// Dry where the other bodies' mass outweighs the fluid's.
+        cut_off: bool,
     },
     Height {
         threshold: Real,
         dy: Option<Real>,
     },
 }
+
+/// The largest factor a sensor may put on the support radii ([`Probe::Sensor`]'s `reach`).
+pub const MAX_SENSOR_REACH: Real = 10.0;
 
 /// The most samples a water-height gauge takes along the domain's height per reading.
 pub const MAX_GAUGE_SAMPLES: Real = 1e6;
@@ -378,6 +413,9 @@ impl Probes {
                     quantity,
                     dry,
                     floor,
+                    clip,
+                    reach,
+                    cut_off,
                 } => {
                     let mid: Vec<Real> =
                         start.iter().zip(end).map(|(a, b)| 0.5 * (a + b)).collect();
@@ -392,6 +430,9 @@ impl Probes {
                             points: spaced(start, end, *n).iter().map(|p| xyz(p)).collect(),
                             dry: *dry,
                             floor: *floor,
+                            clip: *clip,
+                            reach: reach.unwrap_or(1.0),
+                            cut_off: *cut_off,
                         },
                     });
                 }
@@ -464,11 +505,24 @@ impl SimPlugin for Probes {
                     end,
                     n,
                     floor,
+                    clip,
+                    reach,
                     ..
                 } => {
                     check_points(&f, (start, end, *n), info)?;
                     if floor.is_some_and(|x| !x.is_finite()) {
                         return Err(format!("{}: must be finite", f("floor")));
+                    }
+                    if clip.is_some_and(|x| !x.is_finite()) {
+                        return Err(format!("{}: must be finite", f("clip")));
+                    }
+                    if let Some(r) = reach
+                        && !(r.is_finite() && (0.1..=MAX_SENSOR_REACH).contains(r))
+                    {
+                        return Err(format!(
+                            "{}: must be in [0.1, {MAX_SENSOR_REACH}], got {r}",
+                            f("reach")
+                        ));
                     }
                     name
                 }

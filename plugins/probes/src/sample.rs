@@ -17,6 +17,8 @@ struct Sampled<V: Vector> {
     mass: Vec<Real>,
     rho: Vec<Real>,
     h: Vec<Real>,
+    /// The particles of the bodies not sampled (the walls): positions, masses, support radii.
+    others: (Vec<V>, Vec<Real>, Vec<Real>),
 }
 
 impl<V: Vector> Sampled<V> {
@@ -29,6 +31,7 @@ impl<V: Vector> Sampled<V> {
             mass: Vec::new(),
             rho: Vec::new(),
             h: Vec::new(),
+            others: (Vec::new(), Vec::new(), Vec::new()),
         };
         // by row (the one table's order): every sampled particle, whatever its id
         for (b, r, m, rho, h) in q.iter(world) {
@@ -39,9 +42,33 @@ impl<V: Vector> Sampled<V> {
                 s.mass.push(m.0);
                 s.rho.push(rho.0);
                 s.h.push(h.0);
+            } else {
+                s.others.0.push(r.0);
+                s.others.1.push(m.0);
+                s.others.2.push(h.0);
             }
         }
         s
+    }
+
+    /// The clouds a sensor of `reach` reads: the sampled particles' with every support radius
+    /// times `reach`, and, when `others` is true, the other particles' with their masses as
+    /// volumes (so that its Shepard sum is `Σ_b m_b W_b`, for [`What::Mean`]'s `cut_off`).
+    fn clouds(
+        &self,
+        kernel: Kernel,
+        reach: Real,
+        others: bool,
+    ) -> (SamplingCloud<V>, Option<SamplingCloud<V>>) {
+        let h = self.h.iter().map(|h| reach * h).collect();
+        let fluid =
+            SamplingCloud::from_particles(kernel, self.pos.clone(), &self.mass, &self.rho, h);
+        let others = others.then(|| {
+            let (pos, mass, h) = &self.others;
+            let h = h.iter().map(|h| reach * h).collect();
+            SamplingCloud::new(kernel, pos.clone(), mass.clone(), h)
+        });
+        (fluid, others)
     }
 
     /// The values of `source` of the sampled particles.
@@ -97,6 +124,9 @@ pub fn sample_probes<V: Vector>(world: &mut World) {
     });
 }
 
+/// A sensor's clouds: the sampled particles' and, for a cut-off, the others'.
+type Clouds<V> = (SamplingCloud<V>, Option<SamplingCloud<V>>);
+
 /// The value of every probe column now.
 fn sample_columns<V: Vector>(world: &mut World, state: &ProbeState<V>) -> Vec<Real> {
     let kernel = world.resource::<KernelRes>().0;
@@ -144,6 +174,17 @@ pub fn evaluate<V: Vector>(
     let cloud = SamplingCloud::from_particles(kernel, s.pos.clone(), &s.mass, &s.rho, s.h.clone());
     let array = |q: &Quantity| values.iter().find(|c| &c.0 == q).map(|c| &c.1);
     let h_min = s.h.iter().copied().fold(Real::INFINITY, Real::min);
+    // the clouds of the sensors' reaches (and of the walls, for a cut-off), built once per
+    // sample
+    let mut wide: Vec<(Real, bool, Clouds<V>)> = Vec::new();
+    for c in &state.columns {
+        if let What::Mean { reach, cut_off, .. } = c.what
+            && (reach != 1.0 || cut_off)
+            && !wide.iter().any(|w| w.0 == reach && w.1 == cut_off)
+        {
+            wide.push((reach, cut_off, s.clouds(kernel, reach, cut_off)));
+        }
+    }
     state
         .columns
         .iter()
@@ -168,14 +209,34 @@ pub fn evaluate<V: Vector>(
                 points,
                 dry,
                 floor,
+                clip,
+                reach,
+                cut_off,
             } => {
                 let Some(values) = array(quantity) else {
                     return Real::NAN;
                 };
+                let clipped: Vec<Real>;
+                let values = match clip {
+                    Some(c) => {
+                        clipped = values.iter().map(|v| v.max(*c)).collect();
+                        &clipped
+                    }
+                    None => values,
+                };
+                let (cloud, others) = wide
+                    .iter()
+                    .find(|w| w.0 == *reach && w.1 == *cut_off)
+                    .map_or((&cloud, None), |w| (&w.2.0, w.2.1.as_ref()));
                 let read = points.iter().map(|p| {
                     let x = V::from_slice(&p[..V::DIM]).unwrap_or(x);
                     let smp = cloud.sample(x, values);
-                    match smp.shepard_sum > state.min_shepard {
+                    // Σ_f m_f W_f = Σ_f ρ_f V_f W_f against the others' Σ_b m_b W_b
+                    let walled = others.is_some_and(|o| {
+                        let mass = cloud.sample(x, &s.rho).value;
+                        o.shepard_sum(x) > mass
+                    });
+                    match smp.shepard_sum > state.min_shepard && !walled {
                         true => smp.shepard.unwrap_or(Real::NAN),
                         false => Real::NAN,
                     }

@@ -436,6 +436,102 @@ fn a_sensor_across_the_surface_reads_its_wet_and_dry_points() {
     assert!(e.starts_with("probes[0].n"), "{e}");
 }
 
+/// A sensor with `reach: 2.0` and `clip: 0.0` reads, bit for bit, the mean of the Shepard
+/// interpolants of the particles' values clipped at zero, with every support radius doubled
+/// (TrixiParticles.jl's sensor; its cut-off finds no wall here); with neither it reads the
+/// particles' own supports, unclipped.
+#[test]
+fn a_sensor_interpolates_with_its_reach_and_clipped_values() {
+    let mut sim = block_sim(0.4, 0.02);
+    let text = r#"(every: 1, probes: [
+        Sensor(name: "own", start: [0.3, 0.1], end: [0.3, 0.3], n: 3, quantity: "velocity.x"),
+        Sensor(name: "trixi", start: [0.3, 0.1], end: [0.3, 0.3], n: 3, quantity: "velocity.x",
+               clip: 0.0, reach: 2.0, cut_off: true),
+    ])"#;
+    let probes = parse(text).unwrap();
+    SimPlugin::validate(&probes, &info(2)).unwrap();
+    probes.build(&mut sim).unwrap();
+    sim.initialize().unwrap();
+    // a field of both signs that varies over the doubled support
+    let mut q = sim
+        .world
+        .query::<(&Position<DVec2>, &mut Velocity<DVec2>)>();
+    for (r, mut v) in q.iter_mut(&mut sim.world) {
+        v.0 = DVec2::new((25.0 * r.0.y).sin() + 0.3 * (40.0 * r.0.x).cos(), 0.0);
+    }
+    sim.step().unwrap();
+    let got = sim.world.resource::<ProbeSamples>().rows[1].2.clone();
+    let mut q = sim.world.query::<(
+        &Position<DVec2>,
+        &Velocity<DVec2>,
+        &Mass,
+        &Density,
+        &SmoothingLength,
+    )>();
+    let rows: Vec<_> = q.iter(&sim.world).collect();
+    let kernel = sim.world.resource::<KernelRes>().0;
+    let cloud = |r: Real| {
+        SamplingCloud::from_particles(
+            kernel,
+            rows.iter().map(|p| p.0.0).collect(),
+            &rows.iter().map(|p| p.2.0).collect::<Vec<_>>(),
+            &rows.iter().map(|p| p.3.0).collect::<Vec<_>>(),
+            rows.iter().map(|p| r * p.4.0).collect(),
+        )
+    };
+    let mean = |cloud: &SamplingCloud<DVec2>, values: &[Real]| {
+        let at = |y: Real| cloud.sample(DVec2::new(0.3, y), values).shepard.unwrap();
+        (at(0.1) + at(0.2) + at(0.3)) / 3.0
+    };
+    let u: Vec<Real> = rows.iter().map(|p| p.1.0.x).collect();
+    let clipped: Vec<Real> = u.iter().map(|v| v.max(0.0)).collect();
+    let want = [mean(&cloud(1.0), &u), mean(&cloud(2.0), &clipped)];
+    for (g, w) in got.iter().zip(want) {
+        assert_eq!(g.to_bits(), w.to_bits(), "{g} against {w}");
+    }
+    // the doubled reach and the clip change the reading
+    assert!((got[0] - got[1]).abs() > 1e-3, "{got:?}");
+    let bad = |field: &str| {
+        let text = format!(
+            "(every: 1, probes: [Sensor(name: \"s\", start: [0.5, 0.3], end: [0.5, 0.6], \
+             n: 2, {field})])"
+        );
+        SimPlugin::validate(&parse(&text).unwrap(), &info(2)).unwrap_err()
+    };
+    assert!(bad("reach: 0.0").starts_with("probes[0].reach"));
+    assert!(bad("reach: 11.0").starts_with("probes[0].reach"));
+    assert!(bad("clip: inf").starts_with("probes[0].clip"));
+}
+
+/// A sensor with `cut_off` reads a point dry where the walls' kernel-weighted mass outweighs
+/// the water's: a film of one row of water (v_y = −0.1) on a floor of nineteen rows, sampled
+/// on the row, is water with the particles' own supports and dry with three times their reach;
+/// without `cut_off` both read the water.
+#[test]
+fn a_sensor_with_a_cut_off_reads_a_film_on_a_wall_as_dry() {
+    let mut sim = block_on_floor(0.4, 0.02, 0.38);
+    let sensor = |name: &str, more: &str| {
+        format!(
+            "Sensor(name: \"{name}\", start: [0.4, 0.39], end: [0.6, 0.39], n: 2, \
+             quantity: \"velocity.y\", dry: Skip{more})"
+        )
+    };
+    let text = format!(
+        "(every: 1, probes: [{}, {}, {}])",
+        sensor("own", ", cut_off: true"),
+        sensor("wide", ", cut_off: true, reach: 3.0"),
+        sensor("kept", ", reach: 3.0"),
+    );
+    let probes = parse(&text).unwrap();
+    SimPlugin::validate(&probes, &info(2)).unwrap();
+    probes.build(&mut sim).unwrap();
+    sim.initialize().unwrap();
+    let row = &sim.world.resource::<ProbeSamples>().rows[0].2;
+    assert!((row[0] + 0.1).abs() < 1e-12, "{row:?}");
+    assert!(row[1].is_nan(), "{row:?}");
+    assert!((row[2] + 0.1).abs() < 1e-12, "{row:?}");
+}
+
 /// A gauge whose step would take more than a million samples over the domain's height per
 /// reading is refused (a 1e-300 step read nothing but zeros before).
 #[test]

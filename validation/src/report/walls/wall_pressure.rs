@@ -187,10 +187,11 @@ pub fn run(opts: &ReportOptions) -> Result<(Section, SensorGrade), ReportError> 
          the sensor and over a box of 0.05 in t*. References: Buchner (2002), digitised; \
          Marrone et al. (2011), δ-SPH, on the first impact only \
          (`crates/dualsph-reference/data/dam_break_pressure/`). The last column measures as \
-         TrixiParticles.jl does: the probe `P1_sensor`, the mean of 10 points over the sensor's \
+         TrixiParticles.jl does: the probe `P1_sensor`, the mean of 5 points over the sensor's \
          0.09 m (y = 0.07–0.16 m, TrixiParticles' `sensor_size = 0.09`) half a spacing off \
-         the wall face (a dry point and suction read as 0), against the experiment over t* \
-         2–6.5.\n\n",
+         the wall face, interpolated with twice the support radius and each particle's \
+         suction read as 0 (a point the wall's mass outweighs the water's at, or dry, reads \
+         0), against the experiment over t* 2–6.5.\n\n",
     );
     body += &table.render();
     body += &failures(std::iter::once(&run));
