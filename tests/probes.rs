@@ -344,3 +344,60 @@ fn probe_refuses_what_it_cannot_sample_with_the_exit_table() {
         "{err}"
     );
 }
+
+#[test]
+fn probe_reads_a_sensor_by_a_wall_of_particles_as_the_live_sensor() {
+    // Buchner's dam break with its sensors moved to the left wall, under the water at rest:
+    // the wide, clipped sensor with the walls' cut-off, bitwise as sampled live
+    let text = std::fs::read_to_string(scene_path("dam_break_buchner_2d.ron"))
+        .unwrap()
+        .replace(
+            "start: [3.2125, 0.07], end: [3.2125, 0.16]",
+            "start: [0.0075, 0.07], end: [0.0075, 0.16]",
+        )
+        .replace(
+            "start: [3.22, 0.07], end: [3.22, 0.16]",
+            "start: [0.0, 0.07], end: [0.0, 0.16]",
+        );
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("buchner.ron");
+    std::fs::write(&scene, text).unwrap();
+    let run = dir.path().join("run");
+    let os = |s: &str| std::ffi::OsString::from(s);
+    let args = [
+        "max_steps=40",
+        "output.snapshot_dt=None",
+        "output.snapshot_every=20",
+    ];
+    let mut argv = vec![
+        os("run"),
+        scene.clone().into_os_string(),
+        os("--out"),
+        run.clone().into_os_string(),
+    ];
+    for a in args {
+        argv.extend([os("--set"), os(a)]);
+    }
+    let argv: Vec<&std::ffi::OsStr> = argv.iter().map(|a| a.as_os_str()).collect();
+    let (code, _, err) = dualsph(&argv);
+    assert_eq!(code, Some(0), "{err}");
+    let (code, _, err) = dualsph(&[&os("probe"), run.as_os_str()]);
+    assert_eq!(code, Some(0), "{err}");
+    let live = read_probes(&run).unwrap();
+    let post = read_probes(&run.join("snapshot_probes")).unwrap();
+    assert_eq!(live.step, vec![0, 20, 40]);
+    let sensor = live.columns.iter().position(|c| c == "P1_sensor").unwrap();
+    // ρ g (H − y) over y = 0.07-0.16: about 4.4 kPa
+    assert!(
+        live.values.iter().all(|r| (3e3..6e3).contains(&r[sensor])),
+        "{:?}",
+        live.values
+    );
+    let bits = |t: &dualsph::probes::ProbeTable| -> Vec<Vec<u64>> {
+        t.values
+            .iter()
+            .map(|r| r.iter().map(|v| v.to_bits()).collect())
+            .collect()
+    };
+    assert_eq!(bits(&post), bits(&live));
+}

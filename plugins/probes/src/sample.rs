@@ -51,26 +51,6 @@ impl<V: Vector> Sampled<V> {
         s
     }
 
-    /// The clouds a sensor of `reach` reads: the sampled particles' with every support radius
-    /// times `reach`, and, when `others` is true, the other particles' with their masses as
-    /// volumes (so that its Shepard sum is `Σ_b m_b W_b`, for [`What::Mean`]'s `cut_off`).
-    fn clouds(
-        &self,
-        kernel: Kernel,
-        reach: Real,
-        others: bool,
-    ) -> (SamplingCloud<V>, Option<SamplingCloud<V>>) {
-        let h = self.h.iter().map(|h| reach * h).collect();
-        let fluid =
-            SamplingCloud::from_particles(kernel, self.pos.clone(), &self.mass, &self.rho, h);
-        let others = others.then(|| {
-            let (pos, mass, h) = &self.others;
-            let h = h.iter().map(|h| reach * h).collect();
-            SamplingCloud::new(kernel, pos.clone(), mass.clone(), h)
-        });
-        (fluid, others)
-    }
-
     /// The values of `source` of the sampled particles.
     fn values(&self, world: &mut World, source: &Source) -> Vec<Real> {
         match source {
@@ -141,6 +121,7 @@ fn sample_columns<V: Vector>(world: &mut World, state: &ProbeState<V>) -> Vec<Re
         mass: s.mass,
         rho: s.rho,
         h: s.h,
+        others: s.others,
     };
     evaluate(state, kernel, &domain, &particles, &cache)
 }
@@ -157,6 +138,30 @@ pub struct ProbedParticles<V: Vector> {
     pub rho: Vec<Real>,
     /// Support radii.
     pub h: Vec<Real>,
+    /// The particles of the bodies not sampled (the walls): positions, masses, support radii.
+    pub others: (Vec<V>, Vec<Real>, Vec<Real>),
+}
+
+impl<V: Vector> ProbedParticles<V> {
+    /// The clouds a sensor of `reach` reads: the sampled particles' with every support radius
+    /// times `reach`, and, when `others` is true, the other particles' with their masses as
+    /// volumes (so that its Shepard sum is `Σ_b m_b W_b`, for [`What::Mean`]'s `cut_off`).
+    fn clouds(
+        &self,
+        kernel: Kernel,
+        reach: Real,
+        others: bool,
+    ) -> (SamplingCloud<V>, Option<SamplingCloud<V>>) {
+        let h = self.h.iter().map(|h| reach * h).collect();
+        let fluid =
+            SamplingCloud::from_particles(kernel, self.pos.clone(), &self.mass, &self.rho, h);
+        let others = others.then(|| {
+            let (pos, mass, h) = &self.others;
+            let h = h.iter().map(|h| reach * h).collect();
+            SamplingCloud::new(kernel, pos.clone(), mass.clone(), h)
+        });
+        (fluid, others)
+    }
 }
 
 /// The value of every column of `state` from `particles`, with `values` holding each sampled

@@ -147,22 +147,31 @@ fn probed<V: Vector>(
         .iter()
         .map(|&b| state.sampled.get(b as usize).copied().unwrap_or(false))
         .collect();
-    let kept = |v: Vec<Real>, w: usize| -> Vec<Real> {
+    // the rows of the sampled bodies (`side` true) or of the others
+    let rows = |v: &[Real], w: usize, side: bool| -> Vec<Real> {
         v.chunks_exact(w)
             .zip(&keep)
-            .filter(|(_, k)| **k)
+            .filter(|(_, k)| **k == side)
             .flat_map(|(r, _)| r.iter().copied())
             .collect()
     };
-    let pos = kept(col("position")?, 3)
-        .chunks_exact(3)
-        .map(|p| V::from_slice(&p[..d]).unwrap_or_else(V::zero))
-        .collect();
+    let kept = |v: Vec<Real>, w: usize| rows(&v, w, true);
+    let points = |v: &[Real]| -> Vec<V> {
+        v.chunks_exact(3)
+            .map(|p| V::from_slice(&p[..d]).unwrap_or_else(V::zero))
+            .collect()
+    };
+    let (position, mass, h) = (col("position")?, col("mass")?, col("smoothing_length")?);
     let particles = ProbedParticles {
-        pos,
-        mass: kept(col("mass")?, 1),
+        pos: points(&rows(&position, 3, true)),
+        mass: rows(&mass, 1, true),
         rho: kept(col("density")?, 1),
-        h: kept(col("smoothing_length")?, 1),
+        h: rows(&h, 1, true),
+        others: (
+            points(&rows(&position, 3, false)),
+            rows(&mass, 1, false),
+            rows(&h, 1, false),
+        ),
     };
     let mut values = Vec::new();
     for q in state.quantities() {
