@@ -115,6 +115,12 @@ pub struct Transport {
     pub surface: Real,
 }
 
+/// The largest fixed background pressure (Pa): 10⁶ bar, about 45 times water's bulk modulus
+/// (2.2 GPa). A weakly compressible flow has no use for more; far beyond it the shift
+/// `Δt² p_b / ρ` overflows the positions (at `1e308` they wrap to one point, and every pair of
+/// particles becomes a neighbour).
+pub const MAX_BACKGROUND: Real = 1e11;
+
 /// `(Σ_j (V_i² + V_j²) ∇_iW_ij, ∇·r_i)` over i's support.
 pub fn background_sum<V: Vector>(support: &Support<'_, V>, volume: &[Real], i: usize) -> (V, Real) {
     let (mut sum, mut div) = (V::zero(), 0.0);
@@ -258,9 +264,11 @@ impl SimPlugin for TransportVelocity {
             ));
         }
         if let Some(p) = self.background
-            && !(p.is_finite() && p > 0.0)
+            && !(p.is_finite() && p > 0.0 && p <= MAX_BACKGROUND)
         {
-            return Err(format!("background: must be > 0, got {p}"));
+            return Err(format!(
+                "background: must be in (0, {MAX_BACKGROUND:e}] Pa, got {p}"
+            ));
         }
         check_surface(self.surface)
     }
