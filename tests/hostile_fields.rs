@@ -7,38 +7,16 @@
 
 use dualsph::core::plugin::fields::{fields, is_number};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
+
+mod common;
 
 /// Virtual memory the commands may use (KiB, for `ulimit -v`).
 const MEMORY_KIB: u64 = 4 << 20;
 
-/// The exit status of `dualsph ARGS` under the memory limit (killed, and the test failed,
-/// after 60 s), with its standard error.
+/// The exit status of `dualsph ARGS` under the memory limit, with its standard error.
 fn dualsph(args: &[String]) -> (Option<i32>, String) {
-    let mut child = Command::new("sh")
-        .arg("-c")
-        .arg(format!("ulimit -v {MEMORY_KIB} && exec \"$0\" \"$@\""))
-        .arg(env!("CARGO_BIN_EXE_dualsph"))
-        .args(args)
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let started = Instant::now();
-    let status = loop {
-        if let Some(s) = child.try_wait().unwrap() {
-            break s;
-        }
-        if started.elapsed() > Duration::from_secs(60) {
-            child.kill().unwrap();
-            panic!("dualsph {}: still running after 60 s", args.join(" "));
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    };
-    let mut err = String::new();
-    std::io::Read::read_to_string(&mut child.stderr.unwrap(), &mut err).unwrap();
-    (status.code(), err)
+    let args: Vec<std::ffi::OsString> = args.iter().map(Into::into).collect();
+    common::dualsph_limited(&args, MEMORY_KIB)
 }
 
 /// The shipped scenes, by file name.

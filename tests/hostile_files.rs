@@ -3,10 +3,10 @@
 //! run under `ulimit -v` of 4 GiB, refuses each within seconds, naming the field (or the scene
 //! file), never printing a byte of the file, never aborting.
 
-use std::io::Read;
+mod common;
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
+use std::process::Command;
 
 /// What no message may contain: it is only in the foreign files.
 const SECRET: &str = "SECRET-7f3a";
@@ -17,32 +17,7 @@ const MEMORY_KIB: u64 = 4 << 20;
 /// `dualsph check SCENE` under the memory limit, killed if it takes over 60 s:
 /// (exit code, standard error).
 fn check(scene: &Path) -> (Option<i32>, String) {
-    let bin = env!("CARGO_BIN_EXE_dualsph");
-    let mut child = Command::new("sh")
-        .arg("-c")
-        .arg(format!(
-            "ulimit -v {MEMORY_KIB} && exec \"$0\" check \"$1\""
-        ))
-        .arg(bin)
-        .arg(scene)
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let started = Instant::now();
-    let status = loop {
-        if let Some(s) = child.try_wait().unwrap() {
-            break s;
-        }
-        if started.elapsed() > Duration::from_secs(60) {
-            child.kill().unwrap();
-            panic!("{}: still running after 60 s", scene.display());
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    };
-    let mut err = String::new();
-    child.stderr.unwrap().read_to_string(&mut err).unwrap();
-    (status.code(), err)
+    common::dualsph_limited(&["check".into(), scene.into()], MEMORY_KIB)
 }
 
 fn scene_2d(generator: &str) -> String {

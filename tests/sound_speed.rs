@@ -5,18 +5,8 @@
 use std::process::Command;
 
 fn check(scene: &str) -> (bool, String) {
-    let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("column.ron");
-    std::fs::write(&path, scene).unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_dualsph"))
-        .arg("check")
-        .arg(&path)
-        .output()
-        .unwrap();
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+    let (code, err) = check_code(scene);
+    (code == Some(0), err)
 }
 
 /// A column 0.5 m tall (particle centres 0.0125 … 0.4875: H = 0.475 m) in a box `width` wide.
