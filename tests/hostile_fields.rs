@@ -8,7 +8,7 @@
 use dualsph::core::plugin::fields::{fields, is_number};
 use std::path::{Path, PathBuf};
 
-mod common;
+mod limited;
 
 /// Virtual memory the commands may use (KiB, for `ulimit -v`).
 const MEMORY_KIB: u64 = 4 << 20;
@@ -16,7 +16,7 @@ const MEMORY_KIB: u64 = 4 << 20;
 /// The exit status of `dualsph ARGS` under the memory limit, with its standard error.
 fn dualsph(args: &[String]) -> (Option<i32>, String) {
     let args: Vec<std::ffi::OsString> = args.iter().map(Into::into).collect();
-    common::dualsph_limited(&args, MEMORY_KIB)
+    limited::dualsph_limited(&args, MEMORY_KIB)
 }
 
 /// The shipped scenes, by file name.

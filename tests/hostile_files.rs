@@ -3,7 +3,7 @@
 //! run under `ulimit -v` of 4 GiB, refuses each within seconds, naming the field (or the scene
 //! file), never printing a byte of the file, never aborting.
 
-mod common;
+mod limited;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -17,7 +17,7 @@ const MEMORY_KIB: u64 = 4 << 20;
 /// `dualsph check SCENE` under the memory limit, killed if it takes over 60 s:
 /// (exit code, standard error).
 fn check(scene: &Path) -> (Option<i32>, String) {
-    common::dualsph_limited(&["check".into(), scene.into()], MEMORY_KIB)
+    limited::dualsph_limited(&["check".into(), scene.into()], MEMORY_KIB)
 }
 
 fn scene_2d(generator: &str) -> String {

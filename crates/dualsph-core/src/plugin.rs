@@ -111,6 +111,12 @@ pub trait SimPlugin:
     }
     /// Adds the plugin's components, systems and pair terms.
     fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError>;
+    /// At most how many particles the plugin adds over a run to `end_time` in `dimension`
+    /// (an inlet's layers), for the memory estimate `check` and `run` make before the run;
+    /// none by default.
+    fn particles_added(&self, _end_time: Real, _dimension: usize) -> Real {
+        0.0
+    }
 }
 
 /// A parsed plugin, with its type erased so scenes can hold a list of different plugins.
@@ -121,6 +127,8 @@ pub trait PluginConfig: Debug + Send + Sync {
     fn role(&self) -> Role;
     /// See [`SimPlugin::validate`].
     fn validate(&self, info: &SceneInfo) -> Result<(), String>;
+    /// See [`SimPlugin::particles_added`].
+    fn particles_added(&self, end_time: Real, dimension: usize) -> Real;
     /// Builds into a simulation of any dimension.
     fn build_dyn(&self, sim: &mut dyn Any) -> Result<(), SimError>;
     /// The settings in a canonical form: the name, then the settings as they were resolved
@@ -139,6 +147,9 @@ impl<P: SimPlugin> PluginConfig for P {
     }
     fn validate(&self, info: &SceneInfo) -> Result<(), String> {
         SimPlugin::validate(self, info)
+    }
+    fn particles_added(&self, end_time: Real, dimension: usize) -> Real {
+        SimPlugin::particles_added(self, end_time, dimension)
     }
     fn canonical(&self) -> Vec<u8> {
         let mut bytes = P::NAME.as_bytes().to_vec();

@@ -90,6 +90,19 @@ pub struct InletLayers(pub Vec<u64>);
 #[derive(Resource, Clone, Debug)]
 struct Outlets<V: Vector>(Vec<(V, V)>);
 
+impl Inlet {
+    /// The particles of one layer: the lattice of `spacing` over the box, in `d` dimensions.
+    fn layer_size(&self, d: usize) -> Real {
+        (0..d.min(self.min.len()).min(self.max.len()))
+            .map(|k| {
+                ((self.max[k] - self.min[k]) / self.spacing)
+                    .round()
+                    .max(1.0)
+            })
+            .product()
+    }
+}
+
 impl SimPlugin for Inlet {
     const NAME: &'static str = "Inlet";
     const SUMMARY: &'static str =
@@ -121,13 +134,7 @@ impl SimPlugin for Inlet {
                  {period:e} must be finite and > 0"
             ));
         }
-        let layer: Real = (0..d)
-            .map(|k| {
-                ((self.max[k] - self.min[k]) / self.spacing)
-                    .round()
-                    .max(1.0)
-            })
-            .product();
+        let layer = self.layer_size(d);
         if layer > MAX_LAYER_PARTICLES {
             return Err(format!(
                 "spacing: a layer over the box would hold about {layer:.3e} particles, more than \
@@ -150,6 +157,14 @@ impl SimPlugin for Inlet {
             ));
         }
         Ok(())
+    }
+
+    /// A layer every `spacing/|velocity|` up to `until` (or the end), the first at t = 0.
+    fn particles_added(&self, end_time: Real, dimension: usize) -> Real {
+        let speed = self.velocity.iter().map(|v| v * v).sum::<Real>().sqrt();
+        let last = self.until.map_or(end_time, |u| u.min(end_time)).max(0.0);
+        let layers = (last * speed / self.spacing).floor() + 1.0;
+        layers * self.layer_size(dimension)
     }
 
     fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
@@ -279,5 +294,39 @@ fn drain_outlets<V: Vector>(
         if fluid && outlets.0.iter().any(|o| inside(r.0, o)) {
             population.remove(e);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn inlet(until: Option<Real>) -> Inlet {
+        Inlet {
+            min: vec![0.0, 0.0],
+            max: vec![0.1, 0.4],
+            spacing: 0.1,
+            velocity: vec![0.6, 0.8],
+            density: 1000.0,
+            h_factor: 2.0,
+            internal_energy: 0.0,
+            body: "fluid".into(),
+            until,
+        }
+    }
+
+    #[test]
+    fn the_particles_an_inlet_adds_are_its_layers_over_the_run() {
+        // 4 per layer (the lattice over the box), one every 0.1/|(0.6, 0.8)| = 0.1 s from t = 0
+        assert_eq!(
+            lattice(glam::DVec2::ZERO, glam::DVec2::new(0.1, 0.4), 0.1).len(),
+            4
+        );
+        assert_eq!(SimPlugin::particles_added(&inlet(None), 1.0, 2), 11.0 * 4.0);
+        assert_eq!(
+            SimPlugin::particles_added(&inlet(Some(0.45)), 1.0, 2),
+            5.0 * 4.0
+        );
+        assert_eq!(SimPlugin::particles_added(&inlet(Some(3.0)), 0.05, 2), 4.0);
     }
 }

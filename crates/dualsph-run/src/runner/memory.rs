@@ -82,15 +82,36 @@ pub fn particle_limit(scene: &Scene, available: Option<u64>) -> (usize, String) 
     }
 }
 
-/// An error when `n` particles of `scene` need more than `available` bytes.
+/// The most particles the scene's plugins add over its run (its inlets' layers).
+pub fn particles_added(scene: &Scene) -> f64 {
+    scene
+        .plugins
+        .iter()
+        .map(|p| p.particles_added(scene.end_time, scene.dimension))
+        .sum()
+}
+
+/// An error when `n` particles of `scene`, with those its plugins add over the run
+/// ([`particles_added`]), need more than `available` bytes.
 pub fn check_memory(scene: &Scene, n: usize, available: Option<u64>) -> Result<(), SimError> {
     let per = bytes_per_particle(scene);
-    let need = per.saturating_mul(n as u64);
+    let added = particles_added(scene);
+    // a float beyond u64 saturates, as the memory it stands for is beyond any machine
+    let total = (n as u64).saturating_add(added.ceil() as u64);
+    let need = per.saturating_mul(total);
+    let (inlets, or_inlets) = if added > 0.0 {
+        (
+            format!(" ({n} at the start and up to {added:.3e} added by inlets over the run)"),
+            ", or stop the inlets earlier (`until`)",
+        )
+    } else {
+        (String::new(), "")
+    };
     match available {
         Some(have) if need > have => Err(SimError::Build(format!(
-            "{n} particles in {}-D need about {:.1} GB of memory (~{per} bytes per particle, of \
-             which the neighbour lists of h_factor up to {} take {}), more than the {:.1} GB \
-             available; increase the spacing or lower the h_factor",
+            "{total} particles{inlets} in {}-D need about {:.1} GB of memory (~{per} bytes per \
+             particle, of which the neighbour lists of h_factor up to {} take {}), more than the \
+             {:.1} GB available; increase the spacing or lower the h_factor{or_inlets}",
             scene.dimension,
             need as f64 / 1e9,
             largest_h_factor(scene),
