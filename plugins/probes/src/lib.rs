@@ -129,14 +129,14 @@ pub enum Probe {
         /// Values below it (in the quantity's unit) are read as it (`floor: 0.0` reads suction as zero); default none.
         #[serde(default)]
         floor: Option<Real>,
-        /// Each particle's value below it is read as it *before* the interpolation; default
-        /// none. `clip: 0.0` is TrixiParticles.jl's `clip_negative_pressure = true`, which a
+        /// Each particle's value below it (in the quantity's unit) is read as it *before* the
+        /// interpolation; default none. `clip: 0.0` is TrixiParticles.jl's `clip_negative_pressure = true`, which a
         /// `floor` on the interpolated value is not: a point between a compressed and a
         /// suction particle reads the compressed one's share.
         #[serde(default)]
         clip: Option<Real>,
-        /// Factor on every particle's support radius for this sensor's interpolation
-        /// (default 1: the particles' own): the points read `Σ_j A_j V_j W(x − x_j, r h_j) /
+        /// Factor (dimensionless) on every particle's support radius for this sensor's
+        /// interpolation (default 1: the particles' own): the points read `Σ_j A_j V_j W(x − x_j, r h_j) /
         /// Σ_j V_j W(x − x_j, r h_j)`. TrixiParticles.jl's dam-break validation interpolates
         /// its sensors with twice the fluid's smoothing length (`reach: 2.0`).
         #[serde(default)]
