@@ -147,3 +147,55 @@ fn a_typo_in_the_file_keeps_its_line_and_column_under_set() {
         "expected {line}:{col} in {err}"
     );
 }
+
+/// A run made with `--set` resumes only with the same overrides: without them the scene is
+/// another one, and the refusal says which overrides the run was made with.
+#[test]
+fn a_resume_without_the_runs_overrides_is_refused_naming_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("set");
+    let sets = [
+        "--set",
+        "max_steps=20",
+        "--set",
+        "HeatConduction.conductivity=2e-4",
+    ];
+    let mut args = vec!["--checkpoint-every", "10"];
+    args.extend(sets);
+    let first = run(&heat(), &out, &args);
+    assert!(
+        first.status.success(),
+        "{}",
+        String::from_utf8_lossy(&first.stderr)
+    );
+    let ck = out.join("checkpoint_000010.ckpt");
+    assert!(ck.exists());
+    let before = std::fs::read(out.join("run.json")).unwrap();
+    let resume = |extra: &[&str]| {
+        bin()
+            .args(["run", "--quiet", "--threads", "1"])
+            .arg(heat())
+            .arg("--resume")
+            .arg(&ck)
+            .args(extra)
+            .output()
+            .unwrap()
+    };
+    let refused = resume(&["--set", "max_steps=20"]);
+    let message = String::from_utf8_lossy(&refused.stderr);
+    assert_eq!(refused.status.code(), Some(2), "{message}");
+    assert!(
+        message.contains(
+            "made with overrides --set max_steps=20 --set HeatConduction.conductivity=2e-4 and \
+             this resume gives --set max_steps=20"
+        ),
+        "{message}"
+    );
+    assert_eq!(std::fs::read(out.join("run.json")).unwrap(), before);
+    let resumed = resume(&sets);
+    assert!(
+        resumed.status.success(),
+        "{}",
+        String::from_utf8_lossy(&resumed.stderr)
+    );
+}

@@ -31,6 +31,8 @@ pub struct SceneInfo {
     pub bodies: Vec<String>,
     /// The domain box's lower and upper corners (`dimension` components each).
     pub domain: (Vec<Real>, Vec<Real>),
+    /// The scene's `max_steps`, the most steps the run takes when it sets one.
+    pub max_steps: Option<u64>,
 }
 
 impl SceneInfo {
@@ -43,6 +45,7 @@ impl SceneInfo {
                 vec![Real::NEG_INFINITY; dimension],
                 vec![Real::INFINITY; dimension],
             ),
+            max_steps: None,
         }
     }
 

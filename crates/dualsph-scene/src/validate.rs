@@ -177,6 +177,7 @@ fn settings(s: &Scene) -> Check {
         dimension: d,
         bodies: s.body_list().into_iter().map(|b| b.name).collect(),
         domain: (s.domain.min.clone(), s.domain.max.clone()),
+        max_steps: s.max_steps,
     };
     for section in [Some(&s.integrator), s.health.as_ref()]
         .into_iter()
@@ -284,6 +285,7 @@ fn bodies(s: &Scene) -> Check {
         dimension: s.dimension,
         bodies: names.iter().map(|n| n.to_string()).collect(),
         domain: (s.domain.min.clone(), s.domain.max.clone()),
+        max_steps: s.max_steps,
     };
     for (i, b) in s.bodies.iter().enumerate() {
         b.kind.validate(&info).map_err(|p| {

@@ -246,6 +246,11 @@ pub const MAX_SENSOR_REACH: Real = 10.0;
 /// The most samples a water-height gauge takes along the domain's height per reading.
 pub const MAX_GAUGE_SAMPLES: Real = 1e6;
 
+/// The most values the probe table may hold, columns × samples (0.8 GB in memory, about
+/// 2 GB of CSV): a scene whose `max_steps` implies more is refused, and a run reaching it
+/// stops with the cause.
+pub const MAX_TABLE_VALUES: u64 = 100_000_000;
+
 /// The point `x` lies in the scene's domain; the error names the field.
 fn check_inside(field: &str, x: &[Real], info: &SceneInfo) -> Result<(), String> {
     if info.in_domain(x) {
@@ -274,6 +279,8 @@ pub struct ProbeState<V: Vector> {
     sources: Vec<(Quantity, quantity::Source)>,
     /// The last error writing the files (the run goes on; the message says which file).
     pub write_error: Option<String>,
+    /// The most values the table may hold ([`MAX_TABLE_VALUES`]).
+    pub max_values: u64,
 }
 
 impl<V: Vector> ProbeState<V> {
@@ -458,6 +465,19 @@ impl Probes {
     }
 }
 
+impl Probes {
+    /// The columns of the probe table: n for a line, one for any other probe.
+    pub fn column_count(&self) -> u64 {
+        self.probes
+            .iter()
+            .map(|p| match p {
+                Probe::Line { n, .. } => *n as u64,
+                _ => 1,
+            })
+            .sum()
+    }
+}
+
 impl SimPlugin for Probes {
     const NAME: &'static str = "Probes";
     const SUMMARY: &'static str =
@@ -476,6 +496,18 @@ impl SimPlugin for Probes {
         }
         if self.probes.is_empty() {
             return Err("probes: the list is empty".into());
+        }
+        if let Some(steps) = info.max_steps {
+            let values = self.column_count().saturating_mul(steps / self.every + 2);
+            if values > MAX_TABLE_VALUES {
+                return Err(format!(
+                    "every: {} columns sampled every {} steps over up to {steps} steps \
+                     (max_steps) make {values:.3e} values, more than the table's \
+                     {MAX_TABLE_VALUES:.0e}; sample less often or fewer points",
+                    self.column_count(),
+                    self.every
+                ));
+            }
         }
         for (k, b) in self.bodies.iter().enumerate() {
             info.check_body(&format!("bodies[{k}]"), b)?;
@@ -602,6 +634,7 @@ impl SimPlugin for Probes {
             points,
             sources: Vec::new(),
             write_error: None,
+            max_values: MAX_TABLE_VALUES,
         });
         sim.world.insert_resource(ProbeSamples::default());
         sim.keep_resource::<ProbeSamples>("probes");

@@ -5,6 +5,7 @@ use crate::{Dry, PROBE_POINTS_FILE, PROBES_FILE, ProbeSamples, ProbeState, Quant
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::columns::{Columns, take_vector};
 use dualsph_core::sampling::SamplingCloud;
+use dualsph_core::sim::StepFailure;
 use dualsph_sweep::prelude::*;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -89,9 +90,16 @@ pub fn sample_probes<V: Vector>(world: &mut World) {
         return;
     }
     world.resource_scope(|world, mut state: Mut<ProbeState<V>>| {
+        let keep = world
+            .resource::<ProbeSamples>()
+            .rows
+            .partition_point(|r| r.0 < clock.step);
+        if let Some(why) = table_full(state.columns.len(), keep + 1, state.max_values) {
+            world.resource_mut::<StepFailure>().0 = Some(why);
+            return;
+        }
         let values = sample_columns(world, &state);
         let mut samples = world.resource_mut::<ProbeSamples>();
-        let keep = samples.rows.partition_point(|r| r.0 < clock.step);
         samples.rows.truncate(keep);
         samples.rows.push((clock.step, clock.t, values));
         if let Some(dir) = world.get_resource::<RunOutputDir>() {
@@ -102,6 +110,18 @@ pub fn sample_probes<V: Vector>(world: &mut World) {
             }
         }
     });
+}
+
+/// Why a table of `columns` × `rows` values cannot be kept within `max` values
+/// ([`crate::MAX_TABLE_VALUES`] in a run), if so.
+fn table_full(columns: usize, rows: usize, max: u64) -> Option<String> {
+    let values = (columns as u64).saturating_mul(rows as u64);
+    (values > max).then(|| {
+        format!(
+            "Probes: the table would hold {values} values ({columns} columns × {rows} \
+             samples), more than {max:.0e}; raise `every` or sample fewer points"
+        )
+    })
 }
 
 /// A sensor's clouds: the sampled particles' and, for a cut-off, the others'.

@@ -552,3 +552,36 @@ fn a_gauge_step_too_fine_for_the_domain_is_refused() {
     assert!(SimPlugin::validate(&gauge("1e-5"), &bounded).is_ok());
     assert!(SimPlugin::validate(&gauge("1e-6"), &bounded).is_err());
 }
+
+#[test]
+fn a_table_past_its_bound_is_refused_or_stops_the_run() {
+    let line = |n: usize, every: u64| {
+        parse(&format!(
+            r#"(every: {every}, probes: [Line(name: "l", start: [0.1, 0.1], end: [0.3, 0.1], n: {n}, quantity: "density")])"#
+        ))
+        .unwrap()
+    };
+    let mut capped = info(2);
+    capped.max_steps = Some(100_000);
+    // 10^4 columns × (10^5 + 2) samples
+    let e = SimPlugin::validate(&line(10_000, 1), &capped).unwrap_err();
+    assert!(
+        e.starts_with("every: 10000 columns") && e.contains("1.000e9 values"),
+        "{e}"
+    );
+    // every 100: 10^4 × 1,002 ≈ 10^7 values fit
+    assert!(SimPlugin::validate(&line(10_000, 100), &capped).is_ok());
+    assert!(SimPlugin::validate(&line(10_000, 1), &info(2)).is_ok());
+    // a run whose table would pass its bound stops with the cause at that sample
+    let mut sim = block_sim(0.4, 0.02);
+    line(4, 1).build(&mut sim).unwrap();
+    sim.world.resource_mut::<ProbeState<DVec2>>().max_values = 8;
+    sim.initialize().unwrap();
+    sim.step().unwrap();
+    let e = sim.step().unwrap_err().to_string();
+    assert!(
+        e.contains("step 2: Probes: the table would hold 12 values (4 columns × 3 samples)"),
+        "{e}"
+    );
+    assert_eq!(sim.world.resource::<ProbeSamples>().rows.len(), 2);
+}

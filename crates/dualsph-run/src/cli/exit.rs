@@ -40,6 +40,14 @@ impl Failure {
     }
 }
 
+impl Failure {
+    /// The failure with `hint` appended to its message (nothing when `hint` is empty).
+    pub fn with_hint(mut self, hint: &str) -> Self {
+        self.message.push_str(hint);
+        self
+    }
+}
+
 impl From<String> for Failure {
     fn from(message: String) -> Self {
         Failure::new(OTHER, message)

@@ -137,6 +137,18 @@ pub fn check_resume_dir(dir: &Path, fingerprint: u64) -> Result<(), Failure> {
     }
 }
 
+/// The `--set` overrides recorded in `dir`'s `run.json`, if it has one that can be read.
+pub fn recorded_overrides(dir: &Path) -> Option<Vec<String>> {
+    let text = std::fs::read_to_string(dir.join(RUN_FILE)).ok()?;
+    let v = serde_json::from_str::<serde_json::Value>(&text).ok()?;
+    v.get("settings")?
+        .get("set")?
+        .as_array()?
+        .iter()
+        .map(|o| o.as_str().map(str::to_owned))
+        .collect()
+}
+
 /// The options a run was given.
 #[derive(Clone, Debug, Serialize)]
 pub struct RunSettings {

@@ -103,7 +103,9 @@ pub(crate) fn run(args: RunArgs, registry: &Registry) -> Result<(), Failure> {
     let out = match &args.resume {
         Some(ck) => {
             let out = resume_dir(ck, args.out.as_deref());
-            check_resume(&args.scene, &s, ck, &out, fingerprint)?;
+            let set: Vec<String> = args.set.set.iter().map(|o| o.given.clone()).collect();
+            check_resume(&args.scene, &s, ck, &out, fingerprint)
+                .map_err(|f| f.with_hint(&overrides_hint(&out, &set)))?;
             out
         }
         None => {
@@ -159,6 +161,32 @@ fn check_resume(
         ));
     }
     check_resume_dir(out, fingerprint)
+}
+
+/// When the run in `dir` was made with other `--set` overrides than `set`, a sentence saying
+/// so (a resume must repeat them to rebuild the same scene); empty otherwise.
+fn overrides_hint(dir: &Path, set: &[String]) -> String {
+    let Some(recorded) = super::record::recorded_overrides(dir) else {
+        return String::new();
+    };
+    if recorded == set {
+        return String::new();
+    }
+    let list = |s: &[String]| match s {
+        [] => "none".to_string(),
+        s => s
+            .iter()
+            .map(|o| format!("--set {o}"))
+            .collect::<Vec<_>>()
+            .join(" "),
+    };
+    format!(
+        "; the run in {} was made with overrides {} and this resume gives {}: a resume \
+         repeats the run's overrides",
+        dir.display(),
+        list(&recorded),
+        list(set)
+    )
 }
 
 /// Runs the scene into `out`.
