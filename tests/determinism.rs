@@ -29,6 +29,7 @@ fn run_steps_with(
                 c0: Some(20.0.into()),
                 p0: None,
                 min_pressure: None,
+                cavitation: false,
                 background: 0.0,
                 materials: Vec::new(),
             },

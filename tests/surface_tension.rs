@@ -93,6 +93,7 @@ fn drop_sim(
             c0: Some(100.0.into()),
             p0: None,
             min_pressure: None,
+            cavitation: false,
             background: 0.0,
             materials: Vec::new(),
         },

@@ -15,6 +15,7 @@ pub fn tait() -> dualsph::plugins::TaitEos {
         c0: Some(20.0.into()),
         p0: None,
         min_pressure: None,
+        cavitation: false,
         background: 0.0,
         materials: Vec::new(),
     }

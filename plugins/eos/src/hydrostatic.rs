@@ -133,6 +133,7 @@ mod tests {
             c0,
             p_min: Real::NEG_INFINITY,
             p_b: 0.0,
+            rho_min: Real::NEG_INFINITY,
         }
     }
 
@@ -170,6 +171,7 @@ mod tests {
             c0: 10.0_f64.sqrt(),
             p_min: Real::NEG_INFINITY,
             p_b: 2.0,
+            rho_min: Real::NEG_INFINITY,
         };
         let p = eos.hydrostatic_pressure(1.0, 3.0).unwrap();
         assert!((p - (2.0 + 10.0 * (0.3_f64.exp() - 1.0))).abs() < 1e-12);

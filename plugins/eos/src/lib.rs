@@ -3,6 +3,7 @@
 //! arrays used by the pair sweep.
 #![warn(missing_docs)]
 
+pub mod cavitation;
 pub mod hydrostatic;
 pub mod initial;
 pub mod mach;
@@ -47,6 +48,17 @@ pub struct TaitEos {
     /// energy equation uses the same `p`: conservation is unchanged.
     #[serde(default)]
     pub min_pressure: Option<Real>,
+    /// The liquid separates instead of stretching (default false): the pressure is floored
+    /// at 0 (leave `min_pressure` out) and the density at `ρ_c`, where Eq. 7.5 gives
+    /// `p = 0` (ρ0 without a background pressure). A splash or a jet's tip then neither
+    /// pulls on its neighbours nor on a wall (the tension that throws a lone particle into
+    /// one), and a particle leaving the water keeps the density of water instead of the
+    /// vanishing one the continuity equation gives it there, so it re-enters at ρ0 with a
+    /// sane support. Below `ρ_c` the pressure is 0, so raising the density there does no
+    /// work: the energy account is unchanged. (SPHinXsys, for the same reason, keeps the
+    /// summation density of its free-surface particles from falling below ρ0.)
+    #[serde(default)]
+    pub cavitation: bool,
     /// Background pressure `p_b` (Pa), added to Eq. 7.5: `p = p0((ρ/ρ0)^γ − 1) + p_b` (0 by
     /// default). A positive `p_b` keeps an enclosed or periodic flow without a free surface
     /// out of tension, where the tensile instability clumps particles (Morris, Fox & Zhu
@@ -116,6 +128,8 @@ pub enum Eos {
         p_min: Real,
         /// Background pressure `p_b` added to Eq. 7.5.
         p_b: Real,
+        /// Density floor (−∞ for none; [`TaitEos::cavitation`]).
+        rho_min: Real,
     },
     /// Ideal gas with γ.
     Ideal {
@@ -136,6 +150,7 @@ impl Eos {
                 c0,
                 p_min,
                 p_b,
+                ..
             } => {
                 let x = rho / rho0;
                 let (x_gamma, x_c) = if gamma == 7.0 {
@@ -150,6 +165,20 @@ impl Eos {
                 let p = (gamma - 1.0) * rho * eps;
                 (p, (gamma * p.max(0.0) / rho).sqrt())
             }
+        }
+    }
+}
+
+impl Eos {
+    /// The density `rho` raised to the law's floor ([`TaitEos::cavitation`]; unchanged
+    /// without one).
+    #[inline]
+    pub fn floored(&self, rho: Real) -> Real {
+        match *self {
+            // a comparison, not `f64::max`: a NaN density stays NaN for the health check
+            Eos::Tait { rho_min, .. } if rho < rho_min => rho_min,
+            Eos::Tait { .. } => rho,
+            Eos::Ideal { .. } => rho,
         }
     }
 }
@@ -249,24 +278,31 @@ fn powi(mut x: Real, n: i32) -> Real {
 pub fn apply_eos(
     eos: Res<Eos>,
     mut q: Query<(
-        &Density,
+        &mut Density,
         Option<&InternalEnergy>,
         &mut Pressure,
         &mut SoundSpeed,
     )>,
 ) {
     let eos = *eos;
-    for (rho, eps, mut p, mut c) in q.contiguous_iter_mut().expect(DENSE) {
+    for (mut rho, eps, mut p, mut c) in q.contiguous_iter_mut().expect(DENSE) {
+        let rho = rho.bypass_change_detection();
         let (p, c) = (p.bypass_change_detection(), c.bypass_change_detection());
         match eps {
             Some(eps) => (rho, eps, p, c)
                 .into_par_iter()
                 .with_min_len(1024)
-                .for_each(|(rho, eps, p, c)| (p.0, c.0) = eos.eval(rho.0, eps.0)),
+                .for_each(|(rho, eps, p, c)| {
+                    rho.0 = eos.floored(rho.0);
+                    (p.0, c.0) = eos.eval(rho.0, eps.0);
+                }),
             None => (rho, p, c)
                 .into_par_iter()
                 .with_min_len(1024)
-                .for_each(|(rho, p, c)| (p.0, c.0) = eos.eval(rho.0, 0.0)),
+                .for_each(|(rho, p, c)| {
+                    rho.0 = eos.floored(rho.0);
+                    (p.0, c.0) = eos.eval(rho.0, 0.0);
+                }),
         }
     }
 }
@@ -277,14 +313,15 @@ pub fn apply_eos_by_body(
     laws: Res<BodyEos>,
     mut q: Query<(
         &BodyId,
-        &Density,
+        &mut Density,
         Option<&InternalEnergy>,
         &mut Pressure,
         &mut SoundSpeed,
     )>,
 ) {
     let eos = &materials(&laws);
-    for (body, rho, eps, mut p, mut c) in q.contiguous_iter_mut().expect(DENSE) {
+    for (body, mut rho, eps, mut p, mut c) in q.contiguous_iter_mut().expect(DENSE) {
+        let rho = rho.bypass_change_detection();
         let (p, c) = (p.bypass_change_detection(), c.bypass_change_detection());
         (body, rho, p, c)
             .into_par_iter()
@@ -292,7 +329,9 @@ pub fn apply_eos_by_body(
             .with_min_len(1024)
             .for_each(|(k, (b, rho, p, c))| {
                 let e = eps.map_or(0.0, |e| e[k].0);
-                (p.0, c.0) = eos[b.0 as usize].eval(rho.0, e);
+                let law = &eos[b.0 as usize];
+                rho.0 = law.floored(rho.0);
+                (p.0, c.0) = law.eval(rho.0, e);
             });
     }
 }
@@ -322,6 +361,13 @@ fn install<V: Vector>(
             apply_eos_by_body,
         )
         .in_group::<EquationOfState>();
+    }
+    if cavitation::any_floor(&materials) {
+        sim.add_system(
+            StepSet::Boundary,
+            cavitation::FLOOR_LABEL,
+            cavitation::floor_density,
+        );
     }
     let laws = materials
         .into_iter()
@@ -353,6 +399,13 @@ impl SimPlugin for TaitEos {
                 "min_pressure: must be finite and ≤ 0 (a floor on tension), got {p}"
             ));
         }
+        if self.cavitation && self.min_pressure.is_some() {
+            return Err(
+                "min_pressure: leave it out with `cavitation: true`, which floors the pressure \
+                 at 0"
+                    .into(),
+            );
+        }
         if !(self.background.is_finite() && self.background >= 0.0) {
             return Err(format!(
                 "background: must be finite and ≥ 0, got {}",
@@ -363,7 +416,7 @@ impl SimPlugin for TaitEos {
     }
 
     fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
-        let c0 = resolve(sim, self.c0, "c0")?;
+        let c0 = sound_speed::resolve(sim, self.c0, "c0")?;
         let eos = self.tait(self.rho0, c0, self.p0)?;
         let bodies = sim.world.resource::<Bodies>().names();
         let mut materials = Vec::with_capacity(bodies.len());
@@ -371,7 +424,7 @@ impl SimPlugin for TaitEos {
             materials.push(match self.materials.iter().find(|m| &m.body == name) {
                 Some(m) => {
                     let field = format!("materials[{name}].c0");
-                    self.tait(m.rho0, resolve(sim, m.c0, &field)?, m.p0)?
+                    self.tait(m.rho0, sound_speed::resolve(sim, m.c0, &field)?, m.p0)?
                 }
                 None => eos,
             });
@@ -391,46 +444,30 @@ impl TaitEos {
             (None, Some(p0)) => (p0, (self.gamma * p0 / rho0).sqrt()),
             (None, None) => return Err(SimError::Build("TaitEos needs c0 or p0".into())),
         };
-        Ok(Eos::Tait {
+        let free = Eos::Tait {
             rho0,
             gamma: self.gamma,
             p0,
             c0,
             p_min: self.min_pressure.unwrap_or(Real::NEG_INFINITY),
             p_b: self.background,
+            rho_min: Real::NEG_INFINITY,
+        };
+        if !self.cavitation {
+            return Ok(free);
+        }
+        // the density where Eq. 7.5 with the background pressure gives p = 0
+        let rho_c = free.density_at(0.0).unwrap_or(0.0);
+        Ok(Eos::Tait {
+            rho0,
+            gamma: self.gamma,
+            p0,
+            c0,
+            p_min: 0.0,
+            p_b: self.background,
+            rho_min: rho_c,
         })
     }
-}
-
-/// The sound speed `c0` gives: its value, or one derived from the speeds the scene implies
-/// (`Auto`, noted on the simulation; gravity and inlets built later then refuse, naming the
-/// order); `None` when the scene gives `p0` instead.
-fn resolve<V: Vector>(
-    sim: &mut Sim<V>,
-    c0: Option<SoundSpeedSetting>,
-    field: &str,
-) -> Result<Option<Real>, SimError> {
-    let factor = match c0 {
-        None => return Ok(None),
-        Some(SoundSpeedSetting::Value(c)) => return Ok(Some(c)),
-        Some(SoundSpeedSetting::Auto { factor }) => factor,
-    };
-    let (u, what) = mach::implied_speed::<V>(&mut sim.world)
-        .filter(|(u, _)| u.is_finite() && *u > 0.0)
-        .ok_or_else(|| {
-            SimError::Build(format!(
-                "TaitEos.{field}: Auto(..) finds no speed in the scene (no fall under gravity, \
-                 no initial velocity, no inlet; list Gravity and Inlet before TaitEos): give \
-                 c0 in m/s"
-            ))
-        })?;
-    let c = factor * u;
-    sim.world
-        .insert_resource(dualsph_fluid::speeds::SoundSpeedDerived("TaitEos"));
-    sim.note(format!(
-        "TaitEos.{field} = {c:.4} m/s: Auto(factor: {factor}) × {u:.4} m/s, {what}"
-    ));
-    Ok(Some(c))
 }
 
 /// Exactly one of `c0` and `p0`, positive; `at` prefixes the field names.
@@ -495,140 +532,4 @@ pub fn start_from_pressure<V: Vector>(
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The inlined binary exponentiation is bitwise `f64::powi` with a run-time exponent.
-    #[test]
-    fn inlined_powi_is_bitwise_f64_powi() {
-        let xs = [
-            0.0,
-            0.5,
-            0.987654321,
-            1.0,
-            1.0123456789,
-            1.5,
-            3.0,
-            1e-3,
-            7.77e2,
-        ];
-        for &x in &xs {
-            for n in -16..=16 {
-                let n_opaque = std::hint::black_box(n);
-                assert_eq!(powi(x, n).to_bits(), x.powi(n_opaque).to_bits(), "{x}^{n}");
-            }
-        }
-        assert_eq!(
-            pow(1.01, 7.0).to_bits(),
-            1.01f64.powi(std::hint::black_box(7)).to_bits()
-        );
-        assert_eq!(pow(1.01, 0.5), 1.01f64.powf(0.5));
-    }
-
-    /// The γ = 7 shortcut against the runtime's `powi` (through [`pow`]) on densities around
-    /// and far from ρ0: bitwise equal.
-    #[test]
-    fn water_powers_are_bitwise_pow_7_and_3() {
-        let mut x = 0.25;
-        while x < 4.0 {
-            let (x7, x3) = water_powers(x);
-            assert_eq!(x7.to_bits(), pow(x, 7.0).to_bits(), "{x}^7");
-            assert_eq!(x3.to_bits(), pow(x, 3.0).to_bits(), "{x}^3");
-            x += 0.000_123_456_7;
-        }
-    }
-
-    #[test]
-    fn tait_reference_state_and_sound_speed() {
-        let e = Eos::Tait {
-            rho0: 1000.0,
-            gamma: 7.0,
-            p0: 100.0f64.powi(2) * 1000.0 / 7.0,
-            c0: 100.0,
-            p_min: Real::NEG_INFINITY,
-            p_b: 0.0,
-        };
-        assert_eq!(e.eval(1000.0, 0.0), (0.0, 100.0));
-        assert!(e.eval(990.0, 0.0).0 < 0.0);
-        // c² = dp/dρ, checked by a central difference
-        let (d, rho) = (1e-4, 1010.0);
-        let dp = (e.eval(rho + d, 0.0).0 - e.eval(rho - d, 0.0).0) / (2.0 * d);
-        let c = e.eval(rho, 0.0).1;
-        assert!((dp - c * c).abs() < 1e-6 * c * c);
-    }
-
-    #[test]
-    fn tait_floor_cuts_tension_only() {
-        let (p0, c0) = (100.0f64.powi(2) * 1000.0 / 7.0, 100.0);
-        let free = Eos::Tait {
-            rho0: 1000.0,
-            gamma: 7.0,
-            p0,
-            c0,
-            p_min: Real::NEG_INFINITY,
-            p_b: 0.0,
-        };
-        let floored = Eos::Tait {
-            rho0: 1000.0,
-            gamma: 7.0,
-            p0,
-            c0,
-            p_min: 0.0,
-            p_b: 0.0,
-        };
-        assert_eq!(floored.eval(990.0, 0.0).0, 0.0);
-        assert_eq!(floored.eval(990.0, 0.0).1, free.eval(990.0, 0.0).1);
-        assert_eq!(floored.eval(1010.0, 0.0), free.eval(1010.0, 0.0));
-    }
-
-    #[test]
-    fn ideal_gas_sod_states() {
-        let e = Eos::Ideal { gamma: 5.0 / 3.0 };
-        assert!((e.eval(1.0, 1.5).0 - 1.0).abs() < 1e-15);
-        assert!((e.eval(0.125, 1.2).0 - 0.1).abs() < 1e-15);
-    }
-
-    #[test]
-    fn materials_name_declared_bodies_once_with_one_scale() {
-        let info = SceneInfo {
-            bodies: vec!["water".into(), "light".into()],
-            ..SceneInfo::of_dimension(2)
-        };
-        let material = |body: &str, c0: Option<Real>, p0: Option<Real>| TaitMaterial {
-            body: body.into(),
-            rho0: 500.0,
-            c0: c0.map(SoundSpeedSetting::Value),
-            p0,
-        };
-        let eos = |materials| TaitEos {
-            rho0: 1000.0,
-            gamma: 7.0,
-            c0: Some(20.0.into()),
-            p0: None,
-            min_pressure: None,
-            background: 0.0,
-            materials,
-        };
-        let check = |m| SimPlugin::validate(&eos(m), &info);
-        assert!(check(vec![material("light", Some(20.0), None)]).is_ok());
-        let e = check(vec![material("oil", Some(20.0), None)]).unwrap_err();
-        assert!(
-            e.starts_with("materials[0].body: no body named `oil`"),
-            "{e}"
-        );
-        let twice = vec![
-            material("light", Some(20.0), None),
-            material("light", None, Some(1.0)),
-        ];
-        assert!(
-            check(twice)
-                .unwrap_err()
-                .contains("materials[1].body: `light` is given twice")
-        );
-        let e = check(vec![material("light", Some(20.0), Some(1.0))]).unwrap_err();
-        assert!(
-            e.contains("materials[0].c0, materials[0].p0: give exactly one"),
-            "{e}"
-        );
-    }
-}
+mod tests;

@@ -7,7 +7,9 @@
 //! `coefsound · √(g · hswl)` from the still-water height `hswl` (its `coefsound` 20 is
 //! this factor 14.1, since `√(2 g H) = √2 · √(g H)`).
 
+use crate::mach;
 use dualsph_core::math::Real;
+use dualsph_fluid::prelude::*;
 use schemars::{JsonSchema, Schema, SchemaGenerator, json_schema};
 use serde::de::{self, Deserializer, MapAccess, Visitor};
 use serde::{Deserialize, Serialize};
@@ -130,6 +132,37 @@ impl JsonSchema for SoundSpeedSetting {
             ]
         })
     }
+}
+
+/// The sound speed `c0` gives: its value, or one derived from the speeds the scene implies
+/// (`Auto`, noted on the simulation; gravity and inlets built later then refuse, naming the
+/// order); `None` when the scene gives `p0` instead.
+pub(crate) fn resolve<V: Vector>(
+    sim: &mut Sim<V>,
+    c0: Option<SoundSpeedSetting>,
+    field: &str,
+) -> Result<Option<Real>, SimError> {
+    let factor = match c0 {
+        None => return Ok(None),
+        Some(SoundSpeedSetting::Value(c)) => return Ok(Some(c)),
+        Some(SoundSpeedSetting::Auto { factor }) => factor,
+    };
+    let (u, what) = mach::implied_speed::<V>(&mut sim.world)
+        .filter(|(u, _)| u.is_finite() && *u > 0.0)
+        .ok_or_else(|| {
+            SimError::Build(format!(
+                "TaitEos.{field}: Auto(..) finds no speed in the scene (no fall under gravity, \
+                 no initial velocity, no inlet; list Gravity and Inlet before TaitEos): give \
+                 c0 in m/s"
+            ))
+        })?;
+    let c = factor * u;
+    sim.world
+        .insert_resource(dualsph_fluid::speeds::SoundSpeedDerived("TaitEos"));
+    sim.note(format!(
+        "TaitEos.{field} = {c:.4} m/s: Auto(factor: {factor}) × {u:.4} m/s, {what}"
+    ));
+    Ok(Some(c))
 }
 
 #[cfg(test)]

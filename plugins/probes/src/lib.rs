@@ -65,6 +65,7 @@
 mod plot;
 pub mod quantity;
 mod sample;
+mod validate;
 
 pub use plot::{ProbeTable, plot_probes, read_probes};
 pub use quantity::Quantity;
@@ -251,17 +252,6 @@ pub const MAX_GAUGE_SAMPLES: Real = 1e6;
 /// stops with the cause.
 pub const MAX_TABLE_VALUES: u64 = 100_000_000;
 
-/// The point `x` lies in the scene's domain; the error names the field.
-fn check_inside(field: &str, x: &[Real], info: &SceneInfo) -> Result<(), String> {
-    if info.in_domain(x) {
-        return Ok(());
-    }
-    Err(format!(
-        "{field}: {x:?} is outside the domain [{:?}, {:?}]",
-        info.domain.0, info.domain.1
-    ))
-}
-
 /// The plugin's settings once built: columns, where their values come from, and the last
 /// write error (if any). The samples are [`ProbeSamples`].
 #[derive(Resource, Debug)]
@@ -289,44 +279,6 @@ impl<V: Vector> ProbeState<V> {
     pub fn quantities(&self) -> impl Iterator<Item = &Quantity> {
         self.sources.iter().map(|(q, _)| q)
     }
-}
-
-fn check_name(field: &str, name: &str) -> Result<(), String> {
-    let bad = |c: char| c.is_whitespace() || ",\"[]".contains(c);
-    if name.is_empty() || name.chars().any(bad) {
-        return Err(format!(
-            "{field}: name {name:?} must be non-empty without spaces, commas, quotes or brackets"
-        ));
-    }
-    Ok(())
-}
-
-/// `n` equally spaced points from `start` to `end` (a line or a sensor): both ends of the
-/// scene's dimension and in the domain, 2 ≤ n ≤ 10,000; `f` names a field of the probe.
-fn check_points(
-    f: &dyn Fn(&str) -> String,
-    (start, end, n): (&[Real], &[Real], usize),
-    info: &SceneInfo,
-) -> Result<(), String> {
-    let d = info.dimension;
-    check_vec(&f("start"), start, d)?;
-    check_vec(&f("end"), end, d)?;
-    check_inside(&f("start"), start, info)?;
-    check_inside(&f("end"), end, info)?;
-    if !(2..=10_000).contains(&n) {
-        return Err(format!("{}: must be between 2 and 10000, got {n}", f("n")));
-    }
-    Ok(())
-}
-
-fn check_vec(field: &str, v: &[Real], d: usize) -> Result<(), String> {
-    if v.len() != d {
-        return Err(format!("{field}: expected {d} components, got {}", v.len()));
-    }
-    if v.iter().any(|x| !x.is_finite()) {
-        return Err(format!("{field}: components must be finite"));
-    }
-    Ok(())
 }
 
 /// The probes' samples so far: `(step, t, values)` in step order, one value per column of
@@ -484,127 +436,7 @@ impl SimPlugin for Probes {
         "point/line/water-height probes sampled every k steps into probes.csv";
 
     fn validate(&self, info: &SceneInfo) -> Result<(), String> {
-        let d = info.dimension;
-        if self.every == 0 {
-            return Err("every: must be at least 1".into());
-        }
-        if !(self.min_shepard.is_finite() && (0.0..1.0).contains(&self.min_shepard)) {
-            return Err(format!(
-                "min_shepard: must be in [0, 1), got {}",
-                self.min_shepard
-            ));
-        }
-        if self.probes.is_empty() {
-            return Err("probes: the list is empty".into());
-        }
-        if let Some(steps) = info.max_steps {
-            let values = self.column_count().saturating_mul(steps / self.every + 2);
-            if values > MAX_TABLE_VALUES {
-                return Err(format!(
-                    "every: {} columns sampled every {} steps over up to {steps} steps \
-                     (max_steps) make {values:.3e} values, more than the table's \
-                     {MAX_TABLE_VALUES:.0e}; sample less often or fewer points",
-                    self.column_count(),
-                    self.every
-                ));
-            }
-        }
-        for (k, b) in self.bodies.iter().enumerate() {
-            info.check_body(&format!("bodies[{k}]"), b)?;
-        }
-        let mut names: Vec<&str> = Vec::new();
-        for (i, p) in self.probes.iter().enumerate() {
-            let f = |s: &str| format!("probes[{i}].{s}");
-            let name = match p {
-                Probe::Point { name, at, .. } => {
-                    check_vec(&f("at"), at, d)?;
-                    check_inside(&f("at"), at, info)?;
-                    name
-                }
-                Probe::Line {
-                    name,
-                    start,
-                    end,
-                    n,
-                    ..
-                } => {
-                    check_points(&f, (start, end, *n), info)?;
-                    name
-                }
-                Probe::Sensor {
-                    name,
-                    start,
-                    end,
-                    n,
-                    floor,
-                    clip,
-                    reach,
-                    ..
-                } => {
-                    check_points(&f, (start, end, *n), info)?;
-                    if floor.is_some_and(|x| !x.is_finite()) {
-                        return Err(format!("{}: must be finite", f("floor")));
-                    }
-                    if clip.is_some_and(|x| !x.is_finite()) {
-                        return Err(format!("{}: must be finite", f("clip")));
-                    }
-                    if let Some(r) = reach
-                        && !(r.is_finite() && (0.1..=MAX_SENSOR_REACH).contains(r))
-                    {
-                        return Err(format!(
-                            "{}: must be in [0.1, {MAX_SENSOR_REACH}], got {r}",
-                            f("reach")
-                        ));
-                    }
-                    name
-                }
-                Probe::WaterHeight {
-                    name,
-                    at,
-                    threshold,
-                    dy,
-                } => {
-                    if d < 2 {
-                        return Err(format!(
-                            "{}: a water-height gauge needs dimension 2 or 3",
-                            f("")
-                        ));
-                    }
-                    check_vec(&f("at"), at, d - 1)?;
-                    check_inside(&f("at"), at, info)?;
-                    if let Some(t) = threshold
-                        && !(t.is_finite() && *t > 0.0 && *t < 1.0)
-                    {
-                        return Err(format!("{}: must be in (0, 1), got {t}", f("threshold")));
-                    }
-                    if let Some(dy) = dy
-                        && !(dy.is_finite() && *dy > 0.0)
-                    {
-                        return Err(format!("{}: must be > 0, got {dy}", f("dy")));
-                    }
-                    // every reading walks the domain's height in steps of dy
-                    let height = info.domain.1[d - 1] - info.domain.0[d - 1];
-                    if let Some(dy) = dy
-                        && height.is_finite()
-                        && height / dy > MAX_GAUGE_SAMPLES
-                    {
-                        return Err(format!(
-                            "{}: {dy} takes {:.3e} samples over the domain's height {height} \
-                             per reading, more than {MAX_GAUGE_SAMPLES:e}",
-                            f("dy"),
-                            height / dy
-                        ));
-                    }
-                    name
-                }
-            };
-            check_name(&f("name"), name)?;
-            if names.contains(&name.as_str()) {
-                return Err(format!("{}: duplicate probe name {name:?}", f("name")));
-            }
-            names.push(name);
-        }
-        Ok(())
+        validate::probes(self, info)
     }
 
     fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {

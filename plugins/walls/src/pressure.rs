@@ -371,6 +371,7 @@ mod tests {
             c0: Some(10.0.into()),
             p0: None,
             min_pressure: None,
+            cavitation: false,
             background: 0.0,
             materials: Vec::new(),
         };

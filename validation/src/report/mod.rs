@@ -219,6 +219,8 @@ pub enum Benchmark {
     /// A 2-D dam break onto a step and a cylinder: the obstacles' load history, the
     /// cylinder's at rest against its buoyancy.
     DamBreakObstacle,
+    /// The walls dam break at Δx/2 and Δx/4 and Buchner's at H/40 and H/80, to their end.
+    Refinement,
 }
 
 impl Benchmark {
@@ -250,6 +252,7 @@ impl Benchmark {
             Benchmark::WallsDamBreak => walls::dam_break_fronts::run(opts)?.0,
             Benchmark::StlTank => walls::stl_tank::run(opts)?.0,
             Benchmark::DamBreakObstacle => walls::dam_break_obstacle::run(opts)?.0,
+            Benchmark::Refinement => walls::refinement::run(opts)?.0,
         })
     }
 }
@@ -301,6 +304,7 @@ fn title(benchmarks: &[Benchmark]) -> &'static str {
                 | Benchmark::WallsDamBreak
                 | Benchmark::StlTank
                 | Benchmark::DamBreakObstacle
+                | Benchmark::Refinement
         )
     };
     if benchmarks.iter().all(|b| !walls(b)) {

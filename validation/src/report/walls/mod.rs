@@ -4,7 +4,8 @@
 //! ([`taylor_green`]), the pressure of a dam break on the far wall ([`wall_pressure`]), the
 //! water front of the paper's dam-break Cases II and III ([`dam_break_fronts`]), the load
 //! on a submerged obstacle read from an STL file in a 3-D tank ([`stl_tank`]) and the load
-//! history of a 2-D dam break onto a step and a cylinder ([`dam_break_obstacle`]). The walls are
+//! history of a 2-D dam break onto a step and a cylinder ([`dam_break_obstacle`]), and the
+//! free-surface flows refined to two and four times their resolution ([`refinement`]). The walls are
 //! layers of fixed particles whose pressure and viscous velocity are extrapolated from the
 //! fluid (Adami, Hu & Adams 2012, *A generalized wall boundary condition for smoothed particle
 //! hydrodynamics*, J. Comput. Phys. 231, 7057–7075, Eqs. 22–28). Where a wrong wall model is the failure the measure is meant to catch, the
@@ -20,6 +21,7 @@ pub mod dam_break_fronts;
 pub mod dam_break_obstacle;
 pub mod hydrostatic;
 pub mod poiseuille;
+pub mod refinement;
 pub mod stl_tank;
 pub mod taylor_green;
 pub mod wall_pressure;

@@ -34,6 +34,9 @@ pub const FIRST_IMPACT: (f64, f64) = (2.6, 3.03);
 /// Bounds on the mean |Δp*| over [`WHOLE`] and [`FIRST_IMPACT`], and on the gap between the
 /// first wetting of the sensor (p* > 0.1) in the run and in the experiment.
 pub const BOUNDS: (f64, f64, f64) = (0.2, 0.3, 0.1);
+/// Bound on TrixiParticles' measure (mean |Δp*| of `P1_sensor` over [`TRIXI_WINDOW`]);
+/// TrixiParticles.jl's own WCSPH scores 0.104 at H/40.
+pub const TRIXI_BOUND: f64 = 0.16;
 
 /// The graded sensor.
 #[derive(Clone, Debug)]
@@ -66,6 +69,7 @@ impl SensorGrade {
         self.whole.0 < BOUNDS.0
             && self.first.0 < BOUNDS.1
             && (self.wet.0 - self.wet.1).abs() < BOUNDS.2
+            && (self.trixi.0.is_nan() || self.trixi.0 < TRIXI_BOUND)
     }
 }
 
@@ -202,7 +206,8 @@ pub fn run(opts: &ReportOptions) -> Result<(Section, SensorGrade), ReportError> 
     table.row(cells);
     let mut body = String::from(
         "A water column H = 0.6 m high and 2H wide collapses in a tank 5.366H long (walls of \
-         particles with the extrapolated pressure and free-slip viscous velocity, δ-SPH \
+         particles with the extrapolated pressure, its suction read as 0, and free-slip viscous \
+         velocity, the water cavitating rather than stretching (TaitEos `cavitation`), δ-SPH \
          diffusion with the hydrostatic correction, c0 = 20√(gH), H/Δx = 40; scene \
          `dam_break_buchner_2d.ron`). Sensor P1 spans y = 0.07–0.16 m on the far wall (its top \
          at the height of the experimental sensor's centre, as set up by Adami, Hu & Adams \
@@ -210,11 +215,13 @@ pub fn run(opts: &ReportOptions) -> Result<(Section, SensorGrade), ReportError> 
          the sensor and over a box of 0.05 in t*. References: Buchner (2002), digitised; \
          Marrone et al. (2011), δ-SPH, on the first impact only \
          (`crates/dualsph-reference/data/dam_break_pressure/`). The last column measures as \
-         TrixiParticles.jl does: the probe `P1_sensor`, the mean of 5 points over the sensor's \
-         0.09 m (y = 0.07–0.16 m, TrixiParticles' `sensor_size = 0.09`) half a spacing off \
-         the wall face, interpolated with twice the support radius and each particle's \
-         suction read as 0 (a point the wall's mass outweighs the water's at, or dry, reads \
-         0), against the experiment over t* 2–6.5.\n\n",
+         TrixiParticles.jl does in its `validation/dam_break_2d` (`setup_marrone_2011.jl`, \
+         `sensors.jl`): the probe `P1_sensor`, the mean of 10 points over its `sensor_size` \
+         of 0.09 m (y = 0.07–0.16 m) half a spacing off the wall face, interpolated with \
+         twice the support radius and each particle's suction read as 0 \
+         (`clip_negative_pressure`), a dry point read as 0, against the experiment over \
+         t* 2–6.5. (TrixiParticles' older `validation_dam_break_2d.jl` took the 9 mm below \
+         y = 0.16 m instead, which reads the thinner water higher up.)\n\n",
     );
     body += &table.render();
     body += &failures(std::iter::once(&run));
@@ -223,7 +230,8 @@ pub fn run(opts: &ReportOptions) -> Result<(Section, SensorGrade), ReportError> 
          over the first impact, where Marrone et al.'s δ-SPH is {:.3} at the same H/Δx and \
          {:.3} at H/80: this model is {:.1}× their error at the same resolution there. The \
          sensor first wets at t* {:.3}, the experiment's at {:.3}. The figures are {} the \
-         bounds of `validation/tests/dam_break_pressure.rs` ({:.2}, {:.2}, {:.2}). By \
+         bounds of `validation/tests/dam_break_pressure.rs` ({:.2}, {:.2}, {:.2}; {:.2} by \
+         TrixiParticles' measure). By \
          TrixiParticles' measure the mean |Δp*| over t* 2–6.5 is {:.3}, of which {:.3} comes \
          from the second impact (t* 5.5–6.5), whose peak the sensor reads at t* {:.2} and \
          the experiment at t* {:.2}.\n\n",
@@ -238,6 +246,7 @@ pub fn run(opts: &ReportOptions) -> Result<(Section, SensorGrade), ReportError> 
         BOUNDS.0,
         BOUNDS.1,
         BOUNDS.2,
+        TRIXI_BOUND,
         g.trixi.0,
         g.trixi_second,
         g.second_peak.0,

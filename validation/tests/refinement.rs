@@ -1,0 +1,40 @@
+//! Stability under refinement (second tier): the walls dam break at twice its shipped
+//! resolution runs to 1.5 s, and Buchner's dam break at its shipped H/40 runs to t* = 8, both
+//! without a blow-up (`dualsph_validation::report::walls::refinement`). The finer runs (Δx/4,
+//! H/80; 13 and 7 CPU-minutes) are in the walls report's "Stability under refinement".
+
+mod common;
+
+use dualsph_validation::report::walls::refinement::{reached_end, refined, run_one};
+
+#[test]
+#[ignore = "second tier (cargo test --workspace --release -- --ignored): the walls dam break at Δx/2 to 1.5 s and Buchner's at H/40 to t* = 8"]
+fn the_wall_flows_run_to_their_end_refined() {
+    let opts = common::report_options(1.0, None);
+    for r in refined(false) {
+        let run = run_one(&opts, &r).unwrap();
+        assert!(
+            reached_end(&run, &r),
+            "{} stopped at t = {}: {:?}",
+            run.label,
+            run.final_diagnostics().t,
+            run.failure
+        );
+        // the water stays water: no particle far out of its density range
+        assert!(
+            run.max_density_variation() < 0.5,
+            "{}: max |ρ/ρ0 − 1| = {}",
+            run.label,
+            run.max_density_variation()
+        );
+        eprintln!(
+            "{}: t = {:.3} s, {} steps, max |ρ/ρ0 − 1| = {:.3}, max |ΔE/E| = {:.1e}, {:.0} CPU-s",
+            run.label,
+            run.final_diagnostics().t,
+            run.steps,
+            run.max_density_variation(),
+            run.max_energy_variation(),
+            run.cpu_seconds
+        );
+    }
+}
