@@ -100,10 +100,10 @@ pub(crate) fn run(args: RunArgs, registry: &Registry) -> Result<(), Failure> {
         s.end_time = t;
     }
     let fingerprint = crate::checkpoint::fingerprint(&s);
+    let set: Vec<String> = args.set.set.iter().map(|o| o.given.clone()).collect();
     let out = match &args.resume {
         Some(ck) => {
             let out = resume_dir(ck, args.out.as_deref());
-            let set: Vec<String> = args.set.set.iter().map(|o| o.given.clone()).collect();
             check_resume(&args.scene, &s, ck, &out, fingerprint)
                 .map_err(|f| f.with_hint(&overrides_hint(&out, &set)))?;
             out
@@ -123,7 +123,7 @@ pub(crate) fn run(args: RunArgs, registry: &Registry) -> Result<(), Failure> {
         fingerprint,
         RunSettings {
             out: out.clone(),
-            set: args.set.set.iter().map(|o| o.given.clone()).collect(),
+            set,
             formulation: format!("{:?}", s.formulation),
             end_time: s.end_time,
             checkpoint_every: args.checkpoint_every,
