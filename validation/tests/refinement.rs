@@ -1,7 +1,8 @@
 //! Stability under refinement (second tier): the walls dam break at twice its shipped
 //! resolution runs to 1.5 s, and Buchner's dam break at its shipped H/40 runs to t* = 8, both
 //! without a blow-up (`dualsph_validation::report::walls::refinement`). The finer runs (Δx/4,
-//! H/80; 13 and 7 CPU-minutes) are in the walls report's "Stability under refinement".
+//! H/80, H/160; 13, 7 and about 60 CPU-minutes) are in the walls report's "Stability under
+//! refinement".
 
 mod common;
 
@@ -20,9 +21,16 @@ fn the_wall_flows_run_to_their_end_refined() {
             run.final_diagnostics().t,
             run.failure
         );
-        // the water stays water: no particle far out of its density range
+        // the water stays water: no particle far out of its density range (measured: 0.016
+        // for the walls dam break, whose water cavitates at −99 kPa, and 0.070 for Buchner's,
+        // cavitating at 0 Pa; 0.43 at Δx/2 without cavitation)
+        let bound = if r.file == "dam_break_2d_walls.ron" {
+            0.03
+        } else {
+            0.1
+        };
         assert!(
-            run.max_density_variation() < 0.5,
+            run.max_density_variation() < bound,
             "{}: max |ρ/ρ0 − 1| = {}",
             run.label,
             run.max_density_variation()

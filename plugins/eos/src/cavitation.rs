@@ -1,13 +1,13 @@
 //! The density floor of a cavitating liquid (`TaitEos(cavitation: true)`): after every step
 //! each particle's density is raised to its law's floor `ρ_c`, the density where Eq. 7.5 gives
-//! `p = 0`.
+//! the cavitation pressure `p_c` (0 unless `min_pressure` sets it).
 //!
 //! The equation of state applies the floor where it evaluates the pressure (so the forces of
 //! a step never see a stretched liquid); this system applies it to the state the step ends
 //! with, so the next step starts from it. Without it a leapfrog step would integrate from the
 //! stored, unfloored density, and a splash's density would keep falling step after step
-//! while its pressure reads 0. Below `ρ_c` the pressure is 0, so the raise does no work and
-//! the energy account is unchanged.
+//! while its pressure reads `p_c`. The raise changes no velocity and no internal energy, so
+//! the energy account stays exact.
 
 use crate::{Eos, materials};
 use dualsph_core::bevy_ecs::prelude::*;

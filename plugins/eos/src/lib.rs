@@ -45,17 +45,21 @@ pub struct TaitEos {
     /// walls that truncate the kernel (specular walls, Eq. 7.7): there the truncated support
     /// reads as tension, which clumps particles (the tensile instability). The floor acts
     /// on `p` only, inside every pair term, so the pair forces stay antisymmetric and the
-    /// energy equation uses the same `p`: conservation is unchanged.
+    /// energy equation uses the same `p`: conservation is unchanged. With `cavitation: true`
+    /// it is the cavitation pressure (below).
     #[serde(default)]
     pub min_pressure: Option<Real>,
     /// The liquid separates instead of stretching (default false): the pressure is floored
-    /// at 0 (leave `min_pressure` out) and the density at `ρ_c`, where Eq. 7.5 gives
-    /// `p = 0` (ρ0 without a background pressure). A splash or a jet's tip then neither
-    /// pulls on its neighbours nor on a wall (the tension that throws a lone particle into
-    /// one), and a particle leaving the water keeps the density of water instead of the
-    /// vanishing one the continuity equation gives it there, so it re-enters at ρ0 with a
-    /// sane support. Below `ρ_c` the pressure is 0, so raising the density there does no
-    /// work: the energy account is unchanged. (SPHinXsys, for the same reason, keeps the
+    /// at the cavitation pressure `p_c` (`min_pressure`, 0 when it is left out) and the
+    /// density at `ρ_c`, where Eq. 7.5 gives `p_c` (ρ0 for `p_c` = 0 without a background
+    /// pressure). A splash or a jet's tip then pulls on its neighbours and on a wall with at
+    /// most `|p_c|` (not the unbounded tension that throws a lone particle into a wall), and
+    /// a particle leaving the water keeps a density near water's instead of the vanishing
+    /// one the continuity equation gives it there, so it re-enters with a sane support.
+    /// The raise changes no velocity and no internal energy, so the energy account stays
+    /// exact (with `p_c` = 0 it also does no work: the pressure there is 0). Water at
+    /// 20 °C under the atmosphere cavitates at `p_c` = p_v − p_atm ≈ 2.3 − 101.3 = −99 kPa
+    /// (gauge pressure, the free surface at 0). (SPHinXsys, for the same reason, keeps the
     /// summation density of its free-surface particles from falling below ρ0.)
     #[serde(default)]
     pub cavitation: bool,
@@ -399,13 +403,6 @@ impl SimPlugin for TaitEos {
                 "min_pressure: must be finite and ≤ 0 (a floor on tension), got {p}"
             ));
         }
-        if self.cavitation && self.min_pressure.is_some() {
-            return Err(
-                "min_pressure: leave it out with `cavitation: true`, which floors the pressure \
-                 at 0"
-                    .into(),
-            );
-        }
         if !(self.background.is_finite() && self.background >= 0.0) {
             return Err(format!(
                 "background: must be finite and ≥ 0, got {}",
@@ -456,14 +453,21 @@ impl TaitEos {
         if !self.cavitation {
             return Ok(free);
         }
-        // the density where Eq. 7.5 with the background pressure gives p = 0
-        let rho_c = free.density_at(0.0).unwrap_or(0.0);
+        // the density where Eq. 7.5 with the background pressure gives the cavitation pressure
+        let p_c = self.min_pressure.unwrap_or(0.0);
+        let rho_c = free.density_at(p_c).ok_or_else(|| {
+            SimError::Build(format!(
+                "TaitEos: min_pressure {p_c} Pa is below the largest tension the law gives \
+                 (−p0 + background = {} Pa): no density cavitates there",
+                self.background - p0
+            ))
+        })?;
         Ok(Eos::Tait {
             rho0,
             gamma: self.gamma,
             p0,
             c0,
-            p_min: 0.0,
+            p_min: p_c,
             p_b: self.background,
             rho_min: rho_c,
         })

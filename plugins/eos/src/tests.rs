@@ -141,7 +141,9 @@ fn materials_name_declared_bodies_once_with_one_scale() {
 
 /// `cavitation: true` floors the pressure at 0 and the density where Eq. 7.5 gives 0, and
 /// leaves the law above it bitwise as it was; with a background pressure that density is
-/// below ρ0. It refuses a `min_pressure` beside it.
+/// below ρ0. A `min_pressure` beside it is the cavitation pressure: the pressure is floored
+/// there and the density where the law gives it; one beyond the law's largest tension
+/// (−p0) is refused.
 #[test]
 fn cavitation_floors_density_where_the_pressure_vanishes() {
     let plugin = |cavitation: bool, background: Real, min_pressure: Option<Real>| TaitEos {
@@ -176,7 +178,21 @@ fn cavitation_floors_density_where_the_pressure_vanishes() {
     assert!(with_b.eval(rho_c, 0.0).0.abs() < 1e-9 * p0);
     assert_eq!(with_b.eval(0.99 * rho_c, 0.0).0, 0.0);
     let info = SceneInfo::of_dimension(2);
-    let e = SimPlugin::validate(&plugin(true, 0.0, Some(0.0)), &info).unwrap_err();
-    assert!(e.starts_with("min_pressure: leave it out"), "{e}");
-    assert!(SimPlugin::validate(&plugin(true, 0.0, None), &info).is_ok());
+    assert!(SimPlugin::validate(&plugin(true, 0.0, Some(-5e3)), &info).is_ok());
+    // water's vapour pressure under the atmosphere, p_c = −0.5 p0 here
+    let p_c = -0.5 * p0;
+    let vapour = law(plugin(true, 0.0, Some(p_c)));
+    let rho_c = vapour.floored(0.0);
+    assert!(
+        (rho_c - 1000.0 * 0.5_f64.powf(1.0 / 7.0)).abs() < 1e-9,
+        "{rho_c}"
+    );
+    assert!((vapour.eval(rho_c, 0.0).0 - p_c).abs() < 1e-9 * p0);
+    assert_eq!(vapour.eval(0.9 * rho_c, 0.0).0, p_c);
+    assert_eq!(vapour.eval(1010.0, 0.0), free.eval(1010.0, 0.0));
+    let e = plugin(true, 0.0, Some(-1.5 * p0))
+        .tait(1000.0, Some(20.0), None)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("below the largest tension"), "{e}");
 }

@@ -219,7 +219,7 @@ pub enum Benchmark {
     /// A 2-D dam break onto a step and a cylinder: the obstacles' load history, the
     /// cylinder's at rest against its buoyancy.
     DamBreakObstacle,
-    /// The walls dam break at Δx/2 and Δx/4 and Buchner's at H/40 and H/80, to their end.
+    /// The walls dam break at Δx/2 and Δx/4 and Buchner's at H/40, H/80 and H/160, to their end.
     Refinement,
 }
 

@@ -8,8 +8,9 @@
 //! lower 0.5 m of the column and 0.025 m above, walls at the fine spacing), Case III
 //! `scenes/dam_break_2d_walls.ron` at a uniform Δx = 0.0125 m. The walls' pressure is
 //! extrapolated from the water (Adami, Hu & Adams 2012, J. Comput. Phys. 231, 7057, Eq. 27)
-//! and their velocity in the artificial viscosity is the water's next to them (free-slip).
-//! Both run to [`END_TIME`] (the experimental front reaches the far wall at 0.70 s); the front
+//! and their velocity in the artificial viscosity is the water's next to them (free-slip);
+//! the water cavitates at its vapour pressure (`TaitEos(cavitation: true, min_pressure:
+//! -99000.0)`). Both run to [`END_TIME`] (the experimental front reaches the far wall at 0.70 s); the front
 //! is the largest x of a water particle with another within its support, compared with the
 //! experiment without a time shift by the RMS over the experimental points with t ≤ 0.70 s,
 //! and Case II with Case III by the RMS of their difference every 0.01 s on (0, 0.70]
@@ -197,7 +198,8 @@ pub fn run(opts: &ReportOptions) -> Result<(Section, FrontPair), ReportError> {
          artificial viscosity α = β = 1, h = 2Δx) with the tank's walls as three layers of \
          particles whose pressure is extrapolated from the water (Adami et al. 2012) and whose \
          velocity in the artificial viscosity is the water's next to them (free-slip); the \
-         water starts hydrostatic, CFL 0.2 of the support radius, t = {t_end:.2} s. Case II: \
+         water starts hydrostatic and cavitates at its vapour pressure (TaitEos `cavitation` \
+         at −99 kPa), CFL 0.2 of the support radius, t = {t_end:.2} s. Case II: \
          dual-support, Δx = 0.0125 m in the lower 0.5 m of the column and 0.025 m above, walls \
          at 0.0125 m (scene `dam_break_2d_walls_two_level.ron`); Case III: uniform Δx = 0.0125 \
          m (`dam_break_2d_walls.ron` at half its spacing). Beside them: Case II with the walls' \
