@@ -1,7 +1,7 @@
 //! Stability under refinement (second tier): the walls dam break at twice its shipped
 //! resolution runs to 1.5 s, and Buchner's dam break at its shipped H/40 runs to t* = 8, both
 //! without a blow-up (`dualsph_validation::report::walls::refinement`). The finer runs (Δx/4,
-//! H/80, H/160; 13, 7 and about 60 CPU-minutes) are in the walls report's "Stability under
+//! H/80, H/160; about 13, 7 and 50 CPU-minutes) are in the walls report's "Stability under
 //! refinement".
 
 mod common;

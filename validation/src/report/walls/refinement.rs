@@ -53,7 +53,7 @@ const STRETCHING: &[(&str, &str)] = &[(
 )];
 
 /// The cases, coarsest first; `finest` adds Δx/4 (as shipped, and with the water stretching
-/// without bound), H/80 and H/160 (about 13, 4, 7 and 60 CPU-minutes, too long for the CI's
+/// without bound), H/80 and H/160 (about 13, 3, 7 and 50 CPU-minutes, too long for the CI's
 /// second tier).
 pub fn refined(finest: bool) -> Vec<Refined> {
     let t_buchner = BUCHNER_END_STAR / (G / H).sqrt();
