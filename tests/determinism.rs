@@ -23,16 +23,7 @@ fn run_steps_with(
     pool.install(|| {
         let particles = cloud::<DVec2>(20, 1.5, 12.0, 3);
         let (eos, pf, av, heat, cont, hup) = (
-            TaitEos {
-                rho0: 1000.0,
-                gamma: 7.0,
-                c0: Some(20.0.into()),
-                p0: None,
-                min_pressure: None,
-                cavitation: false,
-                background: 0.0,
-                materials: Vec::new(),
-            },
+            tait(),
             PressureForce {},
             ArtificialViscosity {
                 alpha: 1.0,
