@@ -147,6 +147,33 @@ fn resume_from_half_way_is_bitwise_identical_2d_drop_with_matrices() {
 }
 
 #[test]
+fn resume_from_half_way_is_bitwise_identical_in_the_middle_of_refinement() {
+    // particles split and merge in both halves: the resumed run must rebuild the changed
+    // population, its ids and the refinement's own counts
+    check_resume("refine_drop.ron", &["DensityRate", "InternalEnergy"], false);
+    let scene = load_text(&std::fs::read_to_string(scene_path("refine_drop.ron")).unwrap());
+    let tmp = tempfile::tempdir().unwrap();
+    run(&scene, tmp.path(), 20, None);
+    let half = Checkpoint::read(&tmp.path().join(checkpoint_file_name(20))).unwrap();
+    let full = Checkpoint::read(&tmp.path().join(checkpoint_file_name(40))).unwrap();
+    let kept = |c: &Checkpoint| {
+        c.resources
+            .iter()
+            .find(|(k, _)| k == "refinement")
+            .map(|(_, b)| b.clone())
+    };
+    assert!(
+        kept(&half).is_some() && kept(&half) != kept(&full),
+        "no refinement after step 20"
+    );
+    assert_ne!(
+        component(&half, "Mass").len(),
+        component(&full, "Mass").len(),
+        "the count changes in the second half"
+    );
+}
+
+#[test]
 fn resume_from_half_way_is_bitwise_identical_1d_sod() {
     let text =
         std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/sod_1d.ron"))

@@ -200,6 +200,45 @@ pub struct Column {
     type_id: TypeId,
     values: fn(&mut World) -> Vec<Real>,
     write: fn(&mut World, &[Real]) -> Result<(), String>,
+    copy: fn(&mut World, Entity, Entity),
+    blend: fn(&mut World, Entity, [(Entity, Real); 2]),
+}
+
+/// Copies `C` of `from` to `to`; a particle without `C` leaves `to` as it was.
+fn copy_values<V: Vector, C: ColumnValue<V>>(world: &mut World, from: Entity, to: Entity) {
+    let mut buf = Vec::new();
+    match world.get::<C>(from) {
+        Some(c) => c.put(&mut buf),
+        None => return,
+    }
+    if let Some(mut c) = world.get_mut::<C>(to) {
+        c.take(&buf);
+    }
+}
+
+/// Sets `C` of `to` to `Σ w_k C(from_k)` over two weighted particles, component by
+/// component; a particle without `C` (or `to` without it) leaves `to` as it was.
+fn blend_values<V: Vector, C: ColumnValue<V>>(
+    world: &mut World,
+    to: Entity,
+    from: [(Entity, Real); 2],
+) {
+    let mut parts = [Vec::new(), Vec::new()];
+    for (buf, (e, _)) in parts.iter_mut().zip(from) {
+        match world.get::<C>(e) {
+            Some(c) => c.put(buf),
+            None => return,
+        }
+    }
+    let [(_, wa), (_, wb)] = from;
+    let mixed: Vec<Real> = parts[0]
+        .iter()
+        .zip(&parts[1])
+        .map(|(a, b)| wa * a + wb * b)
+        .collect();
+    if let Some(mut c) = world.get_mut::<C>(to) {
+        c.take(&mixed);
+    }
 }
 
 /// The values of `C` in row order (the order of a query over the particles).
@@ -255,6 +294,8 @@ impl Column {
             type_id: TypeId::of::<C>(),
             values: values_of::<V, C>,
             write: write_values::<V, C>,
+            copy: copy_values::<V, C>,
+            blend: blend_values::<V, C>,
         }
     }
 
@@ -281,6 +322,22 @@ impl Column {
     /// error says what does not fit.
     pub fn set_by_row(&self, world: &mut World, values: &[Real]) -> Result<(), String> {
         (self.write)(world, values)
+    }
+
+    /// Whether this is the column of component `C`.
+    pub fn is<C: Component>(&self) -> bool {
+        self.type_id == TypeId::of::<C>()
+    }
+
+    /// Copies the column's value of particle `from` to particle `to`.
+    pub fn copy_value(&self, world: &mut World, from: Entity, to: Entity) {
+        (self.copy)(world, from, to);
+    }
+
+    /// Sets the column's value of `to` to the weighted sum `w_a C(a) + w_b C(b)`, component
+    /// by component (a mass-weighted mean with `w = m/(m_a + m_b)`).
+    pub fn blend_values(&self, world: &mut World, to: Entity, from: [(Entity, Real); 2]) {
+        (self.blend)(world, to, from);
     }
 
     /// The CSV labels of the column's components as written (vectors padded to x, y, z).

@@ -15,3 +15,66 @@ pub struct RunOutputDir(pub PathBuf);
 /// when there is one, so that samplers can record the last state as they do at `t_end`.
 #[derive(Resource, Clone, Copy, Debug, PartialEq, Eq)]
 pub struct StepLimit(pub u64);
+
+/// Reads the values of a group of a plugin's columns of `diagnostics.csv` from the world.
+pub type DiagnosticReader =
+    Box<dyn Fn(&bevy_ecs::world::World) -> Vec<crate::math::Real> + Send + Sync>;
+
+/// The columns plugins add to `diagnostics.csv`, after the engine's own, in the order they
+/// were added: names and how to read their values at a diagnostics row. A plugin adds them
+/// in its `build` ([`DiagnosticColumns::add`], [`DiagnosticColumns::add_group`]); the runner
+/// writes them on every row.
+#[derive(Resource, Default)]
+pub struct DiagnosticColumns {
+    groups: Vec<(Vec<String>, DiagnosticReader)>,
+}
+
+impl std::fmt::Debug for DiagnosticColumns {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_list().entries(self.names()).finish()
+    }
+}
+
+impl DiagnosticColumns {
+    /// Adds the column `name`; the error names a name taken already.
+    pub fn add(
+        &mut self,
+        name: impl Into<String>,
+        read: impl Fn(&bevy_ecs::world::World) -> crate::math::Real + Send + Sync + 'static,
+    ) -> Result<(), String> {
+        self.add_group(vec![name.into()], move |w| vec![read(w)])
+    }
+
+    /// Adds the columns `names`, whose values `read` gives together (one for each name, in
+    /// order); the error names a name taken already.
+    pub fn add_group(
+        &mut self,
+        names: Vec<String>,
+        read: impl Fn(&bevy_ecs::world::World) -> Vec<crate::math::Real> + Send + Sync + 'static,
+    ) -> Result<(), String> {
+        if let Some(n) = names.iter().find(|n| self.names().any(|m| m == n.as_str())) {
+            return Err(format!("diagnostics column `{n}` is added twice"));
+        }
+        self.groups.push((names, Box::new(read)));
+        Ok(())
+    }
+
+    /// The names, in order.
+    pub fn names(&self) -> impl Iterator<Item = &str> {
+        self.groups
+            .iter()
+            .flat_map(|(names, _)| names.iter().map(String::as_str))
+    }
+
+    /// The values now, in the order of [`DiagnosticColumns::names`] (a group whose reader
+    /// gives the wrong count is padded with NaN or cut to its names).
+    pub fn values(&self, world: &bevy_ecs::world::World) -> Vec<crate::math::Real> {
+        let mut out = Vec::new();
+        for (names, read) in &self.groups {
+            let mut v = read(world);
+            v.resize(names.len(), crate::math::Real::NAN);
+            out.extend(v);
+        }
+        out
+    }
+}

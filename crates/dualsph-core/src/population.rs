@@ -21,6 +21,7 @@
 //! [`Sim::add_column`]: crate::sim::Sim::add_column
 
 use crate::bodies::BodyId;
+use crate::columns::Columns;
 use crate::components::*;
 use crate::math::Vector;
 use crate::neighbours::Neighbours;
@@ -218,6 +219,116 @@ pub fn apply_population<V: Vector>(world: &mut World) {
     let mut p = world.resource_mut::<Population<V>>();
     p.spawned += spawns.len() as u64;
     p.removed += doomed.len() as u64;
+}
+
+/// The core state a split or a merge gives a particle: the rest of its columns come from the
+/// particles it is made of.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CoreState<V: Vector> {
+    /// Position.
+    pub pos: V,
+    /// Velocity.
+    pub vel: V,
+    /// Mass.
+    pub mass: crate::math::Real,
+    /// Density.
+    pub density: crate::math::Real,
+    /// Support radius.
+    pub h: crate::math::Real,
+}
+
+/// Writes `state` on particle `e`.
+fn set_core<V: Vector>(world: &mut World, e: Entity, state: &CoreState<V>) {
+    let mut p = world.entity_mut(e);
+    p.insert((
+        Position(state.pos),
+        Velocity(state.vel),
+        Mass(state.mass),
+        Density(state.density),
+        SmoothingLength(state.h),
+    ));
+}
+
+/// Splits `parent` into `children`: the parent becomes the first child, in place (it keeps
+/// its id), and every other child is a new particle, with the next ids in order, that
+/// carries a copy of every registered column of the parent (its body, acceleration, rates,
+/// internal energy, …) before its core state is set from `children`. A split makes what is
+/// conserved of the children's core state the caller's to choose; everything else is the
+/// parent's. The neighbour lists are dropped. The error says the id space is exhausted (and
+/// nothing is changed).
+pub fn split_particle<V: Vector>(
+    world: &mut World,
+    parent: Entity,
+    children: &[CoreState<V>],
+) -> Result<(), String> {
+    let Some((first, rest)) = children.split_first() else {
+        return Ok(());
+    };
+    let id0 = world.resource_mut::<NextId>().take(rest.len())?;
+    let body = world.get::<BodyId>(parent).map_or(0, |b| b.0);
+    let inits: Vec<ParticleInit<V>> = rest
+        .iter()
+        .map(|c| ParticleInit {
+            pos: c.pos,
+            vel: c.vel,
+            mass: c.mass,
+            density: c.density,
+            h: c.h,
+            internal_energy: 0.0,
+            body,
+        })
+        .collect();
+    let entities = spawn_core(world, id0, &inits);
+    let seeded: Vec<(Entity, Seed<V>)> = entities
+        .iter()
+        .zip(id0..)
+        .zip(&inits)
+        .map(|((e, id), &init)| (*e, Seed { id, init }))
+        .collect();
+    world.resource_scope(|world, inits: Mut<ColumnInits<V>>| {
+        seed_columns(world, &inits.list, &seeded);
+    });
+    world.resource_scope(|world, columns: Mut<Columns>| {
+        for &e in &entities {
+            for c in columns.iter() {
+                c.copy_value(world, parent, e);
+            }
+        }
+    });
+    set_core(world, parent, first);
+    for (e, c) in entities.iter().zip(rest) {
+        set_core(world, *e, c);
+    }
+    world.resource_mut::<Population<V>>().spawned += rest.len() as u64;
+    world.resource_mut::<Neighbours<V>>().invalidate();
+    Ok(())
+}
+
+/// Merges particle `absorbed` into `kept`, which keeps its id: every registered column of
+/// `kept` becomes the mass-weighted mean `(m_k C_k + m_a C_a)/(m_k + m_a)` of the two (the
+/// mean that conserves `Σ m C` of a quantity per unit mass: velocity, internal energy,
+/// rates), then its core state is set from `merged`, and `absorbed` is removed. The body
+/// stays the kept particle's (the caller merges particles of one body). The neighbour lists
+/// are dropped.
+pub fn merge_particles<V: Vector>(
+    world: &mut World,
+    kept: Entity,
+    absorbed: Entity,
+    merged: &CoreState<V>,
+) {
+    let mass = |e| world.get::<Mass>(e).map_or(0.0, |m| m.0);
+    let (mk, ma) = (mass(kept), mass(absorbed));
+    let total = mk + ma;
+    world.resource_scope(|world, columns: Mut<Columns>| {
+        // the body is a label, not a quantity: both particles are of the kept one's body
+        for c in columns.iter().filter(|c| !c.is::<BodyId>()) {
+            c.blend_values(world, kept, [(kept, mk / total), (absorbed, ma / total)]);
+        }
+    });
+    set_core(world, kept, merged);
+    world.despawn(absorbed);
+    world.resource_mut::<Population<V>>().removed += 1;
+    world.resource_mut::<Neighbours<V>>().invalidate();
 }
 
 /// Replaces every particle by `seeds` (their ids and initial states, in row order), with

@@ -75,6 +75,20 @@ impl KdTree {
     }
 }
 
+impl KdTree {
+    /// The distance from `x` to the nearest point of the tree (a tree over no points is
+    /// not asked: the caller knows it is empty).
+    #[inline]
+    pub fn nearest_distance<V: Vector>(&self, x: V) -> Real {
+        let d2 = match self {
+            KdTree::One(t) => t.nearest_one::<SquaredEuclidean>(&coords(x)).distance,
+            KdTree::Two(t) => t.nearest_one::<SquaredEuclidean>(&coords(x)).distance,
+            KdTree::Three(t) => t.nearest_one::<SquaredEuclidean>(&coords(x)).distance,
+        };
+        d2.sqrt()
+    }
+}
+
 /// For every point i, the sorted indices `j != i` with `|x_i − x_j| <= radii[i]`, as a CSR
 /// (rows in point order), searched in a [`KdTree`].
 pub fn kd_radius_csr<V: Vector>(points: &[V], radii: &[Real]) -> Csr {

@@ -287,7 +287,7 @@ pub fn run_dim_with<V: Vector>(
         sim.world.insert_resource(StepLimit(limit));
     }
     let rows = DiagnosticsOutput::new(sim.world.resource::<Bodies>(), V::DIM);
-    let extra = rows.columns(sim.world.resource::<Bodies>());
+    let extra = rows.columns(&sim.world);
     snapshots::select_columns(&mut sim, &scene.output).map_err(RunError::InvalidOutput)?;
     let formats = snapshots::output_options(&scene.output);
     let mut snapshots = SnapshotSchedule::new(&scene.output);
@@ -298,7 +298,7 @@ pub fn run_dim_with<V: Vector>(
             let mut out = OutputDir::create(&opts.out, extra, formats)?;
             rows.open(&mut out)?;
             let initial = sim.diagnostics();
-            rows.push(&mut out, &initial)?;
+            rows.push(&mut out, &initial, &sim.world)?;
             if snapshots.initial() {
                 out.write_snapshot(0, 0.0, &particle_table(&mut sim))?;
             }
@@ -355,7 +355,8 @@ pub fn run_dim_with<V: Vector>(
         }
         let c = sim.clock();
         if c.step % diag_every == 0 {
-            rows.push(&mut out, &sim.diagnostics())?;
+            let d = sim.diagnostics();
+            rows.push(&mut out, &d, &sim.world)?;
             last_written = c.step;
             sim.world.resource_mut::<DiagnosticsLog>().last_written = c.step;
         }
@@ -405,7 +406,7 @@ pub fn run_dim_with<V: Vector>(
     let cpu = cpu_seconds() - cpu_started;
     let last = sim.diagnostics();
     if last.step != last_written {
-        rows.push(&mut out, &last)?;
+        rows.push(&mut out, &last, &sim.world)?;
     }
     let records = particle_table(&mut sim);
     if snapshots.at_end(last.step) {

@@ -20,6 +20,7 @@ pub mod plugins {
     pub use dualsph_motion::Prescribed;
     pub use dualsph_pressure::{ArtificialStress, PressureForce};
     pub use dualsph_probes::{Probe, Probes, Quantity};
+    pub use dualsph_refinement::Refinement;
     pub use dualsph_shifting::{ParticleShifting, TransportVelocity};
     pub use dualsph_smoothing_length::SmoothingLengthUpdate;
     pub use dualsph_surface_tension::SurfaceTension;
@@ -65,7 +66,8 @@ pub fn default_registry() -> Registry {
         .register::<Probes>()
         .register::<SurfaceTension>()
         .register::<ParticleShifting>()
-        .register::<TransportVelocity>();
+        .register::<TransportVelocity>()
+        .register::<Refinement>();
     r
 }
 

@@ -2,7 +2,9 @@
 //! and the loads on the fixed and prescribed bodies to its load columns and to `bodies.csv`.
 
 use super::EXTRA_COLUMNS;
+use dualsph_core::bevy_ecs::world::World;
 use dualsph_core::bodies::Bodies;
+use dualsph_core::output::DiagnosticColumns;
 use dualsph_diagnostics::{BodyLoad, BodyTotals, Diagnostics};
 use dualsph_io::{BodyLoadRow, DiagnosticsRow, OutputDir, OutputError};
 
@@ -28,8 +30,10 @@ impl DiagnosticsOutput {
     /// several bodies, each body's totals, `mass[name]`, `px[name]`, …, `e_pot[name]`,
     /// `dissipated[name]`; then the load on each fixed or prescribed body (see
     /// [`BodyLoad`]), `fx[name]`, `fy[name]` and `mz[name]` in 2-D, `fx[name]`, `fy[name]`,
-    /// `fz[name]`, `mx[name]`, `my[name]` and `mz[name]` in 3-D.
-    pub(crate) fn columns(&self, bodies: &Bodies) -> Vec<String> {
+    /// `fz[name]`, `mx[name]`, `my[name]` and `mz[name]` in 3-D; then the columns the
+    /// scene's plugins add ([`DiagnosticColumns`]).
+    pub(crate) fn columns(&self, world: &World) -> Vec<String> {
+        let bodies = world.resource::<Bodies>();
         let mut columns: Vec<String> = EXTRA_COLUMNS.iter().map(|s| s.to_string()).collect();
         if bodies.0.len() > 1 {
             for b in &bodies.0 {
@@ -39,6 +43,9 @@ impl DiagnosticsOutput {
         for b in bodies.0.iter().filter(|b| !b.is_fluid()) {
             let names = BodyLoad::names(self.dim);
             columns.extend(names.iter().map(|q| format!("{q}[{}]", b.name)));
+        }
+        if let Some(plugin) = world.get_resource::<DiagnosticColumns>() {
+            columns.extend(plugin.names().map(str::to_string));
         }
         columns
     }
@@ -53,9 +60,19 @@ impl DiagnosticsOutput {
         Ok(())
     }
 
-    /// Writes the row of `d` to `diagnostics.csv`, and its loads to `bodies.csv`.
-    pub(crate) fn push(&self, out: &mut OutputDir, d: &Diagnostics) -> Result<(), OutputError> {
-        out.push_diagnostics(self.row(d))?;
+    /// Writes the row of `d` to `diagnostics.csv` (with the plugins' columns read from
+    /// `world` now), and its loads to `bodies.csv`.
+    pub(crate) fn push(
+        &self,
+        out: &mut OutputDir,
+        d: &Diagnostics,
+        world: &World,
+    ) -> Result<(), OutputError> {
+        let mut row = self.row(d);
+        if let Some(plugin) = world.get_resource::<DiagnosticColumns>() {
+            row.extra.extend(plugin.values(world));
+        }
+        out.push_diagnostics(row)?;
         if self.loads {
             let rows: Vec<BodyLoadRow> = d
                 .loads
@@ -74,7 +91,7 @@ impl DiagnosticsOutput {
     }
 
     /// The `diagnostics.csv` row of `d`, its extra values in the order of
-    /// [`DiagnosticsOutput::columns`].
+    /// [`DiagnosticsOutput::columns`] but for the plugins' columns.
     pub(crate) fn row(&self, d: &Diagnostics) -> DiagnosticsRow {
         let several = d.per_body.len() > 1;
         let per_body = d.per_body.iter().filter(move |_| several);
