@@ -121,7 +121,7 @@ fn merges_conserve_mass_momentum_and_energy_and_report_the_angular_momentum_they
     assert!(r.energy < 1e-14, "energy {}", r.energy);
     // a merged particle carries the pair's summed force from the last evaluation at its
     // centre of mass until the next one: the angular momentum moves by that torque over a
-    // step (measured 4e-7 of M U R over the run)
+    // step (measured 6e-7 of M U R over the run)
     assert!(r.angular < 1e-6, "angular momentum {}", r.angular);
 }
 
@@ -180,9 +180,9 @@ fn splits_and_merges_conserve_in_1_and_3_d() {
         assert!(r.momentum < 1e-14, "{dim}-D momentum {}", r.momentum);
         assert!(r.energy < 1e-14, "{dim}-D energy {}", r.energy);
         // the merged particles' summed forces at their centres of mass until the next
-        // evaluation (see the 2-D test): measured 3.2e-6 of M U R in 3-D
+        // evaluation (see the 2-D test): measured 4.7e-6 of M U R in 3-D
         if dim == 3 {
-            assert!(r.angular < 5e-6, "3-D angular momentum {}", r.angular);
+            assert!(r.angular < 6e-6, "3-D angular momentum {}", r.angular);
         }
     }
 }

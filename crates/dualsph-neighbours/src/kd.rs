@@ -76,16 +76,22 @@ impl KdTree {
 }
 
 impl KdTree {
-    /// The distance from `x` to the nearest point of the tree (a tree over no points is
-    /// not asked: the caller knows it is empty).
+    /// The distance from `x` to the nearest point of the tree within `r` of it, or infinity
+    /// when there is none: a search bounded by `r` returns at once where no point is near,
+    /// which an unbounded nearest-neighbour search does not.
     #[inline]
-    pub fn nearest_distance<V: Vector>(&self, x: V) -> Real {
-        let d2 = match self {
-            KdTree::One(t) => t.nearest_one::<SquaredEuclidean>(&coords(x)).distance,
-            KdTree::Two(t) => t.nearest_one::<SquaredEuclidean>(&coords(x)).distance,
-            KdTree::Three(t) => t.nearest_one::<SquaredEuclidean>(&coords(x)).distance,
+    pub fn nearest_within<V: Vector>(&self, x: V, r: Real) -> Real {
+        let r2 = r * r;
+        let hits = match self {
+            KdTree::One(t) => t.within_unsorted::<SquaredEuclidean>(&coords(x), r2),
+            KdTree::Two(t) => t.within_unsorted::<SquaredEuclidean>(&coords(x), r2),
+            KdTree::Three(t) => t.within_unsorted::<SquaredEuclidean>(&coords(x), r2),
         };
-        d2.sqrt()
+        hits.iter()
+            .map(|nn| nn.distance)
+            .filter(|&d2| d2 <= r2)
+            .fold(Real::INFINITY, Real::min)
+            .sqrt()
     }
 }
 

@@ -23,8 +23,9 @@
 //!
 //! With α = 1/2 (the radius Eq. 6.1 gives the children) the scatter error is large, as the
 //! children's narrow kernels concentrate the density at four points, while the gathered
-//! densities, which DS-SPH's equations use, change little: the crate's defaults are chosen
-//! by the gather error (`docs/refinement.md` lists both).
+//! densities, which DS-SPH's equations use, change by a few per cent (`docs/refinement.md`
+//! lists both, and why the default offset is the lattice's rather than the one of least
+//! gather error).
 
 use crate::split::children;
 use dualsph_core::kernels::{Kernel, KernelKind};

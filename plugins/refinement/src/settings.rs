@@ -38,8 +38,9 @@ pub struct Refinement {
     #[serde(default)]
     pub buffer: Option<Real>,
     /// The children's offset from the parent along each axis, in parent sizes
-    /// (dimensionless; default 0.2, the offset of least density error, see
-    /// [`crate::density_error`]; 0.25 puts the children on the lattice of half the spacing).
+    /// (dimensionless; default 0.25: the children sit on the lattice of half the spacing,
+    /// so a region split whole is that lattice; see `docs/refinement.md` for the density
+    /// errors of other offsets and what they do to a flow).
     #[serde(default = "default_offset")]
     pub offset: Real,
     /// The children's support radius over the parent's (dimensionless; default 0.5, what
@@ -59,7 +60,7 @@ fn default_offset() -> Real {
 }
 
 /// The default [`Refinement::offset`].
-pub const DEFAULT_OFFSET: Real = 0.2;
+pub const DEFAULT_OFFSET: Real = 0.25;
 fn default_child_h() -> Real {
     0.5
 }

@@ -113,9 +113,9 @@ impl<V: Vector> Rows<'_, V> {
         self.fluid[self.body[j] as usize]
     }
 
-    /// The distance from every row in `rows` to the nearest of `points` (infinite without
-    /// points), in parallel.
-    fn distances(&self, rows: &[usize], points: Vec<V>) -> Vec<Real> {
+    /// The distance from every row in `rows` to the nearest of `points` within `reach`
+    /// (infinite beyond it, or without points), in parallel.
+    fn distances(&self, rows: &[usize], points: Vec<V>, reach: Real) -> Vec<Real> {
         if points.is_empty() {
             return vec![Real::INFINITY; rows.len()];
         }
@@ -123,7 +123,7 @@ impl<V: Vector> Rows<'_, V> {
         let pos = self.support.pos;
         rows.par_iter()
             .with_min_len(256)
-            .map(|&i| tree.nearest_distance(pos[i].0))
+            .map(|&i| tree.nearest_within(pos[i].0, reach))
             .collect()
     }
 
@@ -169,8 +169,15 @@ impl<V: Vector> Rows<'_, V> {
         }
     }
 
-    /// The distance from each row of `rows` to region `r` at time `t` (module docs).
-    fn region_distance(&self, r: &ResolvedRegion<V>, rows: &[usize], t: Real) -> Vec<Real> {
+    /// The distance from each row of `rows` to region `r` at time `t` (module docs), where
+    /// it is below `reach` (infinite beyond: the region asks for nothing there).
+    fn region_distance(
+        &self,
+        r: &ResolvedRegion<V>,
+        rows: &[usize],
+        t: Real,
+        reach: Real,
+    ) -> Vec<Real> {
         let volume: Vec<Real> = self.mass.iter().zip(self.rho).map(|(m, r)| m / r).collect();
         match r {
             ResolvedRegion::Box { min, max, velocity } => {
@@ -190,7 +197,7 @@ impl<V: Vector> Rows<'_, V> {
             }
             ResolvedRegion::Around { body, distance } => {
                 let pts = self.points_where(|j| self.body[j] == *body);
-                let d = self.distances(rows, pts);
+                let d = self.distances(rows, pts, reach + distance);
                 d.into_iter().map(|x| (x - distance).max(0.0)).collect()
             }
             ResolvedRegion::FreeSurface {
@@ -202,7 +209,7 @@ impl<V: Vector> Rows<'_, V> {
                     .with_min_len(256)
                     .map(|j| self.is_fluid(j) && self.position_divergence(&volume, j) < *threshold)
                     .collect();
-                let d = self.distances(rows, self.points_where(|j| surface[j]));
+                let d = self.distances(rows, self.points_where(|j| surface[j]), reach + distance);
                 d.into_iter().map(|x| (x - distance).max(0.0)).collect()
             }
             ResolvedRegion::Gradient { quantity, above } => {
@@ -217,7 +224,7 @@ impl<V: Vector> Rows<'_, V> {
                     .filter(|(_, f)| **f)
                     .map(|(&i, _)| self.support.pos[i].0)
                     .collect();
-                self.distances(rows, pts)
+                self.distances(rows, pts, reach)
             }
         }
     }
@@ -234,7 +241,13 @@ pub fn targets<V: Vector>(
     let mut split = vec![set.coarsest; rows.len()];
     let mut merge = split.clone();
     for (r, s) in set.regions.iter().zip(&set.spacings) {
-        let d = state.region_distance(r, rows, t);
+        // beyond this distance the region asks for nothing below coarsest, even `buffer`
+        // farther
+        let reach = match set.grading > 0.0 {
+            true => (set.coarsest - s) / set.grading,
+            false => 0.0,
+        } + set.buffer;
+        let d = state.region_distance(r, rows, t, reach * (1.0 + 1e-9) + 1e-12);
         for ((a, b), d) in split.iter_mut().zip(&mut merge).zip(d) {
             *a = a.min(ask(*s, set.grading, d));
             *b = b.min(ask(*s, set.grading, (d - set.buffer).max(0.0)));

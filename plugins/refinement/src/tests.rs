@@ -201,8 +201,10 @@ fn gather_errors<V: Vector>(kind: KernelKind, h_factor: Real, eps: Real) -> (Rea
 }
 
 #[test]
-fn the_default_offset_has_the_least_worst_gather_error_of_the_offsets_scanned() {
-    use crate::settings::DEFAULT_OFFSET;
+fn an_offset_of_a_fifth_has_the_least_worst_gather_error_of_the_offsets_scanned() {
+    // the figures docs/refinement.md gives (the default is the lattice's 0.25, for what it
+    // does to a flow: the same page)
+    const LEAST: Real = 0.2;
     // the two kernels the scenes use, at their supports (RenDSSPH's cubic spline at 2
     // sizes, Wendland C2 at 3), in 2-D: the worst of the single split's and the front's
     // error at each offset, α = 1/2 (the radius Eq. 6.1 gives the children)
@@ -214,9 +216,9 @@ fn the_default_offset_has_the_least_worst_gather_error_of_the_offsets_scanned() 
             let (a, b) = gather_errors::<DVec2>(kind, hf, eps);
             a.max(b)
         };
-        let chosen = worst(DEFAULT_OFFSET);
+        let chosen = worst(LEAST);
         for eps in [0.15, 0.25, 0.3, 0.35] {
-            assert!(chosen < worst(eps), "{kind:?}: ε = {eps} beats the default");
+            assert!(chosen < worst(eps), "{kind:?}: ε = {eps} beats 0.2");
         }
         assert!(chosen < bound, "{kind:?}: worst gather error {chosen}");
     }
@@ -225,10 +227,43 @@ fn the_default_offset_has_the_least_worst_gather_error_of_the_offsets_scanned() 
         (KernelKind::WendlandC2, 3.0, 0.095),
         (KernelKind::CubicSpline, 2.0, 0.125),
     ] {
-        let (a, b) = gather_errors::<Vec1>(kind, hf, DEFAULT_OFFSET);
-        let (c, d) = gather_errors::<DVec3>(kind, hf, DEFAULT_OFFSET);
+        let (a, b) = gather_errors::<Vec1>(kind, hf, LEAST);
+        let (c, d) = gather_errors::<DVec3>(kind, hf, LEAST);
         assert!(a.max(b).max(c).max(d) < bound, "{kind:?}: {a} {b} {c} {d}");
     }
+}
+
+#[test]
+fn the_default_children_of_a_lattice_are_the_lattice_of_half_its_spacing() {
+    use crate::settings::DEFAULT_OFFSET;
+    // a 3 x 3 patch of unit squares split whole: the children are the lattice of spacing
+    // 1/2 on the same patch, each site once
+    let mut sites: Vec<(i64, i64)> = Vec::new();
+    for i in 0..3 {
+        for j in 0..3 {
+            let p = CoreState {
+                pos: DVec2::new(i as Real + 0.5, j as Real + 0.5),
+                vel: DVec2::ZERO,
+                mass: 1.0,
+                density: 1.0,
+                h: 2.0,
+            };
+            for c in children(&p, 2, DEFAULT_OFFSET, 0.5) {
+                let k = (c.pos * 4.0).round();
+                assert!(
+                    (c.pos * 4.0 - k).length() < 1e-12,
+                    "off the lattice: {}",
+                    c.pos
+                );
+                sites.push((k.x as i64, k.y as i64));
+            }
+        }
+    }
+    sites.sort_unstable();
+    let want: Vec<(i64, i64)> = (0..6)
+        .flat_map(|i| (0..6).map(move |j| (2 * i + 1, 2 * j + 1)))
+        .collect();
+    assert_eq!(sites, want);
 }
 
 #[test]
