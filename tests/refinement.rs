@@ -52,6 +52,22 @@ struct Residuals {
     merges: f64,
 }
 
+impl Residuals {
+    /// Asserts that `label`'s run split and merged at least `least` times each (or, with
+    /// `merges` false, split and never merged), and kept mass, momentum and total energy to
+    /// round-off.
+    fn assert_exact(&self, label: &str, least: f64, merges: bool) {
+        assert!(self.splits > least, "{label}: {} splits", self.splits);
+        match merges {
+            true => assert!(self.merges > least, "{label}: {} merges", self.merges),
+            false => assert_eq!(self.merges, 0.0, "{label}: merges"),
+        }
+        assert!(self.mass < 1e-14, "{label}: mass {}", self.mass);
+        assert!(self.momentum < 1e-14, "{label}: momentum {}", self.momentum);
+        assert!(self.energy < 1e-14, "{label}: energy {}", self.energy);
+    }
+}
+
 /// Runs `text` and measures it (module docs); `u` and `r` are the velocity and length scales.
 fn residuals(text: &str, u: f64, r: f64) -> Residuals {
     let (dir, _) = run_on_threads(&load(text), 1);
@@ -110,15 +126,7 @@ fn merges_conserve_mass_momentum_and_energy_and_report_the_angular_momentum_they
         100.0,
         1.0,
     );
-    assert!(
-        r.splits > 100.0 && r.merges > 100.0,
-        "{} {}",
-        r.splits,
-        r.merges
-    );
-    assert!(r.mass < 1e-14, "mass {}", r.mass);
-    assert!(r.momentum < 1e-14, "momentum {}", r.momentum);
-    assert!(r.energy < 1e-14, "energy {}", r.energy);
+    r.assert_exact("2-D", 100.0, true);
     // a merged particle carries the pair's summed force from the last evaluation at its
     // centre of mass until the next one: the angular momentum moves by that torque over a
     // step (measured 6e-7 of M U R over the run)
@@ -170,15 +178,7 @@ fn splits_and_merges_conserve_in_1_and_3_d() {
     for (dim, r_scale) in [(1, 1.0), (3, 0.5)] {
         let text = drop_in(dim);
         let r = residuals(&text, 100.0, r_scale);
-        assert!(
-            r.splits > 10.0 && r.merges > 10.0,
-            "{dim}-D: {} {}",
-            r.splits,
-            r.merges
-        );
-        assert!(r.mass < 1e-14, "{dim}-D mass {}", r.mass);
-        assert!(r.momentum < 1e-14, "{dim}-D momentum {}", r.momentum);
-        assert!(r.energy < 1e-14, "{dim}-D energy {}", r.energy);
+        r.assert_exact(&format!("{dim}-D"), 10.0, true);
         // the merged particles' summed forces at their centres of mass until the next
         // evaluation (see the 2-D test): measured 4.7e-6 of M U R in 3-D
         if dim == 3 {

@@ -46,32 +46,34 @@ fn close(a: DVec3, b: DVec3, scale: Real) -> bool {
     (a - b).length() <= 4.0 * Real::EPSILON * scale
 }
 
+/// Asserts that `kids` keep `parent`'s mass, momentum, centre of mass, angular momentum and
+/// kinetic energy to round-off.
+fn assert_conserved<V: Vector>(parent: &CoreState<V>, kids: &[CoreState<V>], label: &str) {
+    let (m0, p0, x0, l0, e0) = totals(std::slice::from_ref(parent));
+    let (m1, p1, x1, l1, e1) = totals(kids);
+    let eps = 4.0 * Real::EPSILON;
+    assert!((m1 - m0).abs() <= eps * m0, "{label}: mass {m1} vs {m0}");
+    assert!(close(p1, p0, p0.length()), "{label}: momentum {p1} vs {p0}");
+    assert!(close(x1, x0, x0.length()), "{label}: centre {x1} vs {x0}");
+    let scale = parent.mass * xyz(parent.pos).length() * parent.vel.length();
+    assert!(
+        close(l1, l0, scale),
+        "{label}: angular momentum {l1} vs {l0}"
+    );
+    assert!((e1 - e0).abs() <= eps * e0, "{label}: kinetic energy");
+}
+
 fn split_conserves<V: Vector>() {
     let p = parent::<V>();
     let kids = children(&p, V::DIM, 0.25, 0.5);
     assert_eq!(kids.len(), 1 << V::DIM);
     // 0.25: on the lattice of half the spacing, checked below
-    let (m0, p0, x0, l0, e0) = totals(std::slice::from_ref(&p));
-    let (m1, p1, x1, l1, e1) = totals(&kids);
     let d = V::DIM;
-    assert!(
-        (m1 - m0).abs() <= 4.0 * Real::EPSILON * m0,
-        "{d}-D mass {m1} vs {m0}"
-    );
+    assert_conserved(&p, &kids, &format!("{d}-D"));
+    let m0 = p.mass;
     assert!(
         kids.iter().all(|k| k.mass * (1 << d) as Real == m0),
         "m/2^d is exact"
-    );
-    assert!(close(p1, p0, p0.length()), "{d}-D momentum {p1} vs {p0}");
-    assert!(
-        close(x1, x0, x0.length()),
-        "{d}-D centre of mass {x1} vs {x0}"
-    );
-    let scale = p.mass * xyz(p.pos).length() * p.vel.length();
-    assert!(close(l1, l0, scale), "{d}-D angular momentum {l1} vs {l0}");
-    assert!(
-        (e1 - e0).abs() <= 4.0 * Real::EPSILON * e0,
-        "{d}-D kinetic energy"
     );
     for k in &kids {
         let ratio = size(d, k.mass, k.density) / size(d, p.mass, p.density);
@@ -102,12 +104,7 @@ fn a_split_along_fewer_axes_makes_the_next_size_of_the_ladder_and_conserves() {
     for j in 1..=3 {
         let kids = children(&p, j, 0.2, 0.5);
         assert_eq!(kids.len(), 1 << j);
-        let (m0, p0, x0, l0, e0) = totals(std::slice::from_ref(&p));
-        let (m1, p1, x1, l1, e1) = totals(&kids);
-        assert!((m1 - m0).abs() <= 4.0 * Real::EPSILON * m0);
-        assert!(close(p1, p0, p0.length()) && close(x1, x0, x0.length()));
-        let scale = p.mass * xyz(p.pos).length() * p.vel.length();
-        assert!(close(l1, l0, scale) && (e1 - e0).abs() <= 4.0 * Real::EPSILON * e0);
+        assert_conserved(&p, &kids, &format!("{j} axes"));
         let shrink = (0.5 as Real).powf(j as Real / 3.0);
         let s = size(3, kids[0].mass, kids[0].density) / size(3, p.mass, p.density);
         assert!((s - shrink).abs() < 1e-14, "{j} axes: size ratio {s}");
