@@ -247,6 +247,7 @@ fn decide<V: Vector>(world: &mut World, set: &Resolved<V>, t: Real) -> Plan<V> {
     let vel: Vec<V> = particles.iter().map(|p| p.state.vel).collect();
     let mass: Vec<Real> = particles.iter().map(|p| p.state.mass).collect();
     let rho: Vec<Real> = particles.iter().map(|p| p.state.density).collect();
+    let volume: Vec<Real> = mass.iter().zip(&rho).map(|(m, r)| m / r).collect();
     let nb = world.resource::<Neighbours<V>>();
     let state = Rows {
         support: Support {
@@ -259,6 +260,7 @@ fn decide<V: Vector>(world: &mut World, set: &Resolved<V>, t: Real) -> Plan<V> {
         vel: &vel,
         mass: &mass,
         rho: &rho,
+        volume: &volume,
         body: &body,
         fluid: &fluid,
     };

@@ -98,6 +98,8 @@ pub struct Rows<'a, V: Vector> {
     pub mass: &'a [Real],
     /// Densities.
     pub rho: &'a [Real],
+    /// Volumes `m/ρ`.
+    pub volume: &'a [Real],
     /// Bodies.
     pub body: &'a [u16],
     /// By body index: whether it is a fluid.
@@ -136,12 +138,13 @@ impl<V: Vector> Rows<'_, V> {
     }
 
     /// `∇·r_i = −Σ_j V_j r_ij·∇_iW_ij` over i's support (the free-surface detector).
-    fn position_divergence(&self, volume: &[Real], i: usize) -> Real {
-        dualsph_shifting::concentration_gradient(&self.support, volume, i).1
+    fn position_divergence(&self, i: usize) -> Real {
+        dualsph_shifting::concentration_gradient(&self.support, self.volume, i).1
     }
 
     /// The indicator of `quantity` at row i, over the fluid particles of its support.
-    pub fn indicator(&self, quantity: Indicator, volume: &[Real], i: usize) -> Real {
+    pub fn indicator(&self, quantity: Indicator, i: usize) -> Real {
+        let volume = self.volume;
         match quantity {
             Indicator::Density => {
                 let mut g = V::zero();
@@ -178,7 +181,6 @@ impl<V: Vector> Rows<'_, V> {
         t: Real,
         reach: Real,
     ) -> Vec<Real> {
-        let volume: Vec<Real> = self.mass.iter().zip(self.rho).map(|(m, r)| m / r).collect();
         match r {
             ResolvedRegion::Box { min, max, velocity } => {
                 let (lo, hi) = (*min + *velocity * t, *max + *velocity * t);
@@ -207,7 +209,7 @@ impl<V: Vector> Rows<'_, V> {
                 let surface: Vec<bool> = (0..self.len())
                     .into_par_iter()
                     .with_min_len(256)
-                    .map(|j| self.is_fluid(j) && self.position_divergence(&volume, j) < *threshold)
+                    .map(|j| self.is_fluid(j) && self.position_divergence(j) < *threshold)
                     .collect();
                 let d = self.distances(rows, self.points_where(|j| surface[j]), reach + distance);
                 d.into_iter().map(|x| (x - distance).max(0.0)).collect()
@@ -216,7 +218,7 @@ impl<V: Vector> Rows<'_, V> {
                 let flagged: Vec<bool> = rows
                     .par_iter()
                     .with_min_len(256)
-                    .map(|&i| self.indicator(*quantity, &volume, i) > *above)
+                    .map(|&i| self.indicator(*quantity, i) > *above)
                     .collect();
                 let pts = rows
                     .iter()
