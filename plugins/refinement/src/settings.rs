@@ -10,7 +10,8 @@ use dualsph_core::plugin::positive;
 use dualsph_fluid::prelude::*;
 use serde::{Deserialize, Serialize};
 
-/// Adaptive resolution (see the crate docs).
+/// Adaptive resolution: particles split where the regions ask for a smaller size and merge
+/// where they no longer do (`docs/refinement.md`).
 #[derive(Debug, Clone, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Refinement {
@@ -93,8 +94,8 @@ pub enum Region {
     },
     /// Within `distance` of the free surface (m), detected where the divergence of position
     /// `∇·r_i` (d in the bulk, about d/2 at a free surface; Lind et al. 2012, as
-    /// `ParticleShifting` detects it) is below `threshold` (dimensionless; default
-    /// [`SURFACE_THRESHOLD`] times d). The default is below Lind et al.'s 0.75 d: next to a
+    /// `ParticleShifting` detects it) is below `threshold` (dimensionless; default 0.6 d,
+    /// [`SURFACE_THRESHOLD`]: 1.2 in 2-D). The default is below Lind et al.'s 0.75 d: next to a
     /// jump in particle size the divergence of position dips below that in the bulk, and
     /// every particle so flagged would refine its neighbourhood, and with it move the jump.
     FreeSurface {
