@@ -166,15 +166,16 @@ pub(crate) fn seed_columns<V: Vector>(
 }
 
 /// Spawns particles with ids `first..`, every column from its initialiser, and drops the
-/// neighbour lists (the rows changed).
+/// neighbour lists (the rows changed); gives their entities in order.
 pub(crate) fn spawn_complete<V: Vector>(
     world: &mut World,
     first: u32,
     particles: &[ParticleInit<V>],
-) {
+) -> Vec<Entity> {
     let entities = spawn_core(world, first, particles);
     let seeded: Vec<(Entity, Seed<V>)> = entities
-        .into_iter()
+        .iter()
+        .copied()
         .zip(first..)
         .zip(particles)
         .map(|((e, id), &init)| (e, Seed { id, init }))
@@ -183,6 +184,7 @@ pub(crate) fn spawn_complete<V: Vector>(
         seed_columns(world, &inits.list, &seeded);
     });
     world.resource_mut::<Neighbours<V>>().invalidate();
+    entities
 }
 
 /// Applies the requests in [`Population`] (see the module docs).
@@ -278,16 +280,7 @@ pub fn split_particle<V: Vector>(
             body,
         })
         .collect();
-    let entities = spawn_core(world, id0, &inits);
-    let seeded: Vec<(Entity, Seed<V>)> = entities
-        .iter()
-        .zip(id0..)
-        .zip(&inits)
-        .map(|((e, id), &init)| (*e, Seed { id, init }))
-        .collect();
-    world.resource_scope(|world, inits: Mut<ColumnInits<V>>| {
-        seed_columns(world, &inits.list, &seeded);
-    });
+    let entities = spawn_complete(world, id0, &inits);
     world.resource_scope(|world, columns: Mut<Columns>| {
         for &e in &entities {
             for c in columns.iter() {
@@ -300,7 +293,6 @@ pub fn split_particle<V: Vector>(
         set_core(world, *e, c);
     }
     world.resource_mut::<Population<V>>().spawned += rest.len() as u64;
-    world.resource_mut::<Neighbours<V>>().invalidate();
     Ok(())
 }
 

@@ -8,8 +8,8 @@
 
 use super::{Csr, SEARCH_CHUNK, assemble};
 use dualsph_math::{Points, Real, Vector};
-use kiddo::SquaredEuclidean;
 use kiddo::immutable::float::kdtree::ImmutableKdTree;
+use kiddo::{NearestNeighbour, SquaredEuclidean};
 use rayon::prelude::*;
 
 /// Items per leaf of every tree.
@@ -63,31 +63,29 @@ impl KdTree {
     /// with their own arithmetic. In no particular order.
     #[inline]
     pub fn for_each_within<V: Vector>(&self, x: V, r: Real, mut f: impl FnMut(u32)) {
-        let r2 = r * r * (1.0 + 1e-12);
-        let hits = match self {
-            KdTree::One(t) => t.within_unsorted::<SquaredEuclidean>(&coords(x), r2),
-            KdTree::Two(t) => t.within_unsorted::<SquaredEuclidean>(&coords(x), r2),
-            KdTree::Three(t) => t.within_unsorted::<SquaredEuclidean>(&coords(x), r2),
-        };
-        for nn in hits {
+        for nn in self.within(x, r * r * (1.0 + 1e-12)) {
             f(nn.item);
         }
     }
-}
 
-impl KdTree {
+    /// The points within squared distance `r2` of `x`, with their squared distances.
+    #[inline]
+    fn within<V: Vector>(&self, x: V, r2: Real) -> Vec<NearestNeighbour<Real, u32>> {
+        match self {
+            KdTree::One(t) => t.within_unsorted::<SquaredEuclidean>(&coords(x), r2),
+            KdTree::Two(t) => t.within_unsorted::<SquaredEuclidean>(&coords(x), r2),
+            KdTree::Three(t) => t.within_unsorted::<SquaredEuclidean>(&coords(x), r2),
+        }
+    }
+
     /// The distance from `x` to the nearest point of the tree within `r` of it, or infinity
     /// when there is none: a search bounded by `r` returns at once where no point is near,
     /// which an unbounded nearest-neighbour search does not.
     #[inline]
     pub fn nearest_within<V: Vector>(&self, x: V, r: Real) -> Real {
         let r2 = r * r;
-        let hits = match self {
-            KdTree::One(t) => t.within_unsorted::<SquaredEuclidean>(&coords(x), r2),
-            KdTree::Two(t) => t.within_unsorted::<SquaredEuclidean>(&coords(x), r2),
-            KdTree::Three(t) => t.within_unsorted::<SquaredEuclidean>(&coords(x), r2),
-        };
-        hits.iter()
+        self.within(x, r2)
+            .iter()
             .map(|nn| nn.distance)
             .filter(|&d2| d2 <= r2)
             .fold(Real::INFINITY, Real::min)

@@ -88,11 +88,13 @@ pub fn split_axes(dim: usize, coarsest: Real, size: Real) -> (usize, Real) {
     (axes, coarsest * (0.5 as Real).powf(next))
 }
 
-/// A particle's entity, id and core state, and its sound speed (infinite without one).
+/// A particle's entity, id, body and core state, and its sound speed (infinite without
+/// one).
 #[derive(Clone, Copy, Debug)]
 struct Particle<V: Vector> {
     entity: Entity,
     id: u32,
+    body: u16,
     state: CoreState<V>,
     sound: Real,
 }
@@ -130,12 +132,14 @@ fn gather<V: Vector>(world: &mut World) -> Vec<Particle<V>> {
         &Mass,
         &Density,
         &SmoothingLength,
+        &BodyId,
         Option<&SoundSpeed>,
     )>();
     q.iter(world)
-        .map(|(entity, id, r, v, m, rho, h, c)| Particle {
+        .map(|(entity, id, r, v, m, rho, h, b, c)| Particle {
             entity,
             id: id.0,
+            body: b.0,
             sound: c.map_or(Real::INFINITY, |c| c.0),
             state: CoreState {
                 pos: r.0,
@@ -232,7 +236,7 @@ impl<V: Vector> Ctx<'_, V> {
 /// Steps 1–4 of the module docs.
 fn decide<V: Vector>(world: &mut World, set: &Resolved<V>, t: Real) -> Plan<V> {
     let particles = gather::<V>(world);
-    let body: Vec<u16> = world.query::<&BodyId>().iter(world).map(|b| b.0).collect();
+    let body: Vec<u16> = particles.iter().map(|p| p.body).collect();
     let fluid: Vec<bool> = world
         .resource::<Bodies>()
         .0
