@@ -16,6 +16,7 @@ pub mod names;
 pub mod order;
 pub mod output;
 mod particles;
+pub mod phase;
 pub mod plugin;
 pub mod population;
 pub mod potentials;

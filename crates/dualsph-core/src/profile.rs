@@ -68,8 +68,11 @@ impl SystemTimes {
 }
 
 /// Starts a step's timing (runs before the first system).
-pub(crate) fn begin_step(mut t: ResMut<SystemTimes>) {
-    t.steps += 1;
+pub(crate) fn begin_step(mut t: ResMut<SystemTimes>, phase: Res<crate::phase::StepPhase>) {
+    // a step's population and rates phases run the schedule before its main run
+    if *phase == crate::phase::StepPhase::Step {
+        t.steps += 1;
+    }
     t.last = Some(Instant::now());
 }
 

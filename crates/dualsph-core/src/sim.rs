@@ -17,6 +17,7 @@ pub use crate::names::short_type_name;
 
 mod plan;
 mod state;
+pub use crate::phase::{RatesStale, StepPhase};
 pub use plan::Plan;
 pub use state::{
     Domain, Formulation, InitialInternalEnergy, IntegratorName, KernelRes, MaxViscosity,
@@ -106,6 +107,19 @@ impl StepSet {
     }
 }
 
+/// Whether the systems of `set` run in `phase` (`initializing`: the initial evaluation,
+/// which skips the sets that advance the state): [`StepSet::Population`] in its phase only;
+/// the diagnostics and the sets that advance the state in the step only; the rates' sets in
+/// the rates phase and the step.
+fn runs_in(phase: StepPhase, set: StepSet, initializing: bool) -> bool {
+    match set {
+        StepSet::Population => phase == StepPhase::Population && !initializing,
+        StepSet::Diagnostics => phase == StepPhase::Step,
+        s if s.advances_state() => phase == StepPhase::Step && !initializing,
+        _ => phase != StepPhase::Population,
+    }
+}
+
 /// The step schedule's label.
 #[derive(ScheduleLabel, Debug, Clone, PartialEq, Eq, Hash)]
 pub struct Step;
@@ -170,6 +184,8 @@ pub struct Sim<V: Vector> {
     labels: Vec<String>,
     /// The systems' indices in schedule order (set when the schedule is built).
     built_order: Vec<usize>,
+    /// Whether a system is in [`StepSet::Population`] (set when the schedule is built).
+    has_population: bool,
     /// The threads that run the steps (see [`Sim::step`]); made at the first step.
     pool: Option<rayon::ThreadPool>,
     /// What crates above the core check and add when the simulation is finished, by name
@@ -217,6 +233,7 @@ impl<V: Vector> Sim<V> {
             schedule: None,
             labels: Vec::new(),
             built_order: Vec::new(),
+            has_population: false,
             pool: None,
             finish_hooks: Vec::new(),
             _v: PhantomData,
@@ -414,6 +431,9 @@ impl<V: Vector> Sim<V> {
         if !self.world.contains_resource::<AccelerationsSet>() {
             self.add_zero_accelerations();
         }
+        self.world.init_resource::<StepPhase>();
+        self.world.init_resource::<RatesStale>();
+        self.has_population = self.systems.iter().any(|s| s.set == StepSet::Population);
         let mut schedule = Schedule::new(Step);
         schedule.set_executor(SingleThreadedExecutor::new());
         let order = self.ordered()?;
@@ -422,9 +442,10 @@ impl<V: Vector> Sim<V> {
             if pos > 0 {
                 schedule.configure_sets(slot.after(Slot(pos - 1)));
             }
-            if self.systems[k].set.advances_state() {
-                schedule.configure_sets(slot.run_if(|c: Res<SimClock>| !c.initializing));
-            }
+            let set = self.systems[k].set;
+            schedule.configure_sets(slot.run_if(move |c: Res<SimClock>, p: Res<StepPhase>| {
+                runs_in(*p, set, c.initializing)
+            }));
             if let Some(add) = self.systems[k].add.take() {
                 add(&mut schedule, slot);
             }
@@ -481,16 +502,32 @@ impl<V: Vector> Sim<V> {
         Ok(())
     }
 
-    /// Advances one time step.
+    /// Advances one time step: the plugins' changes of the particles
+    /// ([`StepSet::Population`]), the rates evaluated again if a plugin says they are stale
+    /// ([`RatesStale`]), then the rest of the step ([`StepPhase`]).
     pub fn step(&mut self) -> Result<(), SimError> {
         if self.schedule.is_none() {
             self.initialize()?;
+        }
+        if self.has_population {
+            self.run_phase(StepPhase::Population);
+            let stale = &mut self.world.resource_mut::<RatesStale>().0;
+            if std::mem::take(stale) {
+                self.run_phase(StepPhase::Rates);
+            }
+            *self.world.resource_mut::<StepPhase>() = StepPhase::Step;
         }
         self.run_schedule();
         match &self.world.resource::<StepFailure>().0 {
             Some(e) => Err(SimError::BlowUp(format!("step {}: {e}", self.clock().step))),
             None => Ok(()),
         }
+    }
+
+    /// Runs the step's schedule in `phase` (left set: the caller sets it back).
+    fn run_phase(&mut self, phase: StepPhase) {
+        *self.world.resource_mut::<StepPhase>() = phase;
+        self.run_schedule();
     }
 
     /// Runs the step's schedule on a thread of a rayon pool. Called from outside any pool,

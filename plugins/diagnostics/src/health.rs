@@ -79,6 +79,17 @@ pub const DEFAULT_DENSITY_FACTORS: (Real, Real) = (300.0, 10.0);
 /// 1/2.15, in the same tube), so 10 below, 300 above.
 pub const DEFAULT_H_FACTORS: (Real, Real) = (10.0, 300.0);
 
+impl HealthBounds {
+    /// Widens the initial h range by `ratio` (> 1) both ways: a plugin that changes particle
+    /// sizes during a run (splits and merges) makes h that far from the initial range
+    /// without anything having gone wrong. Nothing to do before the range is known.
+    pub fn widen_h_range(&mut self, ratio: Real) {
+        if let Some((lo, hi)) = self.h_range {
+            self.h_range = Some((lo / ratio, hi * ratio));
+        }
+    }
+}
+
 impl Default for HealthBounds {
     fn default() -> Self {
         HealthBounds {

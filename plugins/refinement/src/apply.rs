@@ -5,7 +5,7 @@
 //!    where the regions are, `t_m` where they reach `buffer` farther;
 //! 2. each is rounded down to the *ladder* of sizes `coarsest·2^{-k}` (`D(t)`, the largest
 //!    ladder size not above `t`, within [`SIZE_TOLERANCE`]);
-//! 3. a particle larger than `D(t_s)` splits, to the next size of the ladder below its own
+//! 3. where a region asks for less than `coarsest`, a particle larger than `D(t_s)` splits, to the next size of the ladder below its own
 //!    (`2^d` children, or `2^j` along `j < d` axes for a particle a merge left between two
 //!    ladder sizes; [`crate::split`]), unless the children would be smaller than `finest`;
 //! 4. a particle whose merge with an equal one would not be larger than `D(t_m)` is a merge
@@ -16,7 +16,11 @@
 //!    A split or merge that would put a particle against a wall is not made
 //!    ([`WALL_CLEARANCE`]);
 //! 5. the merges are applied in the order paired (the lower id is kept), then the splits in
-//!    ascending id order ([`dualsph_core::population`]).
+//!    ascending id order ([`dualsph_core::population`]);
+//! 6. the rates are evaluated again at the new particles before the step goes on
+//!    ([`RatesStale`]): a merged particle then feels its own forces, not the pair's sum at
+//!    its centre of mass, so the angular momentum stays exact through a merge as through a
+//!    split.
 //!
 //! No particle splits and merges back while the targets stay: children are of a ladder size
 //! at or above `D(t_s) ≥ D(t_m)`, and a pair of them merged would be `2^{1/d}` times larger;
@@ -31,6 +35,7 @@ use crate::target::{Resolved, Rows, targets};
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::bodies::{Bodies, BodyId};
 use dualsph_core::neighbours::Neighbours;
+use dualsph_core::phase::RatesStale;
 use dualsph_core::population::{CoreState, merge_particles, split_particle};
 use dualsph_core::sim::StepFailure;
 use dualsph_fluid::prelude::*;
@@ -119,6 +124,10 @@ pub fn refine<V: Vector>(world: &mut World) {
         return;
     }
     let plan = world.resource_scope(|world, set: Mut<Resolved<V>>| decide(world, &set, clock.t));
+    if !(plan.merges.is_empty() && plan.splits.is_empty()) {
+        // the children and the merged particles get their own rates before the step goes on
+        world.resource_mut::<RatesStale>().0 = true;
+    }
     apply(world, plan);
 }
 
@@ -293,7 +302,9 @@ fn plan<V: Vector>(
     let mut candidate = vec![false; ctx.particles.len()];
     for ((&i, &ts), &tm) in rows.iter().zip(t_split).zip(t_merge) {
         let size = ctx.size(i);
-        if size > ladder_size(set.coarsest, ts) * tol {
+        // only a region's ask splits: a particle larger than `coarsest` where none asks (a
+        // gas expanding into vacuum) is left as it is
+        if ts < set.coarsest && size > ladder_size(set.coarsest, ts) * tol {
             let (axes, child) = split_axes(V::DIM, set.coarsest, size);
             if child >= set.finest / tol {
                 plan.splits.extend(ctx.split(i, axes));

@@ -7,6 +7,7 @@ use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::bodies::Bodies;
 use dualsph_core::output::DiagnosticColumns;
 use dualsph_core::plugin::positive;
+use dualsph_diagnostics::HealthBounds;
 use dualsph_fluid::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -21,7 +22,7 @@ pub struct Refinement {
     /// The smallest particle size a split may make (m).
     pub finest: Real,
     /// The largest particle size a merge may make (m), and the target where no region asks
-    /// for less.
+    /// for less (a particle larger than it splits only where a region asks for less).
     pub coarsest: Real,
     /// Where the particles are to be smaller.
     #[serde(default)]
@@ -254,6 +255,11 @@ impl SimPlugin for Refinement {
         let resolved = self.resolve::<V>(sim.world.resource::<Bodies>())?;
         let levels = resolved.levels;
         sim.world.insert_resource(resolved);
+        // a split halves h per level, a merge doubles it: the blow-up check's sane range of h
+        // is widened by the ladder's whole ratio
+        if let Some(mut bounds) = sim.world.get_resource_mut::<HealthBounds>() {
+            bounds.widen_h_range(self.coarsest / self.finest);
+        }
         sim.world.init_resource::<RefinementStats>();
         sim.keep_resource::<RefinementStats>("refinement");
         sim.enable_population();

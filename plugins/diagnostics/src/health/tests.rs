@@ -112,3 +112,16 @@ fn the_density_range_comes_from_the_initial_densities_when_they_are_restored() {
     set(&mut s, 0, 1501.0, 0.1);
     assert_eq!(problem(&mut s), Some((0, DENSITY_ABOVE, 1501.0)));
 }
+
+#[test]
+fn a_widened_h_range_admits_what_the_ratio_allows_both_ways() {
+    let mut b = HealthBounds {
+        h_range: Some((0.1, 0.2)),
+        ..HealthBounds::default()
+    };
+    b.widen_h_range(4.0);
+    assert_eq!(b.h_range, Some((0.025, 0.8)));
+    let mut unknown = HealthBounds::default();
+    unknown.widen_h_range(4.0);
+    assert_eq!(unknown.h_range, None);
+}
