@@ -206,19 +206,58 @@ fn only_a_region_splits_a_particle_larger_than_coarsest() {
     let (dir, _) = run_on_threads(&load(&std::fs::read_to_string(path).unwrap()), 1);
     let last = diagnostics(dir.path()).pop().unwrap();
     assert_eq!((last["splits"], last["merges"]), (0.0, 0.0));
-    let text = String::from_utf8(read(&dir.path().join("final.csv"))).unwrap();
-    let mut lines = text.lines();
-    let names: Vec<&str> = lines.next().unwrap().split(',').collect();
-    let col = |n: &str| names.iter().position(|x| *x == n).unwrap();
-    let (m, rho) = (col("m"), col("rho"));
-    let largest = lines
-        .map(|l| {
-            let v: Vec<f64> = l.split(',').map(|x| x.parse().unwrap()).collect();
-            v[m] / v[rho]
-        })
+    let largest = final_rows(dir.path())
+        .iter()
+        .map(|p| p["m"] / p["rho"])
         .fold(0.0, f64::max);
     assert!(
         largest > 4.0 * 0.02,
         "the largest particle is only {largest} m"
     );
+}
+
+/// The rows of `final.csv` in `dir`, by column label.
+fn final_rows(dir: &Path) -> Vec<HashMap<String, f64>> {
+    let text = String::from_utf8(read(&dir.join("final.csv"))).unwrap();
+    let mut lines = text.lines();
+    let names: Vec<&str> = lines.next().unwrap().split(',').collect();
+    lines
+        .map(|l| {
+            let values = l.split(',').map(|v| v.parse::<f64>().unwrap());
+            names.iter().map(|n| n.to_string()).zip(values).collect()
+        })
+        .collect()
+}
+
+#[test]
+fn snapshots_carry_each_particles_size_and_level_and_a_scene_may_choose_them() {
+    let text = drop_text()
+        .replace("max_steps: 40", "max_steps: 150")
+        .replace(
+            "snapshot_every: 100000)",
+            "snapshot_every: 100000, columns: [\"level\"])",
+        );
+    let (dir, _) = run_on_threads(&load(&text), 1);
+    let rows = final_rows(dir.path());
+    assert!(rows[0].contains_key("level") && !rows[0].contains_key("size"));
+    // the levels are those diagnostics.csv counts at the same step
+    let last = diagnostics(dir.path()).pop().unwrap();
+    let mut counts: HashMap<String, f64> = HashMap::new();
+    for p in &rows {
+        *counts.entry(format!("n_level{}", p["level"])).or_default() += 1.0;
+    }
+    assert!(counts.len() > 1, "one level only: {counts:?}");
+    for (name, n) in &counts {
+        assert_eq!(last[name], *n, "{name}");
+    }
+    // every written column by default, the size among them: (m/ρ)^{1/2} in 2-D
+    let (dir, _) = run_on_threads(&load(&drop_text()), 1);
+    for p in final_rows(dir.path()) {
+        let size = (p["m"] / p["rho"]).sqrt();
+        assert!(
+            (p["size"] - size).abs() <= 1e-12 * size,
+            "{} vs {size}",
+            p["size"]
+        );
+    }
 }

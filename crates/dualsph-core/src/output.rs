@@ -78,3 +78,79 @@ impl DiagnosticColumns {
         out
     }
 }
+
+/// Reads a quantity derived from the particles' columns: one value per particle, in row
+/// order (the order of any query over the particles' table).
+pub type DerivedReader =
+    Box<dyn Fn(&bevy_ecs::world::World) -> Vec<crate::math::Real> + Send + Sync>;
+
+/// Per-particle quantities plugins add to the snapshots and `final.csv` that are derived
+/// from stored columns and so not stored themselves (a refined particle's size and level):
+/// computed when a file is written, after the registered columns, in the order added. A
+/// plugin adds them in its `build` ([`DerivedColumns::add`]); the scene's `output.columns`
+/// may name them.
+#[derive(Resource, Default)]
+pub struct DerivedColumns {
+    columns: Vec<(String, DerivedReader)>,
+}
+
+impl std::fmt::Debug for DerivedColumns {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_list().entries(self.names()).finish()
+    }
+}
+
+impl DerivedColumns {
+    /// Adds the column `name`; the error names a name taken already.
+    pub fn add(
+        &mut self,
+        name: impl Into<String>,
+        read: impl Fn(&bevy_ecs::world::World) -> Vec<crate::math::Real> + Send + Sync + 'static,
+    ) -> Result<(), String> {
+        let name = name.into();
+        if self.names().any(|n| n == name) {
+            return Err(format!("snapshot column `{name}` is added twice"));
+        }
+        self.columns.push((name, Box::new(read)));
+        Ok(())
+    }
+
+    /// The names, in order.
+    pub fn names(&self) -> impl Iterator<Item = &str> {
+        self.columns.iter().map(|(n, _)| n.as_str())
+    }
+
+    /// The columns as `(name, values in row order)`, those for which `keep(name)` holds.
+    pub fn values(
+        &self,
+        world: &bevy_ecs::world::World,
+        keep: impl Fn(&str) -> bool,
+    ) -> Vec<(String, Vec<crate::math::Real>)> {
+        self.columns
+            .iter()
+            .filter(|(n, _)| keep(n))
+            .map(|(n, read)| (n.clone(), read(world)))
+            .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_derived_column_is_read_when_asked_and_named_once() {
+        let mut cols = DerivedColumns::default();
+        cols.add("twice", |_| vec![2.0, 4.0]).unwrap();
+        cols.add("none", |_| Vec::new()).unwrap();
+        assert!(
+            cols.add("twice", |_| Vec::new())
+                .unwrap_err()
+                .contains("`twice`")
+        );
+        let world = bevy_ecs::world::World::new();
+        let got = cols.values(&world, |n| n == "twice");
+        assert_eq!(got, vec![("twice".to_string(), vec![2.0, 4.0])]);
+        assert_eq!(cols.names().collect::<Vec<_>>(), ["twice", "none"]);
+    }
+}

@@ -44,6 +44,7 @@ impl<V: Vector> Sim<V> {
         world.insert_resource(ExternalPotentials::default());
         world.insert_resource(Columns::default());
         world.insert_resource(crate::output::DiagnosticColumns::default());
+        world.insert_resource(crate::output::DerivedColumns::default());
         world.insert_resource(NextId::default());
         world.insert_resource(ColumnInits::<V>::default());
         world.insert_resource(Bodies::default());

@@ -151,11 +151,16 @@ pub fn interrupted() -> bool {
 }
 
 /// The scene's output columns (see `dualsph_core::columns`; those of `output.columns` when the
-/// run chose some, see [`snapshots::select_columns`]) as a table, rows in id order: what
-/// snapshots and `final.csv` hold. Vectors are padded to three components.
+/// run chose some, see [`snapshots::select_columns`]) as a table, rows in id order, then the
+/// plugins' derived columns ([`snapshots::derived_columns`]): what snapshots and `final.csv`
+/// hold. Vectors are padded to three components.
 pub fn particle_table<V: Vector>(sim: &mut Sim<V>) -> ParticleTable {
     let columns = snapshots::chosen_columns(&sim.world);
-    table_of::<V>(&mut sim.world, &columns)
+    let mut table = table_of::<V>(&mut sim.world, &columns);
+    table
+        .columns
+        .extend(snapshots::derived_columns(&mut sim.world));
+    table
 }
 
 /// Every registered column but the records (integrator registers) as a table, rows in id

@@ -372,23 +372,34 @@ fn apply<V: Vector>(world: &mut World, plan: Plan<V>) {
     }
 }
 
-/// The particles of the refined bodies at each size level `0..=levels`, level
-/// `round(d log2(coarsest/Δx))` clamped into range (0 the coarsest; a merge of two equal
-/// particles moves up one level, a split down `d`).
-pub fn level_counts<V: Vector>(world: &World, levels: usize) -> Vec<u64> {
-    let mut counts = vec![0u64; levels + 1];
+/// Every particle's size `Δx = (m/ρ)^{1/d}` and level `round(d log2(coarsest/Δx))` clamped
+/// into `0..=levels` (0 the coarsest; a merge of two equal particles moves up one level, a
+/// split down `d`), with whether its body is refined, in row order.
+pub fn sizes_and_levels<V: Vector>(world: &World) -> Vec<(Real, usize, bool)> {
     let Some(set) = world.get_resource::<Resolved<V>>() else {
-        return counts;
+        return Vec::new();
     };
     let Some(mut q) = world.try_query::<(&Mass, &Density, &BodyId)>() else {
-        return counts;
+        return Vec::new();
     };
     let d = V::DIM as Real;
-    for (m, rho, b) in q.iter(world) {
-        if set.refined.get(b.0 as usize).copied().unwrap_or(false) {
+    q.iter(world)
+        .map(|(m, rho, b)| {
             let size = split::size(V::DIM, m.0, rho.0);
             let level = (d * (set.coarsest / size).log2()).round();
-            counts[level.clamp(0.0, levels as Real) as usize] += 1;
+            let refined = set.refined.get(b.0 as usize).copied().unwrap_or(false);
+            (size, level.clamp(0.0, set.levels as Real) as usize, refined)
+        })
+        .collect()
+}
+
+/// The particles of the refined bodies at each size level `0..=levels`
+/// ([`sizes_and_levels`]).
+pub fn level_counts<V: Vector>(world: &World, levels: usize) -> Vec<u64> {
+    let mut counts = vec![0u64; levels + 1];
+    for (_, level, refined) in sizes_and_levels::<V>(world) {
+        if refined {
+            counts[level.min(levels)] += 1;
         }
     }
     counts

@@ -5,7 +5,7 @@ pub use crate::target::Indicator;
 use crate::target::{Resolved, ResolvedRegion};
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::bodies::Bodies;
-use dualsph_core::output::DiagnosticColumns;
+use dualsph_core::output::{DerivedColumns, DiagnosticColumns};
 use dualsph_core::plugin::positive;
 use dualsph_diagnostics::HealthBounds;
 use dualsph_fluid::prelude::*;
@@ -265,6 +265,8 @@ impl SimPlugin for Refinement {
         sim.enable_population();
         add_diagnostics::<V>(&mut sim.world.resource_mut::<DiagnosticColumns>(), levels)
             .map_err(SimError::Build)?;
+        add_snapshot_columns::<V>(&mut sim.world.resource_mut::<DerivedColumns>())
+            .map_err(SimError::Build)?;
         sim.add_system(StepSet::Population, "refine (split and merge)", refine::<V>);
         Ok(())
     }
@@ -367,4 +369,19 @@ fn add_diagnostics<V: Vector>(cols: &mut DiagnosticColumns, levels: usize) -> Re
         counts.into_iter().map(|n| n as Real).collect()
     })?;
     Ok(())
+}
+
+/// The columns the plugin adds to the snapshots and `final.csv`: every particle's `size`
+/// `(m/ρ)^{1/d}` (m) and, for the particles of refined bodies, its `level` (0 the coarsest,
+/// as `n_level*` in `diagnostics.csv`; NaN for other bodies).
+fn add_snapshot_columns<V: Vector>(cols: &mut DerivedColumns) -> Result<(), String> {
+    use crate::apply::sizes_and_levels;
+    cols.add("size", |w| {
+        sizes_and_levels::<V>(w).into_iter().map(|s| s.0).collect()
+    })?;
+    cols.add("level", |w| {
+        (sizes_and_levels::<V>(w).into_iter())
+            .map(|(_, level, refined)| if refined { level as Real } else { Real::NAN })
+            .collect()
+    })
 }

@@ -3,9 +3,10 @@
 //! ([`select_columns`]).
 
 use bevy_ecs::prelude::{Resource, World};
-use dualsph_core::columns::{Column, Columns};
+use dualsph_core::columns::{Column, Columns, ids_by_row};
+use dualsph_core::output::DerivedColumns;
 use dualsph_fluid::prelude::*;
-use dualsph_io::{OutputOptions, POSITION, VtkEncoding};
+use dualsph_io::{OutputOptions, POSITION, TableColumn, VtkEncoding};
 use dualsph_scene::{OutputFormat, OutputSettings};
 
 /// Relative tolerance of the time cadence: a step whose t is within `1e-9·snapshot_dt` below a
@@ -133,11 +134,10 @@ pub fn select_columns<V: Vector>(sim: &mut Sim<V>, output: &OutputSettings) -> R
         sim.world.remove_resource::<SnapshotColumns>();
         return Ok(());
     };
-    let available: Vec<&str> = sim
-        .world
-        .resource::<Columns>()
-        .output()
+    let derived = sim.world.get_resource::<DerivedColumns>();
+    let available: Vec<&str> = (sim.world.resource::<Columns>().output())
         .map(|c| c.spec.name)
+        .chain(derived.into_iter().flat_map(|d| d.names()))
         .collect();
     if let Some(unknown) = names
         .iter()
@@ -165,6 +165,29 @@ pub fn chosen_columns(world: &World) -> Vec<Column> {
         .output()
         .filter(|c| chosen.is_none_or(|s| s.0.iter().any(|n| n == c.spec.name)))
         .cloned()
+        .collect()
+}
+
+/// The plugins' derived columns ([`DerivedColumns`]) that the snapshots write (those of
+/// [`SnapshotColumns`] when the world has it, else all), rows in id order.
+pub fn derived_columns(world: &mut World) -> Vec<TableColumn> {
+    let ids = ids_by_row(world);
+    let mut order: Vec<usize> = (0..ids.len()).collect();
+    order.sort_unstable_by_key(|&r| ids[r]);
+    let Some(derived) = world.get_resource::<DerivedColumns>() else {
+        return Vec::new();
+    };
+    let chosen = world.get_resource::<SnapshotColumns>();
+    let keep = |n: &str| chosen.is_none_or(|s| s.0.iter().any(|c| c == n));
+    (derived.values(world, keep).into_iter())
+        .map(|(name, v)| TableColumn {
+            labels: vec![name.clone()],
+            name,
+            values: order
+                .iter()
+                .map(|&r| v.get(r).copied().unwrap_or(Real::NAN))
+                .collect(),
+        })
         .collect()
 }
 
