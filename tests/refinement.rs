@@ -24,9 +24,9 @@ fn load(text: &str) -> Scene {
     Scene::from_str(text, Path::new("refine.ron"), &dualsph::default_registry()).unwrap()
 }
 
-/// The rows of `diagnostics.csv` in `dir`, by column name.
-fn diagnostics(dir: &Path) -> Vec<HashMap<String, f64>> {
-    let text = String::from_utf8(read(&dir.join("diagnostics.csv"))).unwrap();
+/// The rows of the CSV file `name` in `dir` (`diagnostics.csv`, `final.csv`), by column label.
+fn csv_rows(dir: &Path, name: &str) -> Vec<HashMap<String, f64>> {
+    let text = String::from_utf8(read(&dir.join(name))).unwrap();
     let mut lines = text.lines();
     let names: Vec<&str> = lines.next().unwrap().split(',').collect();
     lines
@@ -38,6 +38,11 @@ fn diagnostics(dir: &Path) -> Vec<HashMap<String, f64>> {
                 .collect()
         })
         .collect()
+}
+
+/// The rows of `diagnostics.csv` in `dir`, by column name.
+fn diagnostics(dir: &Path) -> Vec<HashMap<String, f64>> {
+    csv_rows(dir, "diagnostics.csv")
 }
 
 /// The largest departures over the run, each relative to its scale: mass (`M`), momentum
@@ -206,7 +211,7 @@ fn only_a_region_splits_a_particle_larger_than_coarsest() {
     let (dir, _) = run_on_threads(&load(&std::fs::read_to_string(path).unwrap()), 1);
     let last = diagnostics(dir.path()).pop().unwrap();
     assert_eq!((last["splits"], last["merges"]), (0.0, 0.0));
-    let largest = final_rows(dir.path())
+    let largest = csv_rows(dir.path(), "final.csv")
         .iter()
         .map(|p| p["m"] / p["rho"])
         .fold(0.0, f64::max);
@@ -214,19 +219,6 @@ fn only_a_region_splits_a_particle_larger_than_coarsest() {
         largest > 4.0 * 0.02,
         "the largest particle is only {largest} m"
     );
-}
-
-/// The rows of `final.csv` in `dir`, by column label.
-fn final_rows(dir: &Path) -> Vec<HashMap<String, f64>> {
-    let text = String::from_utf8(read(&dir.join("final.csv"))).unwrap();
-    let mut lines = text.lines();
-    let names: Vec<&str> = lines.next().unwrap().split(',').collect();
-    lines
-        .map(|l| {
-            let values = l.split(',').map(|v| v.parse::<f64>().unwrap());
-            names.iter().map(|n| n.to_string()).zip(values).collect()
-        })
-        .collect()
 }
 
 #[test]
@@ -238,7 +230,7 @@ fn snapshots_carry_each_particles_size_and_level_and_a_scene_may_choose_them() {
             "snapshot_every: 100000, columns: [\"level\"])",
         );
     let (dir, _) = run_on_threads(&load(&text), 1);
-    let rows = final_rows(dir.path());
+    let rows = csv_rows(dir.path(), "final.csv");
     assert!(rows[0].contains_key("level") && !rows[0].contains_key("size"));
     // the levels are those diagnostics.csv counts at the same step
     let last = diagnostics(dir.path()).pop().unwrap();
@@ -252,7 +244,7 @@ fn snapshots_carry_each_particles_size_and_level_and_a_scene_may_choose_them() {
     }
     // every written column by default, the size among them: (m/ρ)^{1/2} in 2-D
     let (dir, _) = run_on_threads(&load(&drop_text()), 1);
-    for p in final_rows(dir.path()) {
+    for p in csv_rows(dir.path(), "final.csv") {
         let size = (p["m"] / p["rho"]).sqrt();
         assert!(
             (p["size"] - size).abs() <= 1e-12 * size,
