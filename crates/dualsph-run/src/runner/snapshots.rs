@@ -171,15 +171,19 @@ pub fn chosen_columns(world: &World) -> Vec<Column> {
 /// The plugins' derived columns ([`DerivedColumns`]) that the snapshots write (those of
 /// [`SnapshotColumns`] when the world has it, else all), rows in id order.
 pub fn derived_columns(world: &mut World) -> Vec<TableColumn> {
-    let ids = ids_by_row(world);
-    let mut order: Vec<usize> = (0..ids.len()).collect();
-    order.sort_unstable_by_key(|&r| ids[r]);
     let Some(derived) = world.get_resource::<DerivedColumns>() else {
         return Vec::new();
     };
     let chosen = world.get_resource::<SnapshotColumns>();
     let keep = |n: &str| chosen.is_none_or(|s| s.0.iter().any(|c| c == n));
-    (derived.values(world, keep).into_iter())
+    let values = derived.values(world, keep);
+    if values.is_empty() {
+        return Vec::new();
+    }
+    let ids = ids_by_row(world);
+    let mut order: Vec<usize> = (0..ids.len()).collect();
+    order.sort_unstable_by_key(|&r| ids[r]);
+    (values.into_iter())
         .map(|(name, v)| TableColumn {
             labels: vec![name.clone()],
             name,
