@@ -5,9 +5,10 @@
 //!    where the regions are, `t_m` where they reach `buffer` farther;
 //! 2. each is rounded down to the *ladder* of sizes `coarsest·2^{-k}` (`D(t)`, the largest
 //!    ladder size not above `t`, within [`SIZE_TOLERANCE`]);
-//! 3. where a region asks for less than `coarsest`, a particle larger than `D(t_s)` splits, to the next size of the ladder below its own
-//!    (`2^d` children, or `2^j` along `j < d` axes for a particle a merge left between two
-//!    ladder sizes; [`crate::split`]), unless the children would be smaller than `finest`;
+//! 3. where a region asks for less than `coarsest`, a particle larger than `D(t_s)` splits,
+//!    to the next size of the ladder below its own (`2^d` children, or `2^j` along `j < d`
+//!    axes for a particle a merge left between two ladder sizes; [`crate::split`]), unless
+//!    the children would be smaller than `finest`;
 //! 4. a particle whose merge with an equal one would not be larger than `D(t_m)` is a merge
 //!    candidate; in ascending id order, each candidate not paired yet pairs with the nearest
 //!    candidate of its support list that is not paired yet, of its body and of its mass,
