@@ -120,6 +120,12 @@ pub trait SimPlugin:
     fn particles_added(&self, _end_time: Real, _dimension: usize) -> Real {
         0.0
     }
+    /// Multiplies the settings that follow the resolution (particle sizes, and lengths
+    /// counted in them, such as a refinement band) by `factor`, so that the scene keeps its
+    /// meaning when every generator's spacing is multiplied by `factor` (a convergence study
+    /// runs one scene at several resolutions); lengths of the geometry stay. Nothing by
+    /// default.
+    fn scale_spacing(&mut self, _factor: Real) {}
 }
 
 /// A parsed plugin, with its type erased so scenes can hold a list of different plugins.
@@ -139,6 +145,8 @@ pub trait PluginConfig: Debug + Send + Sync {
     /// order, whitespace, comments, a default written out or left out) give the same bytes; it
     /// does not depend on `Debug`.
     fn canonical(&self) -> Vec<u8>;
+    /// See [`SimPlugin::scale_spacing`].
+    fn scale_spacing(&mut self, factor: Real);
 }
 
 impl<P: SimPlugin> PluginConfig for P {
@@ -153,6 +161,9 @@ impl<P: SimPlugin> PluginConfig for P {
     }
     fn particles_added(&self, end_time: Real, dimension: usize) -> Real {
         SimPlugin::particles_added(self, end_time, dimension)
+    }
+    fn scale_spacing(&mut self, factor: Real) {
+        SimPlugin::scale_spacing(self, factor)
     }
     fn canonical(&self) -> Vec<u8> {
         let mut bytes = P::NAME.as_bytes().to_vec();

@@ -108,6 +108,11 @@ impl SimPlugin for Inlet {
     const SUMMARY: &'static str =
         "adds a layer of particles with a given velocity every spacing/|velocity|";
 
+    /// The layers' spacing scales; the box and the velocity stay.
+    fn scale_spacing(&mut self, factor: Real) {
+        self.spacing *= factor;
+    }
+
     fn validate(&self, info: &SceneInfo) -> Result<(), String> {
         let d = info.dimension;
         check_box(&self.min, &self.max, d)?;

@@ -121,6 +121,23 @@ pub enum Region {
 }
 
 impl Region {
+    /// Multiplies the size the region asks for, and a distance that is a band of such
+    /// sizes, by `factor` (see [`SimPlugin::scale_spacing`]).
+    fn scale_spacing(&mut self, factor: Real) {
+        match self {
+            Region::Box { spacing, .. } | Region::Gradient { spacing, .. } => *spacing *= factor,
+            Region::Around {
+                distance, spacing, ..
+            }
+            | Region::FreeSurface {
+                distance, spacing, ..
+            } => {
+                *distance *= factor;
+                *spacing *= factor;
+            }
+        }
+    }
+
     /// The particle size the region asks for.
     pub fn spacing(&self) -> Real {
         match self {
@@ -269,6 +286,19 @@ impl SimPlugin for Refinement {
             .map_err(SimError::Build)?;
         sim.add_system(StepSet::Population, "refine (split and merge)", refine::<V>);
         Ok(())
+    }
+
+    /// The sizes, the buffer and the regions' sizes and distances scale; a `Box`'s corners
+    /// (geometry) and the indicators' thresholds stay.
+    fn scale_spacing(&mut self, factor: Real) {
+        self.finest *= factor;
+        self.coarsest *= factor;
+        if let Some(b) = &mut self.buffer {
+            *b *= factor;
+        }
+        for r in &mut self.regions {
+            r.scale_spacing(factor);
+        }
     }
 }
 

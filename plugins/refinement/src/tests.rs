@@ -300,3 +300,54 @@ fn targets_round_down_to_the_ladder_and_splits_reach_its_next_size() {
         assert_eq!(split_axes(dim, 1.0, size), want, "{dim}-D size {size}");
     }
 }
+
+#[test]
+fn a_coarsened_scene_scales_the_sizes_and_bands_but_not_the_geometry() {
+    use crate::settings::{Refinement, Region};
+    use dualsph_core::plugin::SimPlugin;
+    let mut r = Refinement {
+        bodies: vec![],
+        finest: 0.0125,
+        coarsest: 0.025,
+        regions: vec![
+            Region::Box {
+                min: vec![0.0, 0.0],
+                max: vec![4.0, 0.5],
+                spacing: 0.0125,
+                velocity: None,
+            },
+            Region::FreeSurface {
+                distance: 0.05,
+                spacing: 0.0125,
+                threshold: Some(1.2),
+            },
+        ],
+        grading: 0.25,
+        every: 20,
+        buffer: Some(0.1),
+        offset: 0.25,
+        child_h: 0.5,
+    };
+    r.scale_spacing(2.0);
+    assert_eq!((r.finest, r.coarsest, r.buffer), (0.025, 0.05, Some(0.2)));
+    match &r.regions[0] {
+        Region::Box {
+            min, max, spacing, ..
+        } => {
+            assert_eq!((min[1], max[1], *spacing), (0.0, 0.5, 0.025))
+        }
+        other => panic!("{other:?}"),
+    }
+    match &r.regions[1] {
+        Region::FreeSurface {
+            distance,
+            spacing,
+            threshold,
+        } => assert_eq!((*distance, *spacing, *threshold), (0.1, 0.025, Some(1.2))),
+        other => panic!("{other:?}"),
+    }
+    assert_eq!(
+        (r.grading, r.every, r.offset, r.child_h),
+        (0.25, 20, 0.25, 0.5)
+    );
+}

@@ -109,7 +109,9 @@ impl CaseSpec {
 }
 
 /// Multiplies every generator's particle spacing by `factor` (> 1 coarsens), keeping the
-/// ratio of spacings, h = h_factor Δx, densities and the physics. Used to run the paper's
+/// ratio of spacings, h = h_factor Δx, densities and the physics; the plugins' settings that
+/// follow the resolution (a refinement's sizes, an inlet's layers) scale with it
+/// ([`dualsph_core::plugin::SimPlugin::scale_spacing`]). Used to run the paper's
 /// benchmarks at a resolution that fits CI, and for the speed-against-error study.
 pub fn coarsen(scene: &mut Scene, factor: Real) {
     for g in &mut scene.particles {
@@ -120,6 +122,9 @@ pub fn coarsen(scene: &mut Scene, factor: Real) {
             // particles read from a file keep their resolution
             Generator::File(_) => {}
         }
+    }
+    for p in &mut scene.plugins {
+        p.scale_spacing(factor);
     }
 }
 

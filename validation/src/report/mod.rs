@@ -194,7 +194,7 @@ pub enum Benchmark {
     Drop,
     /// Dam break over a dry bed (§7.4).
     DamBreak,
-    /// Sod, drop and dam break at three resolutions: error against CPU seconds.
+    /// Sod, drop, dam break and the walls dam break (adaptive among them) at three resolutions: error against CPU seconds.
     SpeedError,
     /// The 3-D drop and dam break (dimension genericity).
     ThreeD,

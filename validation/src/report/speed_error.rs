@@ -1,5 +1,6 @@
-//! Speed against error: the Sod tube, the drop and the dam break at three resolutions each,
-//! variable resolution with DualSupport against uniform resolution, as error against CPU
+//! Speed against error: the Sod tube, the drop, the dam break in a specular box and the dam
+//! break with walls of particles (adaptive, static two-level and uniform) at three resolutions
+//! each, variable resolution with DualSupport against uniform resolution, as error against CPU
 //! seconds. The question it answers: to reach a given error, how much cheaper is variable
 //! resolution with DualSupport?
 
@@ -15,44 +16,69 @@ use dualsph_scene::Formulation;
 pub struct Point {
     /// Variant label.
     pub variant: String,
-    /// Spacing multiplier relative to the scene.
+    /// Spacing multiplier relative to the variant's scene at the study's own resolution.
     pub factor: f64,
-    /// Particles.
+    /// Particles at the start.
     pub particles: u64,
+    /// Particles at the end (they differ when the run splits and merges particles).
+    pub particles_end: u64,
     /// Steps.
     pub steps: u64,
     /// CPU seconds of the stepping loop.
     pub cpu_seconds: f64,
     /// The benchmark's error measure.
     pub error: f64,
+    /// Why the run stopped before its end time, if it did (its error is then of the part
+    /// it ran).
+    pub failure: Option<String>,
 }
 
-/// A benchmark of the study: its variants (label, scene file), the spacing multipliers, the
-/// error measure and how to run it.
+/// A variant of a study: its label, its scene, the formulation replacing the scene's, and
+/// the spacing multiplier that brings the scene to the study's own resolution.
+struct Variant {
+    label: &'static str,
+    file: &'static str,
+    formulation: Option<Formulation>,
+    scale: f64,
+}
+
+impl Variant {
+    const fn new(label: &'static str, file: &'static str) -> Self {
+        Variant {
+            label,
+            file,
+            formulation: None,
+            scale: 1.0,
+        }
+    }
+}
+
+/// A benchmark of the study: its variants (the uniform one last), the spacing multipliers,
+/// the error measure and how to run it.
 struct Study {
     name: &'static str,
     error_name: &'static str,
-    /// `(label, scene file, formulation replacing the scene's)`.
-    variants: Vec<(&'static str, &'static str, Option<Formulation>)>,
+    variants: Vec<Variant>,
     factors: [f64; 3],
     end_time: Option<f64>,
     recording: Recording,
-    error: fn(CaseRun) -> f64,
+    /// A run the errors are measured against (a scene and its spacing multiplier), run once.
+    reference: Option<(&'static str, f64)>,
+    error: fn(CaseRun, Option<&CaseRun>) -> f64,
 }
 
-fn studies() -> [Study; 3] {
+fn studies() -> [Study; 4] {
     [
         Study {
             name: "Sod shock tube",
             error_name: "density L1 on [−0.5, 0.5]",
             variants: vec![
-                ("DualSupport, equal masses (variable h)", "sod_1d.ron", None),
-                (
-                    "grad-h, equal masses (variable h)",
-                    "sod_1d.ron",
-                    Some(Formulation::GradH),
-                ),
-                ("uniform spacing", "sod_1d_uniform.ron", None),
+                Variant::new("DualSupport, equal masses (variable h)", "sod_1d.ron"),
+                Variant {
+                    formulation: Some(Formulation::GradH),
+                    ..Variant::new("grad-h, equal masses (variable h)", "sod_1d.ron")
+                },
+                Variant::new("uniform spacing", "sod_1d_uniform.ron"),
             ],
             factors: [4.0, 2.0, 1.0],
             end_time: None,
@@ -60,14 +86,15 @@ fn studies() -> [Study; 3] {
                 every: 10,
                 ..Default::default()
             },
-            error: |run| sod::grade(run).l1[0],
+            reference: None,
+            error: |run, _| sod::grade(run).l1[0],
         },
         Study {
             name: "Elliptical drop",
             error_name: "|b/b_ODE − 1| at t = 0.008 s",
             variants: vec![
-                ("DualSupport, half-spacing quadrant", "drop_2d.ron", None),
-                ("uniform fine spacing", "drop_2d_uniform.ron", None),
+                Variant::new("DualSupport, half-spacing quadrant", "drop_2d.ron"),
+                Variant::new("uniform fine spacing", "drop_2d_uniform.ron"),
             ],
             factors: [4.0, 2.0, 1.0],
             end_time: None,
@@ -75,7 +102,8 @@ fn studies() -> [Study; 3] {
                 every: 10,
                 ..Default::default()
             },
-            error: |run| {
+            reference: None,
+            error: |run, _| {
                 let g = drop::grade(run);
                 (g.axes.1 / g.ode.1 - 1.0).abs()
             },
@@ -84,15 +112,10 @@ fn studies() -> [Study; 3] {
             name: "Dam break",
             error_name: "front RMS vs Koshizuka & Oka, t ≤ 0.70 s (m)",
             variants: vec![
-                (
-                    "Case II: DualSupport, two resolutions",
-                    "dam_break_2d.ron",
-                    None,
-                ),
-                (
+                Variant::new("Case II: DualSupport, two resolutions", "dam_break_2d.ron"),
+                Variant::new(
                     "Case III: uniform fine, constant h",
                     "dam_break_2d_uniform.ron",
-                    None,
                 ),
             ],
             factors: [4.0, 2.0, 1.0],
@@ -102,34 +125,86 @@ fn studies() -> [Study; 3] {
                 front: true,
                 ..Default::default()
             },
-            error: |run| dam_break::grade(run).front_rms_experiment,
+            reference: None,
+            error: |run, _| dam_break::grade(run).front_rms_experiment,
+        },
+        Study {
+            name: "Dam break, walls of particles",
+            error_name: "front RMS vs uniform Δx = 0.00625 m, t ≤ 0.70 s (m)",
+            variants: vec![
+                Variant::new(
+                    "adaptive: 0.025 m, split to 0.0125 m at the surface and walls",
+                    "dam_break_2d_walls_adaptive.ron",
+                ),
+                Variant::new(
+                    "static: 0.0125 m below y = 0.5 m, 0.025 m above",
+                    "dam_break_2d_walls_two_level.ron",
+                ),
+                Variant {
+                    scale: 0.5,
+                    ..Variant::new("uniform 0.0125 m", "dam_break_2d_walls.ron")
+                },
+            ],
+            factors: [4.0, 2.0, 1.0],
+            end_time: Some(0.75),
+            recording: Recording {
+                every: 20,
+                front: true,
+                ..Default::default()
+            },
+            reference: Some(("dam_break_2d_walls.ron", 0.25)),
+            error: |run, reference| {
+                reference.map_or(f64::NAN, |r| dam_break::front_rms_between(&run, r))
+            },
         },
     ]
 }
 
+/// The study's scene `file` with every spacing multiplied by `factor`, to the study's end.
+fn scene_at(
+    study: &Study,
+    opts: &ReportOptions,
+    file: &str,
+    factor: f64,
+) -> Result<dualsph_scene::Scene, ReportError> {
+    let mut scene = opts.scene(file)?;
+    coarsen(&mut scene, factor);
+    if let Some(t) = study.end_time {
+        scene.end_time = t;
+    }
+    Ok(scene)
+}
+
 fn run_study(study: &Study, opts: &ReportOptions) -> Result<Vec<Point>, ReportError> {
-    let mut points = Vec::new();
-    for &(label, file, formulation) in &study.variants {
-        for factor in study.factors {
-            let mut scene = opts.scene(file)?;
-            coarsen(&mut scene, factor);
-            if let Some(t) = study.end_time {
-                scene.end_time = t;
-            }
+    let reference = match study.reference {
+        Some((file, factor)) => {
             let spec = CaseSpec::new(
-                format!("{} — {label}, spacing × {factor}", study.name),
-                scene,
-                formulation,
+                format!("{} — reference, {file} spacing × {factor}", study.name),
+                scene_at(study, opts, file, factor)?,
+                None,
+            );
+            Some(opts.run(&spec, &study.recording)?)
+        }
+        None => None,
+    };
+    let mut points = Vec::new();
+    for v in &study.variants {
+        for factor in study.factors {
+            let spec = CaseSpec::new(
+                format!("{} — {}, spacing × {factor}", study.name, v.label),
+                scene_at(study, opts, v.file, factor * v.scale)?,
+                v.formulation,
             );
             let run = opts.run(&spec, &study.recording)?;
-            let (particles, steps, cpu_seconds) = (run.particles, run.steps, run.cpu_seconds);
             points.push(Point {
-                variant: label.into(),
+                variant: v.label.into(),
                 factor,
-                particles,
-                steps,
-                cpu_seconds,
-                error: (study.error)(run),
+                particles: run.particles,
+                particles_end: run.last.len() as u64,
+                steps: run.steps,
+                cpu_seconds: run.cpu_seconds,
+                failure: run.failure.clone(),
+                error: (study.error)(run, reference.as_ref()),
             });
         }
     }
@@ -143,7 +218,10 @@ pub fn run(
     let mut body = String::from(
         "Each benchmark at three resolutions (particle spacing × 4, × 2, × 1 relative to its scene), with variable \
          resolution under DualSupport against uniform resolution. CPU seconds are of the stepping loop, all threads. \
-         A variant is cheaper when its curve lies to the left at the same error.\n\n",
+         A variant is cheaper when its curve lies to the left at the same error. The walls dam break's fronts are \
+         measured against a uniform run at half its finest spacing (Δx = 0.00625 m, run once), and its adaptive \
+         variant splits and merges particles during the run (`Refinement`): its particle count is given at the start \
+         and at the end.\n\n",
     );
     let mut all = Vec::new();
     for study in studies() {
@@ -163,28 +241,19 @@ pub fn run(
         );
         plot.log_x = true;
         plot.log_y = true;
-        for (k, (label, ..)) in study.variants.iter().enumerate() {
-            let mine: Vec<&Point> = points.iter().filter(|p| p.variant == *label).collect();
+        for (k, v) in study.variants.iter().enumerate() {
+            let label = v.label;
+            let mine: Vec<&Point> = points.iter().filter(|p| p.variant == label).collect();
             for p in &mine {
-                table.row(vec![
-                    p.variant.clone(),
-                    format!("{}", p.factor),
-                    p.particles.to_string(),
-                    p.steps.to_string(),
-                    format!("{:.2}", p.cpu_seconds),
-                    format!("{:.3e}", p.error),
-                ]);
+                table.row(row(p));
             }
             let pts = mine
                 .iter()
                 .map(|p| (p.cpu_seconds.max(1e-3), p.error.max(1e-12)))
                 .collect();
-            plot = plot.with(Series::new(*label, pts, SeriesStyle::LineMarkers, k));
+            plot = plot.with(Series::new(label, pts, SeriesStyle::LineMarkers, k));
         }
-        let png = opts.file(&format!(
-            "speed_error_{}.png",
-            study.name.to_lowercase().replace(' ', "_")
-        ));
+        let png = opts.file(&format!("speed_error_{}.png", file_stem(study.name)));
         plot.write_png(&png)?;
         body += &format!(
             "### {}\n\n{}{}",
@@ -204,9 +273,40 @@ pub fn run(
     ))
 }
 
+/// The study's name as a file name: its words in lower case, joined by `_`.
+fn file_stem(name: &str) -> String {
+    name.to_lowercase()
+        .split(|c: char| !c.is_alphanumeric())
+        .filter(|w| !w.is_empty())
+        .collect::<Vec<_>>()
+        .join("_")
+}
+
+/// A table row: the particles as start → end where they changed, and a run that stopped
+/// early marked beside its error.
+fn row(p: &Point) -> Vec<String> {
+    let particles = if p.particles_end == p.particles {
+        p.particles.to_string()
+    } else {
+        format!("{} → {}", p.particles, p.particles_end)
+    };
+    let error = match &p.failure {
+        None => format!("{:.3e}", p.error),
+        Some(why) => format!("{:.3e} (stopped early: {why})", p.error),
+    };
+    vec![
+        p.variant.clone(),
+        format!("{}", p.factor),
+        particles,
+        p.steps.to_string(),
+        format!("{:.2}", p.cpu_seconds),
+        error,
+    ]
+}
+
 /// The uniform variant of a study (its last).
 fn uniform(study: &Study) -> &'static str {
-    study.variants.last().map_or("", |v| v.0)
+    study.variants.last().map_or("", |v| v.label)
 }
 
 /// Each variable-resolution variant's finest run against the uniform runs: CPU ratio at
@@ -222,8 +322,8 @@ fn compare(points: &[Point], study: &Study) -> String {
         return String::new();
     };
     let mut md = String::new();
-    for &(label, ..) in &study.variants[..study.variants.len() - 1] {
-        let Some(var) = finest(label) else { continue };
+    for v in &study.variants[..study.variants.len() - 1] {
+        let Some(var) = finest(v.label) else { continue };
         md += &format!(
             "At the scenes' own resolution, {} reaches an error of {:.3e} in {:.1} CPU s with {} particles; {} \
              reaches {:.3e} in {:.1} CPU s with {} particles (CPU ratio {:.2}).\n\n",
@@ -297,10 +397,21 @@ mod tests {
             variant: "u".into(),
             factor: 1.0,
             particles: 1,
+            particles_end: 1,
             steps: 1,
             cpu_seconds: cpu,
             error,
+            failure: None,
         }
+    }
+
+    #[test]
+    fn file_stems_are_the_names_words() {
+        assert_eq!(
+            file_stem("Dam break, walls of particles"),
+            "dam_break_walls_of_particles"
+        );
+        assert_eq!(file_stem("Sod shock tube"), "sod_shock_tube");
     }
 
     /// error ∝ cpu^(−1/2): the interpolation is exact on a power law.
