@@ -67,6 +67,15 @@ struct Study {
     error: fn(CaseRun, Option<&CaseRun>) -> f64,
 }
 
+/// The dam breaks' recording: the water front every 20 steps.
+fn fronts() -> Recording {
+    Recording {
+        every: 20,
+        front: true,
+        ..Default::default()
+    }
+}
+
 fn studies() -> [Study; 4] {
     [
         Study {
@@ -120,11 +129,7 @@ fn studies() -> [Study; 4] {
             ],
             factors: [4.0, 2.0, 1.0],
             end_time: Some(0.75),
-            recording: Recording {
-                every: 20,
-                front: true,
-                ..Default::default()
-            },
+            recording: fronts(),
             reference: None,
             error: |run, _| dam_break::grade(run).front_rms_experiment,
         },
@@ -147,11 +152,7 @@ fn studies() -> [Study; 4] {
             ],
             factors: [4.0, 2.0, 1.0],
             end_time: Some(0.75),
-            recording: Recording {
-                every: 20,
-                front: true,
-                ..Default::default()
-            },
+            recording: fronts(),
             reference: Some(("dam_break_2d_walls.ron", 0.25)),
             error: |run, reference| {
                 reference.map_or(f64::NAN, |r| dam_break::front_rms_between(&run, r))
