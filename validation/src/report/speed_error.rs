@@ -184,7 +184,15 @@ fn run_study(study: &Study, opts: &ReportOptions) -> Result<Vec<Point>, ReportEr
                 scene_at(study, opts, file, factor)?,
                 None,
             );
-            Some(opts.run(&spec, &study.recording)?)
+            let run = opts.run(&spec, &study.recording)?;
+            // a reference cut short would measure every error over part of the window
+            if let Some(why) = &run.failure {
+                return Err(ReportError::Run(format!(
+                    "{}: the reference run stopped early: {why}",
+                    spec.label
+                )));
+            }
+            Some(run)
         }
         None => None,
     };
