@@ -1,14 +1,16 @@
-//! Speed against error: the Sod tube, the drop, the dam break in a specular box and the dam
-//! break with walls of particles (adaptive, static two-level and uniform) at three resolutions
-//! each, variable resolution with DualSupport against uniform resolution, as error against CPU
-//! seconds. The question it answers: to reach a given error, how much cheaper is variable
-//! resolution with DualSupport?
+//! Speed against error: the Sod tube, the drop, the dam break in a specular box, the dam
+//! break with walls of particles (adaptive, static two-level and uniform) and Buchner's wall
+//! pressure (adaptive and uniform) at several resolutions each, variable resolution with
+//! DualSupport against uniform resolution, as error against CPU seconds. The question it
+//! answers: to reach a given error, how much cheaper is variable resolution with DualSupport?
 
+use super::walls::wall_pressure;
 use super::{
     CaseRun, CaseSpec, Recording, ReportError, ReportOptions, Section, Table, coarsen, dam_break,
     drop, image, sod,
 };
 use dualsph_plot::{LinePlot, Series, SeriesStyle};
+use dualsph_probes::ProbeTable;
 use dualsph_scene::Formulation;
 
 /// One run of the study.
@@ -33,13 +35,15 @@ pub struct Point {
     pub failure: Option<String>,
 }
 
-/// A variant of a study: its label, its scene, the formulation replacing the scene's, and
-/// the spacing multiplier that brings the scene to the study's own resolution.
+/// A variant of a study: its label, its scene, the formulation replacing the scene's, the
+/// spacing multiplier that brings the scene to the study's own resolution, and the
+/// multipliers it runs at when not the study's.
 struct Variant {
     label: &'static str,
     file: &'static str,
     formulation: Option<Formulation>,
     scale: f64,
+    factors: Option<&'static [f64]>,
 }
 
 impl Variant {
@@ -49,6 +53,7 @@ impl Variant {
             file,
             formulation: None,
             scale: 1.0,
+            factors: None,
         }
     }
 }
@@ -59,12 +64,34 @@ struct Study {
     name: &'static str,
     error_name: &'static str,
     variants: Vec<Variant>,
-    factors: [f64; 3],
+    factors: &'static [f64],
     end_time: Option<f64>,
     recording: Recording,
     /// A run the errors are measured against (a scene and its spacing multiplier), run once.
     reference: Option<(&'static str, f64)>,
-    error: fn(CaseRun, Option<&CaseRun>) -> f64,
+    /// Whether the error is read from the run's probes (written to a scratch directory).
+    probes: bool,
+    error: fn(Measured<'_>) -> f64,
+}
+
+/// What a study's error is measured from: the run, the study's reference run, and the run's
+/// probes when the study reads them.
+struct Measured<'a> {
+    run: CaseRun,
+    reference: Option<&'a CaseRun>,
+    probes: Option<ProbeTable>,
+}
+
+/// Buchner's sensor P1 as TrixiParticles.jl measures it: the mean |Δp*| of the scene's
+/// `P1_sensor` against the experiment over t* 2–6.5 ([`wall_pressure::grade`]); NaN without
+/// the probe.
+fn buchner_p1(m: Measured<'_>) -> f64 {
+    m.probes.map_or(f64::NAN, |table| {
+        let trixi = wall_pressure::trixi_sensor(&table);
+        wall_pressure::grade(wall_pressure::sensor(&table), trixi.as_deref())
+            .trixi
+            .0
+    })
 }
 
 /// The dam breaks' recording: the water front every 20 steps.
@@ -76,7 +103,7 @@ fn fronts() -> Recording {
     }
 }
 
-fn studies() -> [Study; 4] {
+fn studies() -> [Study; 5] {
     [
         Study {
             name: "Sod shock tube",
@@ -89,14 +116,15 @@ fn studies() -> [Study; 4] {
                 },
                 Variant::new("uniform spacing", "sod_1d_uniform.ron"),
             ],
-            factors: [4.0, 2.0, 1.0],
+            factors: &[4.0, 2.0, 1.0],
             end_time: None,
             recording: Recording {
                 every: 10,
                 ..Default::default()
             },
             reference: None,
-            error: |run, _| sod::grade(run).l1[0],
+            probes: false,
+            error: |m| sod::grade(m.run).l1[0],
         },
         Study {
             name: "Elliptical drop",
@@ -105,15 +133,16 @@ fn studies() -> [Study; 4] {
                 Variant::new("DualSupport, half-spacing quadrant", "drop_2d.ron"),
                 Variant::new("uniform fine spacing", "drop_2d_uniform.ron"),
             ],
-            factors: [4.0, 2.0, 1.0],
+            factors: &[4.0, 2.0, 1.0],
             end_time: None,
             recording: Recording {
                 every: 10,
                 ..Default::default()
             },
             reference: None,
-            error: |run, _| {
-                let g = drop::grade(run);
+            probes: false,
+            error: |m| {
+                let g = drop::grade(m.run);
                 (g.axes.1 / g.ode.1 - 1.0).abs()
             },
         },
@@ -127,11 +156,12 @@ fn studies() -> [Study; 4] {
                     "dam_break_2d_uniform.ron",
                 ),
             ],
-            factors: [4.0, 2.0, 1.0],
+            factors: &[4.0, 2.0, 1.0],
             end_time: Some(0.75),
             recording: fronts(),
             reference: None,
-            error: |run, _| dam_break::grade(run).front_rms_experiment,
+            probes: false,
+            error: |m| dam_break::grade(m.run).front_rms_experiment,
         },
         Study {
             name: "Dam break, walls of particles",
@@ -150,16 +180,44 @@ fn studies() -> [Study; 4] {
                     ..Variant::new("uniform 0.0125 m", "dam_break_2d_walls.ron")
                 },
             ],
-            factors: [4.0, 2.0, 1.0],
+            factors: &[4.0, 2.0, 1.0],
             end_time: Some(0.75),
             recording: fronts(),
             reference: Some(("dam_break_2d_walls.ron", 0.25)),
-            error: |run, reference| {
-                reference.map_or(f64::NAN, |r| dam_break::front_rms_between(&run, r))
+            probes: false,
+            error: |m| {
+                m.reference
+                    .map_or(f64::NAN, |r| dam_break::front_rms_between(&m.run, r))
             },
+        },
+        Study {
+            name: "Buchner's wall pressure",
+            error_name: "mean |Δp*| at P1 vs Buchner, t* 2–6.5",
+            variants: vec![
+                Variant {
+                    factors: Some(&[1.0]),
+                    ..Variant::new(
+                        "adaptive: H/40, split to H/80 by the impact wall and the surface",
+                        "dam_break_buchner_2d_adaptive.ron",
+                    )
+                },
+                Variant::new("uniform", "dam_break_buchner_2d.ron"),
+            ],
+            factors: &[2.0, 1.0, 0.5],
+            end_time: Some(BUCHNER_END),
+            recording: Recording {
+                every: 200,
+                ..Default::default()
+            },
+            reference: None,
+            probes: true,
+            error: buchner_p1,
         },
     ]
 }
+
+/// The end of Buchner's record (s): t* = 6.5, the end of TrixiParticles.jl's window.
+const BUCHNER_END: f64 = 1.6;
 
 /// The study's scene `file` with every spacing multiplied by `factor`, to the study's end.
 fn scene_at(
@@ -198,13 +256,13 @@ fn run_study(study: &Study, opts: &ReportOptions) -> Result<Vec<Point>, ReportEr
     };
     let mut points = Vec::new();
     for v in &study.variants {
-        for factor in study.factors {
+        for &factor in v.factors.unwrap_or(study.factors) {
             let spec = CaseSpec::new(
                 format!("{} — {}, spacing × {factor}", study.name, v.label),
                 scene_at(study, opts, v.file, factor * v.scale)?,
                 v.formulation,
             );
-            let run = opts.run(&spec, &study.recording)?;
+            let (run, probes) = run_with_probes(study, opts, &spec)?;
             points.push(Point {
                 variant: v.label.into(),
                 factor,
@@ -213,11 +271,35 @@ fn run_study(study: &Study, opts: &ReportOptions) -> Result<Vec<Point>, ReportEr
                 steps: run.steps,
                 cpu_seconds: run.cpu_seconds,
                 failure: run.failure.clone(),
-                error: (study.error)(run, reference.as_ref()),
+                error: (study.error)(Measured {
+                    run,
+                    reference: reference.as_ref(),
+                    probes,
+                }),
             });
         }
     }
     Ok(points)
+}
+
+/// Runs one case of the study; when the study reads probes, they are written to a scratch
+/// directory, read back and the directory removed.
+fn run_with_probes(
+    study: &Study,
+    opts: &ReportOptions,
+    spec: &CaseSpec,
+) -> Result<(CaseRun, Option<ProbeTable>), ReportError> {
+    if !study.probes {
+        return Ok((opts.run(spec, &study.recording)?, None));
+    }
+    let dir = tempfile::tempdir().map_err(|e| ReportError::Run(format!("scratch: {e}")))?;
+    let rec = Recording {
+        output_dir: Some(dir.path().to_path_buf()),
+        ..study.recording.clone()
+    };
+    let run = opts.run(spec, &rec)?;
+    let table = dualsph_probes::read_probes(dir.path()).map_err(ReportError::Output)?;
+    Ok((run, Some(table)))
 }
 
 /// Runs the study, plots error against CPU time per benchmark, and writes the section.
@@ -225,12 +307,15 @@ pub fn run(
     opts: &ReportOptions,
 ) -> Result<(Section, Vec<(&'static str, Vec<Point>)>), ReportError> {
     let mut body = String::from(
-        "Each benchmark at three resolutions (particle spacing × 4, × 2, × 1 relative to its scene), with variable \
-         resolution under DualSupport against uniform resolution. CPU seconds are of the stepping loop, all threads. \
-         A variant is cheaper when its curve lies to the left at the same error. The walls dam break's fronts are \
-         measured against a uniform run at half its finest spacing (Δx = 0.00625 m, run once), and its adaptive \
-         variant splits and merges particles during the run (`Refinement`): its particle count is given at the start \
-         and at the end.\n\n",
+        "Each benchmark at three resolutions (particle spacing × 4, × 2, × 1 relative to its scene; Buchner's \
+         uniform tank at × 2, × 1, × 0.5, that is H/20, H/40 and H/80, and its adaptive scene at its own \
+         resolution only), with variable resolution under DualSupport against uniform resolution. CPU seconds are \
+         of the stepping loop, all threads. A variant is cheaper when its curve lies to the left at the same error. \
+         The walls dam break's fronts are measured against a uniform run at half its finest spacing \
+         (Δx = 0.00625 m, run once); Buchner's sensor P1 against the experiment, as TrixiParticles.jl measures it \
+         (the scenes' `P1_sensor`, mean |Δp*| over t* 2–6.5, as in the walls report). The adaptive variants split \
+         and merge particles during the run (`Refinement`): their particle counts are given at the start and at \
+         the end.\n\n",
     );
     let mut all = Vec::new();
     for study in studies() {
@@ -334,7 +419,7 @@ fn compare(points: &[Point], study: &Study) -> String {
     for v in &study.variants[..study.variants.len() - 1] {
         let Some(var) = finest(v.label) else { continue };
         md += &format!(
-            "At the scenes' own resolution, {} reaches an error of {:.3e} in {:.1} CPU s with {} particles; {} \
+            "At the finest resolution each ran, {} reaches an error of {:.3e} in {:.1} CPU s with {} particles; {} \
              reaches {:.3e} in {:.1} CPU s with {} particles (CPU ratio {:.2}).\n\n",
             var.variant,
             var.error,

@@ -29,7 +29,7 @@ pub const TRIXI_WINDOW: (f64, f64) = (2.0, 6.5);
 /// The second impact (t*), the end of [`TRIXI_WINDOW`]: the part of its error the late
 /// second impact makes is reported apart.
 pub const SECOND_IMPACT: (f64, f64) = (5.5, 6.5);
-/// The first impact (t*), where Marrone et al.'s curves are stored.
+/// The first impact (t*).
 pub const FIRST_IMPACT: (f64, f64) = (2.6, 3.03);
 /// Bounds on the mean |Δp*| over [`WHOLE`] and [`FIRST_IMPACT`], and on the gap between the
 /// first wetting of the sensor (p* > 0.1) in the run and in the experiment.
@@ -61,6 +61,10 @@ pub struct SensorGrade {
     /// The t* of the largest p* over [`SECOND_IMPACT`]: TrixiParticles' sensor's, the
     /// experiment's.
     pub second_peak: (f64, f64),
+    /// Marrone et al.'s δ-SPH at H/Δx = 40 and 80 by TrixiParticles' measure (their curves
+    /// averaged over the same box, against the experiment over [`TRIXI_WINDOW`]): what a
+    /// peer's model scores on the measure `trixi` takes.
+    pub marrone_trixi: (f64, f64),
 }
 
 impl SensorGrade {
@@ -110,7 +114,10 @@ pub fn grade(signal: Vec<(f64, f64)>, trixi: Option<&[(f64, f64)]>) -> SensorGra
         mean_abs_difference(|t| interpolate(s, t), &m.experiment, FIRST_IMPACT).0
     };
     let wet = |s: &[(f64, f64)]| s.iter().find(|p| p.1 > 0.1).map_or(f64::NAN, |p| p.0);
+    let on_trixi_window =
+        |s: &[(f64, f64)]| mean_abs_difference(|t| box_mean(s, t, BOX), &exp, TRIXI_WINDOW).0;
     SensorGrade {
+        marrone_trixi: (on_trixi_window(&m.sph_40), on_trixi_window(&m.sph_80)),
         whole: mean_abs_difference(model, &exp, WHOLE),
         first: mean_abs_difference(model, &exp, FIRST_IMPACT),
         marrone: (marrone(&m.sph_40), marrone(&m.sph_80)),
@@ -213,7 +220,7 @@ pub fn run(opts: &ReportOptions) -> Result<(Section, SensorGrade), ReportError> 
          at the height of the experimental sensor's centre, as set up by Adami, Hu & Adams \
          2012); the probe line samples the water's pressure on the wall face, averaged over \
          the sensor and over a box of 0.05 in t*. References: Buchner (2002), digitised; \
-         Marrone et al. (2011), δ-SPH, on the first impact only \
+         Marrone et al. (2011), δ-SPH, digitised \
          (`crates/dualsph-reference/data/dam_break_pressure/`). The last column measures as \
          TrixiParticles.jl does in its `validation/dam_break_2d` (`setup_marrone_2011.jl`, \
          `sensors.jl`): the probe `P1_sensor`, the mean of 10 points over its `sensor_size` \
@@ -234,7 +241,8 @@ pub fn run(opts: &ReportOptions) -> Result<(Section, SensorGrade), ReportError> 
          TrixiParticles' measure). By \
          TrixiParticles' measure the mean |Δp*| over t* 2–6.5 is {:.3}, of which {:.3} comes \
          from the second impact (t* 5.5–6.5), whose peak the sensor reads at t* {:.2} and \
-         the experiment at t* {:.2}.\n\n",
+         the experiment at t* {:.2}. By the same measure Marrone et al.'s δ-SPH scores {:.3} \
+         at H/40 and {:.3} at H/80.\n\n",
         g.whole.0,
         g.first.0,
         g.marrone.0,
@@ -251,6 +259,8 @@ pub fn run(opts: &ReportOptions) -> Result<(Section, SensorGrade), ReportError> 
         g.trixi_second,
         g.second_peak.0,
         g.second_peak.1,
+        g.marrone_trixi.0,
+        g.marrone_trixi.1,
     );
     body += &image("P1 against the experiment and Marrone et al.", &png);
     Ok((
