@@ -105,17 +105,23 @@ impl LinePlot {
             .series
             .iter()
             .flat_map(|s| s.points.iter().map(|p| p.1));
-        let x = self.x_range.unwrap_or_else(|| fit_range(xs, self.log_x));
-        let y = self.y_range.unwrap_or_else(|| fit_range(ys, self.log_y));
-        render(path, self.size, |area| match (self.log_x, self.log_y) {
-            (false, false) => self.draw(area, x.0..x.1, y.0..y.1),
-            (true, false) => self.draw(area, (x.0..x.1).log_scale(), y.0..y.1),
-            (false, true) => self.draw(area, x.0..x.1, (y.0..y.1).log_scale()),
-            (true, true) => self.draw(area, (x.0..x.1).log_scale(), (y.0..y.1).log_scale()),
+        let (x, log_x) = axis(self.x_range, xs, self.log_x);
+        let (y, log_y) = axis(self.y_range, ys, self.log_y);
+        render(path, self.size, |area| match (log_x, log_y) {
+            (false, false) => self.draw(area, x.0..x.1, y.0..y.1, (false, false)),
+            (true, false) => self.draw(area, (x.0..x.1).log_scale(), y.0..y.1, (true, false)),
+            (false, true) => self.draw(area, x.0..x.1, (y.0..y.1).log_scale(), (false, true)),
+            (true, true) => self.draw(
+                area,
+                (x.0..x.1).log_scale(),
+                (y.0..y.1).log_scale(),
+                (true, true),
+            ),
         })
     }
 
-    fn draw<X, Y>(&self, area: &Area<'_>, x: X, y: Y) -> Result<(), String>
+    /// Draws the chart on `x` and `y`; `log` says which of them are logarithmic.
+    fn draw<X, Y>(&self, area: &Area<'_>, x: X, y: Y, log: (bool, bool)) -> Result<(), String>
     where
         X: AsRangedCoord<Value = f64>,
         Y: AsRangedCoord<Value = f64>,
@@ -129,17 +135,17 @@ impl LinePlot {
             .y_label_area_size(72)
             .build_cartesian_2d(x, y)
             .map_err(|e| e.to_string())?;
-        let sci = |v: &f64| format!("{v:.0e}");
+        let sci = |v: &f64| log_tick(*v);
         let mut mesh = chart.configure_mesh();
         mesh.x_desc(&self.x_label)
             .y_desc(&self.y_label)
             .label_style((font::FAMILY, 15))
             .axis_desc_style((font::FAMILY, 17))
             .light_line_style(RGBColor(240, 240, 240));
-        if self.log_x {
+        if log.0 {
             mesh.x_label_formatter(&sci);
         }
-        if self.log_y {
+        if log.1 {
             mesh.y_label_formatter(&sci);
         }
         mesh.draw().map_err(|e| e.to_string())?;
@@ -283,6 +289,39 @@ pub(crate) fn render(
     dualsph_io::write_atomic(path, png.get_ref()).map_err(|e| write_err(e.to_string()))
 }
 
+/// An axis's range and whether it is drawn logarithmic: the range given, or the data's
+/// ([`fit_range`]). A logarithmic axis whose range spans less than a decade is drawn linear
+/// (fitted again without the logarithm): its log scale would carry no labelled tick.
+fn axis(
+    range: Option<(f64, f64)>,
+    values: impl Iterator<Item = f64> + Clone,
+    log: bool,
+) -> ((f64, f64), bool) {
+    let r = range.unwrap_or_else(|| fit_range(values.clone(), log));
+    if log && r.1 < 10.0 * r.0 {
+        (range.unwrap_or_else(|| fit_range(values, false)), false)
+    } else {
+        (r, log)
+    }
+}
+
+/// A log axis's tick label: `1e-2`, `2e-2`, `5e-2`, …; the ticks between (3, 4, 6–9 times a
+/// power of ten) are left unlabelled, where their labels would run into each other.
+fn log_tick(v: f64) -> String {
+    if v.is_nan() || v <= 0.0 {
+        return String::new();
+    }
+    let mantissa = v / 10f64.powf(v.log10().floor());
+    let labelled = [1.0, 2.0, 5.0, 10.0]
+        .iter()
+        .any(|m| (mantissa - m).abs() < 1e-6 * m);
+    if labelled {
+        format!("{v:.0e}")
+    } else {
+        String::new()
+    }
+}
+
 /// The data range with a 5 % margin (multiplicative on log axes); never empty.
 fn fit_range(values: impl Iterator<Item = f64>, log: bool) -> (f64, f64) {
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
@@ -349,6 +388,19 @@ mod tests {
         };
         s.write_png(&dir.path().join("c.png")).unwrap();
         assert!(dir.path().join("c.png").exists());
+    }
+
+    #[test]
+    fn a_log_axis_under_a_decade_is_drawn_linear() {
+        let short = [0.15, 0.22];
+        let (r, log) = axis(None, short.into_iter(), true);
+        assert!(!log && r.0 < 0.15 && r.1 > 0.22);
+        let (_, log) = axis(None, [0.01, 0.3].into_iter(), true);
+        assert!(log);
+        assert_eq!(log_tick(0.02), "2e-2");
+        assert_eq!(log_tick(500.0), "5e2");
+        assert_eq!(log_tick(70.0), "");
+        assert_eq!(log_tick(1.0), "1e0");
     }
 
     #[test]

@@ -105,115 +105,140 @@ fn fronts() -> Recording {
 
 fn studies() -> [Study; 5] {
     [
-        Study {
-            name: "Sod shock tube",
-            error_name: "density L1 on [−0.5, 0.5]",
-            variants: vec![
-                Variant::new("DualSupport, equal masses (variable h)", "sod_1d.ron"),
-                Variant {
-                    formulation: Some(Formulation::GradH),
-                    ..Variant::new("grad-h, equal masses (variable h)", "sod_1d.ron")
-                },
-                Variant::new("uniform spacing", "sod_1d_uniform.ron"),
-            ],
-            factors: &[4.0, 2.0, 1.0],
-            end_time: None,
-            recording: Recording {
-                every: 10,
-                ..Default::default()
-            },
-            reference: None,
-            probes: false,
-            error: |m| sod::grade(m.run).l1[0],
-        },
-        Study {
-            name: "Elliptical drop",
-            error_name: "|b/b_ODE − 1| at t = 0.008 s",
-            variants: vec![
-                Variant::new("DualSupport, half-spacing quadrant", "drop_2d.ron"),
-                Variant::new("uniform fine spacing", "drop_2d_uniform.ron"),
-            ],
-            factors: &[4.0, 2.0, 1.0],
-            end_time: None,
-            recording: Recording {
-                every: 10,
-                ..Default::default()
-            },
-            reference: None,
-            probes: false,
-            error: |m| {
-                let g = drop::grade(m.run);
-                (g.axes.1 / g.ode.1 - 1.0).abs()
-            },
-        },
-        Study {
-            name: "Dam break",
-            error_name: "front RMS vs Koshizuka & Oka, t ≤ 0.70 s (m)",
-            variants: vec![
-                Variant::new("Case II: DualSupport, two resolutions", "dam_break_2d.ron"),
-                Variant::new(
-                    "Case III: uniform fine, constant h",
-                    "dam_break_2d_uniform.ron",
-                ),
-            ],
-            factors: &[4.0, 2.0, 1.0],
-            end_time: Some(0.75),
-            recording: fronts(),
-            reference: None,
-            probes: false,
-            error: |m| dam_break::grade(m.run).front_rms_experiment,
-        },
-        Study {
-            name: "Dam break, walls of particles",
-            error_name: "front RMS vs uniform Δx = 0.00625 m, t ≤ 0.70 s (m)",
-            variants: vec![
-                Variant::new(
-                    "adaptive: 0.025 m, split to 0.0125 m at the surface and walls",
-                    "dam_break_2d_walls_adaptive.ron",
-                ),
-                Variant::new(
-                    "static: 0.0125 m below y = 0.5 m, 0.025 m above",
-                    "dam_break_2d_walls_two_level.ron",
-                ),
-                Variant {
-                    scale: 0.5,
-                    ..Variant::new("uniform 0.0125 m", "dam_break_2d_walls.ron")
-                },
-            ],
-            factors: &[4.0, 2.0, 1.0],
-            end_time: Some(0.75),
-            recording: fronts(),
-            reference: Some(("dam_break_2d_walls.ron", 0.25)),
-            probes: false,
-            error: |m| {
-                m.reference
-                    .map_or(f64::NAN, |r| dam_break::front_rms_between(&m.run, r))
-            },
-        },
-        Study {
-            name: "Buchner's wall pressure",
-            error_name: "mean |Δp*| at P1 vs Buchner, t* 2–6.5",
-            variants: vec![
-                Variant {
-                    factors: Some(&[1.0]),
-                    ..Variant::new(
-                        "adaptive: H/40, split to H/80 by the impact wall and the surface",
-                        "dam_break_buchner_2d_adaptive.ron",
-                    )
-                },
-                Variant::new("uniform", "dam_break_buchner_2d.ron"),
-            ],
-            factors: &[2.0, 1.0, 0.5],
-            end_time: Some(BUCHNER_END),
-            recording: Recording {
-                every: 200,
-                ..Default::default()
-            },
-            reference: None,
-            probes: true,
-            error: buchner_p1,
-        },
+        sod_tube(),
+        elliptical_drop(),
+        dam_break_box(),
+        dam_break_walls(),
+        buchner(),
     ]
+}
+
+/// The Sod tube: equal masses (variable h) under DualSupport and grad-h against uniform spacing.
+fn sod_tube() -> Study {
+    Study {
+        name: "Sod shock tube",
+        error_name: "density L1 on [−0.5, 0.5]",
+        variants: vec![
+            Variant::new("DualSupport, equal masses (variable h)", "sod_1d.ron"),
+            Variant {
+                formulation: Some(Formulation::GradH),
+                ..Variant::new("grad-h, equal masses (variable h)", "sod_1d.ron")
+            },
+            Variant::new("uniform spacing", "sod_1d_uniform.ron"),
+        ],
+        factors: &[4.0, 2.0, 1.0],
+        end_time: None,
+        recording: Recording {
+            every: 10,
+            ..Default::default()
+        },
+        reference: None,
+        probes: false,
+        error: |m| sod::grade(m.run).l1[0],
+    }
+}
+
+/// The elliptical drop: a half-spacing quadrant against uniform fine spacing.
+fn elliptical_drop() -> Study {
+    Study {
+        name: "Elliptical drop",
+        error_name: "|b/b_ODE − 1| at t = 0.008 s",
+        variants: vec![
+            Variant::new("DualSupport, half-spacing quadrant", "drop_2d.ron"),
+            Variant::new("uniform fine spacing", "drop_2d_uniform.ron"),
+        ],
+        factors: &[4.0, 2.0, 1.0],
+        end_time: None,
+        recording: Recording {
+            every: 10,
+            ..Default::default()
+        },
+        reference: None,
+        probes: false,
+        error: |m| {
+            let g = drop::grade(m.run);
+            (g.axes.1 / g.ode.1 - 1.0).abs()
+        },
+    }
+}
+
+/// The paper's dam break in a specular box: Case II (two resolutions) against Case III.
+fn dam_break_box() -> Study {
+    Study {
+        name: "Dam break",
+        error_name: "front RMS vs Koshizuka & Oka, t ≤ 0.70 s (m)",
+        variants: vec![
+            Variant::new("Case II: DualSupport, two resolutions", "dam_break_2d.ron"),
+            Variant::new(
+                "Case III: uniform fine, constant h",
+                "dam_break_2d_uniform.ron",
+            ),
+        ],
+        factors: &[4.0, 2.0, 1.0],
+        end_time: Some(0.75),
+        recording: fronts(),
+        reference: None,
+        probes: false,
+        error: |m| dam_break::grade(m.run).front_rms_experiment,
+    }
+}
+
+/// The dam break with walls of particles: adaptive and static two-level against uniform, every front against a uniform run at half the finest spacing.
+fn dam_break_walls() -> Study {
+    Study {
+        name: "Dam break, walls of particles",
+        error_name: "front RMS vs uniform Δx = 0.00625 m, t ≤ 0.70 s (m)",
+        variants: vec![
+            Variant::new(
+                "adaptive: 0.025 m, split to 0.0125 m at the surface and walls",
+                "dam_break_2d_walls_adaptive.ron",
+            ),
+            Variant::new(
+                "static: 0.0125 m below y = 0.5 m, 0.025 m above",
+                "dam_break_2d_walls_two_level.ron",
+            ),
+            Variant {
+                scale: 0.5,
+                ..Variant::new("uniform 0.0125 m", "dam_break_2d_walls.ron")
+            },
+        ],
+        factors: &[4.0, 2.0, 1.0],
+        end_time: Some(0.75),
+        recording: fronts(),
+        reference: Some(("dam_break_2d_walls.ron", 0.25)),
+        probes: false,
+        error: |m| {
+            m.reference
+                .map_or(f64::NAN, |r| dam_break::front_rms_between(&m.run, r))
+        },
+    }
+}
+
+/// Buchner's wall pressure: the adaptive scene at its own resolution against the uniform tank at H/20, H/40 and H/80.
+fn buchner() -> Study {
+    Study {
+        name: "Buchner's wall pressure",
+        error_name: "mean |Δp*| at P1 vs Buchner, t* 2–6.5",
+        variants: vec![
+            Variant {
+                factors: Some(&[1.0]),
+                ..Variant::new(
+                    "adaptive: H/40, split to H/80 by the impact wall and the surface",
+                    "dam_break_buchner_2d_adaptive.ron",
+                )
+            },
+            Variant::new("uniform", "dam_break_buchner_2d.ron"),
+        ],
+        factors: &[2.0, 1.0, 0.5],
+        end_time: Some(BUCHNER_END),
+        recording: Recording {
+            every: 200,
+            ..Default::default()
+        },
+        reference: None,
+        probes: true,
+        error: buchner_p1,
+    }
 }
 
 /// The end of Buchner's record (s): t* = 6.5, the end of TrixiParticles.jl's window.
@@ -367,9 +392,11 @@ pub fn run(
     ))
 }
 
-/// The study's name as a file name: its words in lower case, joined by `_`.
+/// The study's name as a file name: its words in lower case (apostrophes dropped), joined
+/// by `_`.
 fn file_stem(name: &str) -> String {
     name.to_lowercase()
+        .replace(['\'', '’'], "")
         .split(|c: char| !c.is_alphanumeric())
         .filter(|w| !w.is_empty())
         .collect::<Vec<_>>()
@@ -506,6 +533,10 @@ mod tests {
             "dam_break_walls_of_particles"
         );
         assert_eq!(file_stem("Sod shock tube"), "sod_shock_tube");
+        assert_eq!(
+            file_stem("Buchner's wall pressure"),
+            "buchners_wall_pressure"
+        );
     }
 
     /// error ∝ cpu^(−1/2): the interpolation is exact on a power law.
