@@ -74,6 +74,32 @@ struct Study {
     error: fn(Measured<'_>) -> f64,
 }
 
+impl Study {
+    /// A study at spacing × 4, × 2 and × 1, to its scenes' end, with diagnostics every 10
+    /// steps, no reference run and no probes.
+    fn new(
+        name: &'static str,
+        error_name: &'static str,
+        variants: Vec<Variant>,
+        error: fn(Measured<'_>) -> f64,
+    ) -> Self {
+        Study {
+            name,
+            error_name,
+            variants,
+            factors: &[4.0, 2.0, 1.0],
+            end_time: None,
+            recording: Recording {
+                every: 10,
+                ..Default::default()
+            },
+            reference: None,
+            probes: false,
+            error,
+        }
+    }
+}
+
 /// What a study's error is measured from: the run, the study's reference run, and the run's
 /// probes when the study reads them.
 struct Measured<'a> {
@@ -115,10 +141,10 @@ fn studies() -> [Study; 5] {
 
 /// The Sod tube: equal masses (variable h) under DualSupport and grad-h against uniform spacing.
 fn sod_tube() -> Study {
-    Study {
-        name: "Sod shock tube",
-        error_name: "density L1 on [−0.5, 0.5]",
-        variants: vec![
+    Study::new(
+        "Sod shock tube",
+        "density L1 on [−0.5, 0.5]",
+        vec![
             Variant::new("DualSupport, equal masses (variable h)", "sod_1d.ron"),
             Variant {
                 formulation: Some(Formulation::GradH),
@@ -126,118 +152,104 @@ fn sod_tube() -> Study {
             },
             Variant::new("uniform spacing", "sod_1d_uniform.ron"),
         ],
-        factors: &[4.0, 2.0, 1.0],
-        end_time: None,
-        recording: Recording {
-            every: 10,
-            ..Default::default()
-        },
-        reference: None,
-        probes: false,
-        error: |m| sod::grade(m.run).l1[0],
-    }
+        |m| sod::grade(m.run).l1[0],
+    )
 }
 
 /// The elliptical drop: a half-spacing quadrant against uniform fine spacing.
 fn elliptical_drop() -> Study {
-    Study {
-        name: "Elliptical drop",
-        error_name: "|b/b_ODE − 1| at t = 0.008 s",
-        variants: vec![
+    Study::new(
+        "Elliptical drop",
+        "|b/b_ODE − 1| at t = 0.008 s",
+        vec![
             Variant::new("DualSupport, half-spacing quadrant", "drop_2d.ron"),
             Variant::new("uniform fine spacing", "drop_2d_uniform.ron"),
         ],
-        factors: &[4.0, 2.0, 1.0],
-        end_time: None,
-        recording: Recording {
-            every: 10,
-            ..Default::default()
-        },
-        reference: None,
-        probes: false,
-        error: |m| {
+        |m| {
             let g = drop::grade(m.run);
             (g.axes.1 / g.ode.1 - 1.0).abs()
         },
-    }
+    )
 }
 
 /// The paper's dam break in a specular box: Case II (two resolutions) against Case III.
 fn dam_break_box() -> Study {
     Study {
-        name: "Dam break",
-        error_name: "front RMS vs Koshizuka & Oka, t ≤ 0.70 s (m)",
-        variants: vec![
-            Variant::new("Case II: DualSupport, two resolutions", "dam_break_2d.ron"),
-            Variant::new(
-                "Case III: uniform fine, constant h",
-                "dam_break_2d_uniform.ron",
-            ),
-        ],
-        factors: &[4.0, 2.0, 1.0],
         end_time: Some(0.75),
         recording: fronts(),
-        reference: None,
-        probes: false,
-        error: |m| dam_break::grade(m.run).front_rms_experiment,
+        ..Study::new(
+            "Dam break",
+            "front RMS vs Koshizuka & Oka, t ≤ 0.70 s (m)",
+            vec![
+                Variant::new("Case II: DualSupport, two resolutions", "dam_break_2d.ron"),
+                Variant::new(
+                    "Case III: uniform fine, constant h",
+                    "dam_break_2d_uniform.ron",
+                ),
+            ],
+            |m| dam_break::grade(m.run).front_rms_experiment,
+        )
     }
 }
 
 /// The dam break with walls of particles: adaptive and static two-level against uniform, every front against a uniform run at half the finest spacing.
 fn dam_break_walls() -> Study {
+    let variants = vec![
+        Variant::new(
+            "adaptive: 0.025 m, split to 0.0125 m at the surface and walls",
+            "dam_break_2d_walls_adaptive.ron",
+        ),
+        Variant::new(
+            "static: 0.0125 m below y = 0.5 m, 0.025 m above",
+            "dam_break_2d_walls_two_level.ron",
+        ),
+        Variant {
+            scale: 0.5,
+            ..Variant::new("uniform 0.0125 m", "dam_break_2d_walls.ron")
+        },
+    ];
     Study {
-        name: "Dam break, walls of particles",
-        error_name: "front RMS vs uniform Δx = 0.00625 m, t ≤ 0.70 s (m)",
-        variants: vec![
-            Variant::new(
-                "adaptive: 0.025 m, split to 0.0125 m at the surface and walls",
-                "dam_break_2d_walls_adaptive.ron",
-            ),
-            Variant::new(
-                "static: 0.0125 m below y = 0.5 m, 0.025 m above",
-                "dam_break_2d_walls_two_level.ron",
-            ),
-            Variant {
-                scale: 0.5,
-                ..Variant::new("uniform 0.0125 m", "dam_break_2d_walls.ron")
-            },
-        ],
-        factors: &[4.0, 2.0, 1.0],
         end_time: Some(0.75),
         recording: fronts(),
         reference: Some(("dam_break_2d_walls.ron", 0.25)),
-        probes: false,
-        error: |m| {
-            m.reference
-                .map_or(f64::NAN, |r| dam_break::front_rms_between(&m.run, r))
-        },
+        ..Study::new(
+            "Dam break, walls of particles",
+            "front RMS vs uniform Δx = 0.00625 m, t ≤ 0.70 s (m)",
+            variants,
+            |m| {
+                m.reference
+                    .map_or(f64::NAN, |r| dam_break::front_rms_between(&m.run, r))
+            },
+        )
     }
 }
 
 /// Buchner's wall pressure: the adaptive scene at its own resolution against the uniform tank at H/20, H/40 and H/80.
 fn buchner() -> Study {
+    let variants = vec![
+        Variant {
+            factors: Some(&[1.0]),
+            ..Variant::new(
+                "adaptive: H/40, split to H/80 by the impact wall and the surface",
+                "dam_break_buchner_2d_adaptive.ron",
+            )
+        },
+        Variant::new("uniform", "dam_break_buchner_2d.ron"),
+    ];
     Study {
-        name: "Buchner's wall pressure",
-        error_name: "mean |Δp*| at P1 vs Buchner, t* 2–6.5",
-        variants: vec![
-            Variant {
-                factors: Some(&[1.0]),
-                ..Variant::new(
-                    "adaptive: H/40, split to H/80 by the impact wall and the surface",
-                    "dam_break_buchner_2d_adaptive.ron",
-                )
-            },
-            Variant::new("uniform", "dam_break_buchner_2d.ron"),
-        ],
         factors: &[2.0, 1.0, 0.5],
         end_time: Some(BUCHNER_END),
         recording: Recording {
             every: 200,
             ..Default::default()
         },
-        reference: None,
         probes: true,
-        error: buchner_p1,
+        ..Study::new(
+            "Buchner's wall pressure",
+            "mean |Δp*| at P1 vs Buchner, t* 2–6.5",
+            variants,
+            buchner_p1,
+        )
     }
 }
 
