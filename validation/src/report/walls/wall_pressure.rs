@@ -114,20 +114,22 @@ pub fn grade(signal: Vec<(f64, f64)>, trixi: Option<&[(f64, f64)]>) -> SensorGra
         mean_abs_difference(|t| interpolate(s, t), &m.experiment, FIRST_IMPACT).0
     };
     let wet = |s: &[(f64, f64)]| s.iter().find(|p| p.1 > 0.1).map_or(f64::NAN, |p| p.0);
-    let on_trixi_window =
-        |s: &[(f64, f64)]| mean_abs_difference(|t| box_mean(s, t, BOX), &exp, TRIXI_WINDOW).0;
+    // a sensor boxed as TrixiParticles.jl's measure takes it, against the experiment over a window
+    let boxed =
+        |s: &[(f64, f64)], window| mean_abs_difference(|t| box_mean(s, t, BOX), &exp, window);
+    let trixi_score = trixi.map(|s| boxed(s, TRIXI_WINDOW));
     SensorGrade {
-        marrone_trixi: (on_trixi_window(&m.sph_40), on_trixi_window(&m.sph_80)),
+        marrone_trixi: (
+            boxed(&m.sph_40, TRIXI_WINDOW).0,
+            boxed(&m.sph_80, TRIXI_WINDOW).0,
+        ),
         whole: mean_abs_difference(model, &exp, WHOLE),
         first: mean_abs_difference(model, &exp, FIRST_IMPACT),
         marrone: (marrone(&m.sph_40), marrone(&m.sph_80)),
         wet: (wet(&signal), wet(&exp)),
-        trixi: trixi.map_or((f64::NAN, 0), |s| {
-            mean_abs_difference(|t| box_mean(s, t, BOX), &exp, TRIXI_WINDOW)
-        }),
-        trixi_second: trixi.map_or(f64::NAN, |s| {
-            let all = mean_abs_difference(|t| box_mean(s, t, BOX), &exp, TRIXI_WINDOW).1;
-            let (m, n) = mean_abs_difference(|t| box_mean(s, t, BOX), &exp, SECOND_IMPACT);
+        trixi: trixi_score.unwrap_or((f64::NAN, 0)),
+        trixi_second: trixi.zip(trixi_score).map_or(f64::NAN, |(s, (_, all))| {
+            let (m, n) = boxed(s, SECOND_IMPACT);
             m * n as f64 / all.max(1) as f64
         }),
         second_peak: (trixi.map_or(f64::NAN, peak), peak(&exp)),
