@@ -221,6 +221,41 @@ fn only_a_region_splits_a_particle_larger_than_coarsest() {
     );
 }
 
+/// The expanding gas refined everywhere to `finest` (a quarter of its particles' size), its
+/// sizes read on the ladder at `ladder`: the final masses of its particles.
+fn expanding_gas_masses(ladder: &str) -> Vec<f64> {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/refinement/expanding_gas.ron");
+    let text = std::fs::read_to_string(path).unwrap().replace(
+        "every: 5, regions: [\n            Box(min: [3.0], max: [3.5], spacing: 0.005),",
+        &format!(
+            "every: 5, ladder: {ladder}, regions: [\n            Box(min: [-4.0], max: [4.0], spacing: 0.005),"
+        ),
+    );
+    assert!(
+        text.contains("Box(min: [-4.0]"),
+        "the scene's region was not replaced"
+    );
+    let (dir, _) = run_on_threads(&load(&text), 1);
+    csv_rows(dir.path(), "final.csv")
+        .iter()
+        .map(|p| p["m"])
+        .collect()
+}
+
+#[test]
+fn a_gas_read_at_its_nominal_density_splits_to_finest_once_and_no_further() {
+    // every particle is split twice, to a quarter of the scene's mass 0.02 × 1.0, however far
+    // the gas has expanded
+    let nominal = expanding_gas_masses("Nominal");
+    assert_eq!(nominal.len(), 4 * 100);
+    assert!(nominal.iter().all(|&m| m == 0.005), "{nominal:?}");
+    // read at its density now, an end particle grows past its ladder size as the gas expands
+    // and splits again, below the mass of `finest`
+    let current = expanding_gas_masses("Current");
+    let lightest = current.iter().copied().fold(f64::INFINITY, f64::min);
+    assert!(lightest < 0.005, "the lightest particle is {lightest}");
+}
+
 #[test]
 fn snapshots_carry_each_particles_size_and_level_and_a_scene_may_choose_them() {
     let text = drop_text()

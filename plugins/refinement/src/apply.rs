@@ -31,6 +31,7 @@
 //! The decisions read nothing that depends on the thread count and are applied in a fixed
 //! order, so a run is bitwise the same on any number of threads.
 
+use crate::settings::NominalDensity;
 use crate::split::{self, Merge};
 use crate::target::{Resolved, Rows, targets};
 use dualsph_core::bevy_ecs::prelude::*;
@@ -103,6 +104,8 @@ struct Particle<V: Vector> {
     body: u16,
     state: CoreState<V>,
     sound: Real,
+    /// The density its ladder size is read at ([`crate::settings::LadderSize`]).
+    ladder_density: Real,
 }
 
 /// What one decision does.
@@ -144,13 +147,15 @@ fn gather<V: Vector>(world: &mut World) -> Vec<Particle<V>> {
         &SmoothingLength,
         &BodyId,
         Option<&SoundSpeed>,
+        Option<&NominalDensity>,
     )>();
     q.iter(world)
-        .map(|(entity, id, r, v, m, rho, h, b, c)| Particle {
+        .map(|(entity, id, r, v, m, rho, h, b, c, nominal)| Particle {
             entity,
             id: id.0,
             body: b.0,
             sound: c.map_or(Real::INFINITY, |c| c.0),
+            ladder_density: nominal.map_or(rho.0, |n| n.0),
             state: CoreState {
                 pos: r.0,
                 vel: v.0,
@@ -171,9 +176,16 @@ struct Ctx<'a, V: Vector> {
 }
 
 impl<V: Vector> Ctx<'_, V> {
+    /// Row i's size `(m/ρ)^{1/d}`: how much space it takes now.
     fn size(&self, i: usize) -> Real {
         let s = &self.particles[i].state;
         split::size(V::DIM, s.mass, s.density)
+    }
+
+    /// Row i's size on the ladder: at its ladder density.
+    fn ladder_size(&self, i: usize) -> Real {
+        let p = &self.particles[i];
+        split::size(V::DIM, p.state.mass, p.ladder_density)
     }
 
     fn refined(&self, j: usize) -> bool {
@@ -208,6 +220,16 @@ impl<V: Vector> Ctx<'_, V> {
         self.clear_of_walls(i, &pts, size).then_some((p, axes))
     }
 
+    /// Whether rows i and j are read on the ladder at the same density (a merge of two
+    /// nominal densities would leave the merged particle off the ladder).
+    fn same_ladder_density(&self, i: usize, j: usize) -> bool {
+        let (a, b) = (
+            self.particles[i].ladder_density,
+            self.particles[j].ladder_density,
+        );
+        (a - b).abs() <= 1e-9 * a
+    }
+
     /// Row i's merge partner among the candidates not paired yet (module docs), if the
     /// merged particle keeps clear of the walls.
     fn partner(&self, i: usize, candidate: &[bool], paired: &[bool]) -> Option<usize> {
@@ -226,6 +248,7 @@ impl<V: Vector> Ctx<'_, V> {
                     && !paired[j]
                     && self.body[j] == self.body[i]
                     && (b.mass - a.mass).abs() <= 1e-9 * a.mass
+                    && (!self.set.nominal || self.same_ladder_density(i, j))
                     && (b.vel - a.vel).length() <= MERGE_MACH * c
             })
             .map(|j| {
@@ -302,7 +325,7 @@ fn plan<V: Vector>(
     let mut plan = Plan::default();
     let mut candidate = vec![false; ctx.particles.len()];
     for ((&i, &ts), &tm) in rows.iter().zip(t_split).zip(t_merge) {
-        let size = ctx.size(i);
+        let size = ctx.ladder_size(i);
         // only a region's ask splits: a particle larger than `coarsest` where none asks (a
         // gas expanding into vacuum) is left as it is
         if ts < set.coarsest && size > ladder_size(set.coarsest, ts) * tol {
@@ -373,21 +396,24 @@ fn apply<V: Vector>(world: &mut World, plan: Plan<V>) {
     }
 }
 
-/// Every particle's size `Δx = (m/ρ)^{1/d}` and level `round(d log2(coarsest/Δx))` clamped
-/// into `0..=levels` (0 the coarsest; a merge of two equal particles moves up one level, a
-/// split down `d`), with whether its body is refined, in row order.
+/// Every particle's size `Δx = (m/ρ)^{1/d}` and level `round(d log2(coarsest/Δx_l))`
+/// clamped into `0..=levels`, with `Δx_l` its size on the ladder (at its ladder density,
+/// [`crate::settings::LadderSize`]; 0 the coarsest; a merge of two equal particles moves up
+/// one level, a split down `d`), with whether its body is refined, in row order.
 pub fn sizes_and_levels<V: Vector>(world: &World) -> Vec<(Real, usize, bool)> {
     let Some(set) = world.get_resource::<Resolved<V>>() else {
         return Vec::new();
     };
-    let Some(mut q) = world.try_query::<(&Mass, &Density, &BodyId)>() else {
+    let Some(mut q) = world.try_query::<(&Mass, &Density, &BodyId, Option<&NominalDensity>)>()
+    else {
         return Vec::new();
     };
     let d = V::DIM as Real;
     q.iter(world)
-        .map(|(m, rho, b)| {
+        .map(|(m, rho, b, nominal)| {
             let size = split::size(V::DIM, m.0, rho.0);
-            let level = (d * (set.coarsest / size).log2()).round();
+            let on_ladder = split::size(V::DIM, m.0, nominal.map_or(rho.0, |n| n.0));
+            let level = (d * (set.coarsest / on_ladder).log2()).round();
             let refined = set.refined.get(b.0 as usize).copied().unwrap_or(false);
             (size, level.clamp(0.0, set.levels as Real) as usize, refined)
         })

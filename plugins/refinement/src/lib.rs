@@ -38,7 +38,7 @@ pub mod settings;
 pub mod split;
 pub mod target;
 
-pub use settings::{Indicator, Refinement, Region};
+pub use settings::{Indicator, LadderSize, NominalDensity, Refinement, Region};
 
 #[cfg(test)]
 mod tests;

@@ -49,7 +49,33 @@ pub struct Refinement {
     /// Eq. 6.1 gives a particle of half the size).
     #[serde(default = "default_child_h")]
     pub child_h: Real,
+    /// The density at which a particle's size is read against the ladder (default
+    /// `Current`: liquids; `Nominal` for gases, see [`LadderSize`]).
+    #[serde(default)]
+    pub ladder: LadderSize,
 }
+
+/// The density at which a particle's size `(m/ρ)^{1/d}` is read where it is compared with
+/// the ladder of sizes and its targets.
+#[derive(
+    Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize, schemars::JsonSchema,
+)]
+pub enum LadderSize {
+    /// Its density now: for liquids, whose density moves by per cents.
+    #[default]
+    Current,
+    /// The density the scene generated it at (its block's `density`; a child's is its
+    /// parent's): for gases, whose density moves by factors, so that expansion and
+    /// compression do not move a particle along the ladder and only splits and merges do.
+    /// The regions' sizes are then sizes at that density.
+    Nominal,
+}
+
+/// A particle's nominal density: the density the scene generated it at, copied to the
+/// children of a split (the column [`LadderSize::Nominal`] reads; kept in checkpoints).
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct NominalDensity(pub Real);
+dualsph_core::scalar_column!(NominalDensity);
 
 fn default_grading() -> Real {
     0.25
@@ -280,6 +306,10 @@ impl SimPlugin for Refinement {
         sim.world.init_resource::<RefinementStats>();
         sim.keep_resource::<RefinementStats>("refinement");
         sim.enable_population();
+        if self.ladder == LadderSize::Nominal {
+            let spec = ColumnSpec::restart_only("nominal_density");
+            sim.add_column(spec, |seed| NominalDensity(seed.init.density))?;
+        }
         add_diagnostics::<V>(&mut sim.world.resource_mut::<DiagnosticColumns>(), levels)
             .map_err(SimError::Build)?;
         add_snapshot_columns::<V>(&mut sim.world.resource_mut::<DerivedColumns>())
@@ -373,6 +403,7 @@ impl Refinement {
             buffer: self.buffer.unwrap_or(2.0 * self.coarsest),
             offset: self.offset,
             child_h: self.child_h,
+            nominal: self.ladder == LadderSize::Nominal,
             levels: (d * (self.coarsest / self.finest).log2()).round() as usize,
         })
     }

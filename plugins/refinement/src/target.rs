@@ -19,8 +19,12 @@ use serde::{Deserialize, Serialize};
 /// What the gradient of a `Region::Gradient` is taken of.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize, schemars::JsonSchema)]
 pub enum Indicator {
-    /// `Δx_i |∇ρ|_i / ρ_i`: the relative change of the density over one particle size
-    /// (shocks, contact discontinuities, interfaces).
+    /// `(max_j ρ_j − min_j ρ_j) / ρ_i` over i and the fluid particles of its support: the
+    /// relative jump of the density across the support (shocks, contact discontinuities,
+    /// interfaces). A smooth field's jump is the support's width times its relative
+    /// gradient, so a smooth compression (a rarefaction fan) stays below a threshold a
+    /// discontinuity crosses whatever the resolution, and the per-cent density noise of a
+    /// split does not flag its own children.
     Density,
     /// `|∇v|_i` (Frobenius norm, 1/s): shear layers, jets, impacts.
     Velocity,
@@ -49,6 +53,8 @@ pub struct Resolved<V: Vector> {
     pub offset: Real,
     /// The children's radius ratio.
     pub child_h: Real,
+    /// Whether sizes are read at the nominal density ([`crate::settings::LadderSize`]).
+    pub nominal: bool,
     /// The size levels between coarsest (0) and finest: `round(d log2(coarsest/finest))`.
     pub levels: usize,
 }
@@ -147,14 +153,15 @@ impl<V: Vector> Rows<'_, V> {
         let volume = self.volume;
         match quantity {
             Indicator::Density => {
-                let mut g = V::zero();
-                self.support.for_each_neighbour(i, |j, _rij, _r, _w, grad| {
-                    if self.is_fluid(j) {
-                        g += grad * (volume[j] * (self.rho[j] - self.rho[i]));
-                    }
-                });
-                let size = crate::split::size(V::DIM, self.mass[i], self.rho[i]);
-                size * g.length() / self.rho[i]
+                let (mut lo, mut hi) = (self.rho[i], self.rho[i]);
+                self.support
+                    .for_each_neighbour(i, |j, _rij, _r, _w, _grad| {
+                        if self.is_fluid(j) {
+                            lo = lo.min(self.rho[j]);
+                            hi = hi.max(self.rho[j]);
+                        }
+                    });
+                (hi - lo) / self.rho[i]
             }
             Indicator::Velocity => {
                 let mut m = [DVec3::ZERO; 3];

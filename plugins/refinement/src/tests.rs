@@ -327,6 +327,7 @@ fn a_coarsened_scene_scales_the_sizes_and_bands_but_not_the_geometry() {
         buffer: Some(0.1),
         offset: 0.25,
         child_h: 0.5,
+        ladder: Default::default(),
     };
     r.scale_spacing(2.0);
     assert_eq!((r.finest, r.coarsest, r.buffer), (0.025, 0.05, Some(0.2)));

@@ -139,7 +139,8 @@ fn studies() -> [Study; 5] {
     ]
 }
 
-/// The Sod tube: equal masses (variable h) under DualSupport and grad-h against uniform spacing.
+/// The Sod tube: equal masses (variable h) under DualSupport and grad-h, and the adaptive
+/// tube, against uniform spacing.
 fn sod_tube() -> Study {
     Study::new(
         "Sod shock tube",
@@ -150,6 +151,10 @@ fn sod_tube() -> Study {
                 formulation: Some(Formulation::GradH),
                 ..Variant::new("grad-h, equal masses (variable h)", "sod_1d.ron")
             },
+            Variant::new(
+                "adaptive: splits at the shock and the contact",
+                "sod_1d_adaptive.ron",
+            ),
             Variant::new("uniform spacing", "sod_1d_uniform.ron"),
         ],
         |m| sod::grade(m.run).l1[0],
