@@ -1,6 +1,7 @@
-//! Speed against error: the Sod tube, the drop, the dam break in a specular box, the dam
-//! break with walls of particles (adaptive, static two-level and uniform) and Buchner's wall
-//! pressure (adaptive and uniform) at several resolutions each, variable resolution with
+//! Speed against error: the Sod tube (static and adaptive variable resolution and uniform),
+//! the drop, the dam break in a specular box, the dam break with walls of particles
+//! (adaptive, static two-level and uniform), Buchner's wall pressure and the 3-D dam break
+//! (adaptive and uniform) at several resolutions each, variable resolution with
 //! DualSupport against uniform resolution, as error against CPU seconds. The question it
 //! answers: to reach a given error, how much cheaper is variable resolution with DualSupport?
 
@@ -129,13 +130,14 @@ fn fronts() -> Recording {
     }
 }
 
-fn studies() -> [Study; 5] {
+fn studies() -> [Study; 6] {
     [
         sod_tube(),
         elliptical_drop(),
         dam_break_box(),
         dam_break_walls(),
         buchner(),
+        dam_break_3d(),
     ]
 }
 
@@ -258,6 +260,32 @@ fn buchner() -> Study {
     }
 }
 
+/// The 3-D dam break (specular walls): the adaptive column at its own resolution against the
+/// uniform column at 0.1, 0.05 and 0.025 m, every front against Koshizuka & Oka's.
+fn dam_break_3d() -> Study {
+    let variants = vec![
+        Variant {
+            factors: Some(&[1.0]),
+            ..Variant::new(
+                "adaptive: 0.05 m, split to 0.025 m in the lowest 0.25 m",
+                "dam_break_3d_adaptive.ron",
+            )
+        },
+        Variant::new("uniform", "dam_break_3d_uniform.ron"),
+    ];
+    Study {
+        factors: &[2.0, 1.0, 0.5],
+        end_time: Some(0.75),
+        recording: fronts(),
+        ..Study::new(
+            "Dam break in 3-D",
+            "front RMS vs Koshizuka & Oka, t ≤ 0.70 s (m)",
+            variants,
+            |m| dam_break::grade(m.run).front_rms_experiment,
+        )
+    }
+}
+
 /// The end of Buchner's record (s): t* = 6.5, the end of TrixiParticles.jl's window.
 const BUCHNER_END: f64 = 1.6;
 
@@ -350,8 +378,8 @@ pub fn run(
 ) -> Result<(Section, Vec<(&'static str, Vec<Point>)>), ReportError> {
     let mut body = String::from(
         "Each benchmark at three resolutions (particle spacing × 4, × 2, × 1 relative to its scene; Buchner's \
-         uniform tank at × 2, × 1, × 0.5, that is H/20, H/40 and H/80, and its adaptive scene at its own \
-         resolution only), with variable resolution under DualSupport against uniform resolution. CPU seconds are \
+         uniform tank at × 2, × 1, × 0.5, that is H/20, H/40 and H/80, and the 3-D uniform column likewise, \
+         at 0.1, 0.05 and 0.025 m; their adaptive scenes at their own resolution only), with variable resolution under DualSupport against uniform resolution. CPU seconds are \
          of the stepping loop, all threads. A variant is cheaper when its curve lies to the left at the same error. \
          The walls dam break's fronts are measured against a uniform run at half its finest spacing \
          (Δx = 0.00625 m, run once); Buchner's sensor P1 against the experiment, as TrixiParticles.jl measures it \
