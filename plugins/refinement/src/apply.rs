@@ -4,14 +4,17 @@
 //! 1. the two target sizes of every particle of a refined body ([`crate::target`]): `t_s`
 //!    where the regions are, `t_m` where they reach `buffer` farther;
 //! 2. each is rounded down to the *ladder* of sizes `coarsest·2^{-k}` (`D(t)`, the largest
-//!    ladder size not above `t`, within [`SIZE_TOLERANCE`]);
+//!    ladder size not above `t`, within [`SIZE_TOLERANCE`]), with which a particle's size is
+//!    compared at its ladder density (its density now, or the nominal one a gas's particles
+//!    carry: [`crate::settings::LadderSize`]);
 //! 3. where a region asks for less than `coarsest`, a particle larger than `D(t_s)` splits,
 //!    to the next size of the ladder below its own (`2^d` children, or `2^j` along `j < d`
 //!    axes for a particle a merge left between two ladder sizes; [`crate::split`]), unless
 //!    the children would be smaller than `finest`;
 //! 4. a particle whose merge with an equal one would not be larger than `D(t_m)` is a merge
 //!    candidate; in ascending id order, each candidate not paired yet pairs with the nearest
-//!    candidate of its support list that is not paired yet, of its body and of its mass,
+//!    candidate of its support list that is not paired yet, of its body and of its mass (and
+//!    of its nominal density, where sizes are read at it),
 //!    within 1.5 of its sizes and moving relative to it at most [`MERGE_MACH`] of the sound
 //!    speed (the lower id on a tie);
 //!    A split or merge that would put a particle against a wall is not made

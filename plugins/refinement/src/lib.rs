@@ -1,5 +1,6 @@
 //! `Refinement(..)`: adaptive resolution. Every `every` steps each particle of the refined
-//! fluid bodies compares its size `Δx_i = (m_i/ρ_i)^{1/d}` with the size the scene asks for
+//! fluid bodies compares its size `Δx_i = (m_i/ρ_i)^{1/d}` (in a gas at the density it was
+//! generated at, [`LadderSize::Nominal`]) with the size the scene asks for
 //! where it is, the *target* ([`target`]), rounded down to the ladder of sizes
 //! `coarsest·2^{-k}`: a particle larger than that splits into `2^d` children of half its
 //! size, and two neighbouring particles of equal mass merge into one where the pair would
