@@ -1,9 +1,9 @@
 //! Runs Sod shock-tube scenes and grades them against the exact solution: `cargo run
 //! --release -p dualsph-validation --example grade_sod -- SCENE[:FACTOR]...` (each SCENE a
 //! variant of `scenes/sod_1d.ron`, FACTOR the spacing multiplier, default 1). Prints the
-//! particles at the end, the steps, the stepping loop's CPU seconds and the L1 errors of
-//! density, velocity, pressure and internal energy on [−0.5, 0.5], then the density error by
-//! zone: the constant states, the rarefaction, the plateaus on either side of the contact, and
+//! particles at the start and at the end, the steps, the stepping loop's CPU seconds and the
+//! L1 errors of density, velocity, pressure and internal energy on [−0.5, 0.5], then the
+//! density error by zone: the constant states, the rarefaction, the plateaus on either side of the contact, and
 //! the contact and the shock (the zones of `sod::wave_windows`, each wave ± 0.05).
 use dualsph_validation::report::sod::{self, wave_windows};
 use dualsph_validation::report::{CaseSpec, Recording, coarsen, run_case};
@@ -36,8 +36,15 @@ fn main() {
         }
         let g = sod::grade(run);
         println!(
-            "{arg}: {} particles, {} steps, {:.2} CPU-s, L1 rho {:.3e} u {:.3e} p {:.3e} e {:.3e}",
-            g.run.particles, g.run.steps, g.run.cpu_seconds, g.l1[0], g.l1[1], g.l1[2], g.l1[3]
+            "{arg}: {} → {} particles, {} steps, {:.2} CPU-s, L1 rho {:.3e} u {:.3e} p {:.3e} e {:.3e}",
+            g.run.particles,
+            g.run.last.len(),
+            g.run.steps,
+            g.run.cpu_seconds,
+            g.l1[0],
+            g.l1[1],
+            g.l1[2],
+            g.l1[3]
         );
         let zones = zone_errors(&g.run);
         let names = ZONES.iter().zip(zones).map(|(n, e)| format!("{n} {e:.2e}"));

@@ -21,10 +21,11 @@ use serde::{Deserialize, Serialize};
 pub enum Indicator {
     /// `(max_j ρ_j − min_j ρ_j) / ρ_i` over i and the fluid particles of its support: the
     /// relative jump of the density across the support (shocks, contact discontinuities,
-    /// interfaces). A smooth field's jump is the support's width times its relative
-    /// gradient, so a smooth compression (a rarefaction fan) stays below a threshold a
-    /// discontinuity crosses whatever the resolution, and the per-cent density noise of a
-    /// split does not flag its own children.
+    /// interfaces). A discontinuity's jump does not shrink as its particles split, while a
+    /// smooth field's (a rarefaction fan's) is the support's width times its relative
+    /// gradient and shrinks with it: a threshold between the two (0.3 in
+    /// `scenes/sod_1d_adaptive.ron`) keeps a discontinuity flagged once refined, and lies
+    /// above the few per cent of density a split moves.
     Density,
     /// `|∇v|_i` (Frobenius norm, 1/s): shear layers, jets, impacts.
     Velocity,
