@@ -3,7 +3,7 @@
 //! (runs `scenes/sod_1d_adaptive.ron`, snapshots every 0.01 s; each particle on [−0.5, 0.5]
 //! a marker coloured by its level, the exact contact, shock and rarefaction as lines).
 use dualsph_plot::{LinePlot, Series, SeriesStyle};
-use dualsph_validation::report::sod::{exact, wave_windows};
+use dualsph_validation::report::sod::{WAVE_WINDOW, exact, wave_windows};
 use dualsph_validation::report::{CaseSpec, Recording, run_case};
 
 /// The scene's coarsest size (m).
@@ -35,20 +35,15 @@ fn main() {
         }
     }
     let r = exact();
-    let wave = |k: usize, edge: fn((f64, f64, f64)) -> f64| -> Vec<(f64, f64)> {
-        (0..=20)
-            .map(|i| {
-                let t = 0.01 * i as f64;
-                let w = wave_windows(&r, t.max(1e-9))[k];
-                (edge(w), t)
-            })
-            .collect()
-    };
-    let (lo, hi): (fn((f64, f64, f64)) -> f64, fn((f64, f64, f64)) -> f64) = (
-        |w| w.0 + dualsph_validation::report::sod::WAVE_WINDOW,
-        |w| w.1 - dualsph_validation::report::sod::WAVE_WINDOW,
-    );
-    let mid: fn((f64, f64, f64)) -> f64 = |w| 0.5 * (w.0 + w.1);
+    // the exact waves' positions: a window's edge less the margin `wave_windows` adds, or
+    // its middle
+    type Edge = fn((f64, f64, f64)) -> f64;
+    let lines: [(&str, usize, Edge, usize); 4] = [
+        ("rarefaction head (exact)", 0, |w| w.0 + WAVE_WINDOW, 3),
+        ("rarefaction tail (exact)", 0, |w| w.1 - WAVE_WINDOW, 6),
+        ("contact (exact)", 1, |w| 0.5 * (w.0 + w.1), 4),
+        ("shock (exact)", 2, |w| 0.5 * (w.0 + w.1), 5),
+    ];
     let mut plot = LinePlot::new(
         "Adaptive Sod tube: particle sizes against the exact waves",
         "x",
@@ -64,31 +59,15 @@ fn main() {
     for (k, pts) in levels.into_iter().enumerate() {
         plot = plot.with(Series::new(names[k], pts, SeriesStyle::Markers, k));
     }
-    plot = plot
-        .with(Series::new(
-            "rarefaction head (exact)",
-            wave(0, lo),
-            SeriesStyle::Line,
-            3,
-        ))
-        .with(Series::new(
-            "rarefaction tail (exact)",
-            wave(0, hi),
-            SeriesStyle::Line,
-            6,
-        ))
-        .with(Series::new(
-            "contact (exact)",
-            wave(1, mid),
-            SeriesStyle::Line,
-            4,
-        ))
-        .with(Series::new(
-            "shock (exact)",
-            wave(2, mid),
-            SeriesStyle::Line,
-            5,
-        ));
+    for (label, k, edge, colour) in lines {
+        let pts = (0..=20)
+            .map(|i| {
+                let t = 0.01 * i as f64;
+                (edge(wave_windows(&r, t.max(1e-9))[k]), t)
+            })
+            .collect();
+        plot = plot.with(Series::new(label, pts, SeriesStyle::Line, colour));
+    }
     plot.write_png(std::path::Path::new(&out))
         .unwrap_or_else(|e| panic!("{e}"));
     println!("{out}: {} snapshots", run.snapshots.len());
