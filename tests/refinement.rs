@@ -205,6 +205,27 @@ fn a_refined_run_is_bitwise_the_same_on_1_and_2_threads() {
 }
 
 #[test]
+fn a_refined_gas_is_bitwise_the_same_on_1_and_2_threads() {
+    // the adaptive Sod tube to t = 0.05 (about 860 steps): splits at the shock and the contact
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/sod_1d_adaptive.ron");
+    let text = std::fs::read_to_string(path)
+        .unwrap()
+        .replace("end_time: 0.2,", "end_time: 0.05,");
+    let scene = load(&text);
+    let (one, s1) = run_on_threads(&scene, 1);
+    let (two, s2) = run_on_threads(&scene, 2);
+    assert_eq!(s1.last, s2.last);
+    for f in ["final.csv", "diagnostics.csv"] {
+        assert!(
+            read(&one.path().join(f)) == read(&two.path().join(f)),
+            "{f} differs"
+        );
+    }
+    let last = diagnostics(one.path()).pop().unwrap();
+    assert!(last["splits"] > 50.0, "{} splits", last["splits"]);
+}
+
+#[test]
 fn only_a_region_splits_a_particle_larger_than_coarsest() {
     // the gas's end particles grow to about nine times `coarsest`; no region reaches them
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/refinement/expanding_gas.ron");

@@ -221,6 +221,36 @@ fn resume_from_half_way_is_bitwise_identical_1d_sod_grad_h() {
     );
 }
 
+#[test]
+fn resume_from_half_way_is_bitwise_identical_1d_adaptive_sod() {
+    // a gas refined at its shock and contact, sizes read at the nominal density (a column of
+    // the plugin's own), its first decision at step 25: particles split in the second half
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/sod_1d_adaptive.ron"),
+    )
+    .unwrap()
+    .replace("end_time: 0.2,", "end_time: 0.2,\n    max_steps: 40,")
+    .replace("ladder: Nominal, every: 5,", "ladder: Nominal, every: 25,");
+    assert!(
+        text.contains("every: 25,"),
+        "the scene's refinement was not found"
+    );
+    check_resume_text(
+        "sod_1d_adaptive.ron",
+        &text,
+        &["NominalDensity", "EnergyRate"],
+        true,
+    );
+    let scene = load_text(&text);
+    let tmp = tempfile::tempdir().unwrap();
+    run(&scene, tmp.path(), 20, None);
+    let count = |step| {
+        let c = Checkpoint::read(&tmp.path().join(checkpoint_file_name(step))).unwrap();
+        component(&c, "Mass").len()
+    };
+    assert!(count(40) > count(20), "no split in the second half");
+}
+
 fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
