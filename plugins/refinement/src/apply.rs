@@ -6,7 +6,7 @@
 //! 2. each is rounded down to the *ladder* of sizes `coarsest·2^{-k}` (`D(t)`, the largest
 //!    ladder size not above `t`, within [`SIZE_TOLERANCE`]), with which a particle's size is
 //!    compared at its ladder density (its density now, or the nominal one a gas's particles
-//!    carry: [`crate::settings::LadderSize`]);
+//!    carry: [`crate::ladder::LadderSize`]);
 //! 3. where a region asks for less than `coarsest`, a particle larger than `D(t_s)` splits,
 //!    to the next size of the ladder below its own (`2^d` children, or `2^j` along `j < d`
 //!    axes for a particle a merge left between two ladder sizes; [`crate::split`]), unless
@@ -34,7 +34,7 @@
 //! The decisions read nothing that depends on the thread count and are applied in a fixed
 //! order, so a run is bitwise the same on any number of threads.
 
-use crate::settings::NominalDensity;
+use crate::ladder::NominalDensity;
 use crate::split::{self, Merge};
 use crate::target::{Resolved, Rows, targets};
 use dualsph_core::bevy_ecs::prelude::*;
@@ -107,7 +107,7 @@ struct Particle<V: Vector> {
     body: u16,
     state: CoreState<V>,
     sound: Real,
-    /// The density its ladder size is read at ([`crate::settings::LadderSize`]).
+    /// The density its ladder size is read at ([`crate::ladder::LadderSize`]).
     ladder_density: Real,
 }
 
@@ -401,7 +401,7 @@ fn apply<V: Vector>(world: &mut World, plan: Plan<V>) {
 
 /// Every particle's size `Δx = (m/ρ)^{1/d}` and level `round(d log2(coarsest/Δx_l))`
 /// clamped into `0..=levels`, with `Δx_l` its size on the ladder (at its ladder density,
-/// [`crate::settings::LadderSize`]; 0 the coarsest; a merge of two equal particles moves up
+/// [`crate::ladder::LadderSize`]; 0 the coarsest; a merge of two equal particles moves up
 /// one level, a split down `d`), with whether its body is refined, in row order.
 pub fn sizes_and_levels<V: Vector>(world: &World) -> Vec<(Real, usize, bool)> {
     let Some(set) = world.get_resource::<Resolved<V>>() else {

@@ -35,11 +35,13 @@
 
 pub mod apply;
 pub mod density_error;
+pub mod ladder;
 pub mod settings;
 pub mod split;
 pub mod target;
 
-pub use settings::{Indicator, LadderSize, NominalDensity, Refinement, Region};
+pub use ladder::{LadderSize, NominalDensity};
+pub use settings::{Indicator, Refinement, Region};
 
 #[cfg(test)]
 mod tests;

@@ -54,7 +54,7 @@ pub struct Resolved<V: Vector> {
     pub offset: Real,
     /// The children's radius ratio.
     pub child_h: Real,
-    /// Whether sizes are read at the nominal density ([`crate::settings::LadderSize`]).
+    /// Whether sizes are read at the nominal density ([`crate::ladder::LadderSize`]).
     pub nominal: bool,
     /// The size levels between coarsest (0) and finest: `round(d log2(coarsest/finest))`.
     pub levels: usize,
