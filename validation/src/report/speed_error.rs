@@ -231,18 +231,29 @@ fn dam_break_walls() -> Study {
     }
 }
 
-/// Buchner's wall pressure: the adaptive scene at its own resolution against the uniform tank at H/20, H/40 and H/80.
-fn buchner() -> Study {
-    let variants = vec![
+/// An adaptive scene at its own resolution only, and a uniform one labelled "uniform" at
+/// the study's factors.
+fn adaptive_and_uniform(
+    label: &'static str,
+    adaptive: &'static str,
+    uniform: &'static str,
+) -> Vec<Variant> {
+    vec![
         Variant {
             factors: Some(&[1.0]),
-            ..Variant::new(
-                "adaptive: H/40, split to H/80 by the impact wall and the surface",
-                "dam_break_buchner_2d_adaptive.ron",
-            )
+            ..Variant::new(label, adaptive)
         },
-        Variant::new("uniform", "dam_break_buchner_2d.ron"),
-    ];
+        Variant::new("uniform", uniform),
+    ]
+}
+
+/// Buchner's wall pressure: the adaptive scene at its own resolution against the uniform tank at H/20, H/40 and H/80.
+fn buchner() -> Study {
+    let variants = adaptive_and_uniform(
+        "adaptive: H/40, split to H/80 by the impact wall and the surface",
+        "dam_break_buchner_2d_adaptive.ron",
+        "dam_break_buchner_2d.ron",
+    );
     Study {
         factors: &[2.0, 1.0, 0.5],
         end_time: Some(BUCHNER_END),
@@ -263,16 +274,11 @@ fn buchner() -> Study {
 /// The 3-D dam break (specular walls): the adaptive column at its own resolution against the
 /// uniform column at 0.1, 0.05 and 0.025 m, every front against Koshizuka & Oka's.
 fn dam_break_3d() -> Study {
-    let variants = vec![
-        Variant {
-            factors: Some(&[1.0]),
-            ..Variant::new(
-                "adaptive: 0.05 m, split to 0.025 m in the lowest 0.25 m",
-                "dam_break_3d_adaptive.ron",
-            )
-        },
-        Variant::new("uniform", "dam_break_3d_uniform.ron"),
-    ];
+    let variants = adaptive_and_uniform(
+        "adaptive: 0.05 m, split to 0.025 m in the lowest 0.25 m",
+        "dam_break_3d_adaptive.ron",
+        "dam_break_3d_uniform.ron",
+    );
     Study {
         factors: &[2.0, 1.0, 0.5],
         end_time: Some(0.75),
@@ -555,49 +561,4 @@ fn cpu_at_error(runs: &[&Point], target: f64) -> Option<f64> {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn point(cpu: f64, error: f64) -> Point {
-        Point {
-            variant: "u".into(),
-            factor: 1.0,
-            particles: 1,
-            particles_end: 1,
-            steps: 1,
-            cpu_seconds: cpu,
-            error,
-            failure: None,
-        }
-    }
-
-    #[test]
-    fn file_stems_are_the_names_words() {
-        assert_eq!(
-            file_stem("Dam break, walls of particles"),
-            "dam_break_walls_of_particles"
-        );
-        assert_eq!(file_stem("Sod shock tube"), "sod_shock_tube");
-        assert_eq!(
-            file_stem("Buchner's wall pressure"),
-            "buchners_wall_pressure"
-        );
-    }
-
-    /// error ∝ cpu^(−1/2): the interpolation is exact on a power law.
-    #[test]
-    fn cpu_at_error_is_exact_on_a_power_law() {
-        let runs: Vec<Point> = [1.0, 4.0, 16.0].map(|c| point(c, 0.1 / c.sqrt())).into();
-        let refs: Vec<&Point> = runs.iter().collect();
-        let cpu = cpu_at_error(&refs, 0.1 / 8.0f64.sqrt()).unwrap();
-        assert!((cpu - 8.0).abs() < 1e-12, "{cpu}");
-        assert!(
-            cpu_at_error(&refs, 0.2).is_none(),
-            "above the coarsest run's error"
-        );
-        assert!(
-            cpu_at_error(&refs, 0.001).is_none(),
-            "below the finest run's error"
-        );
-    }
-}
+mod tests;
