@@ -3,8 +3,9 @@
 //! variant of `scenes/sod_1d.ron`, FACTOR the spacing multiplier, default 1). Prints the
 //! particles at the start and at the end, the steps, the stepping loop's CPU seconds and the
 //! L1 errors of density, velocity, pressure and internal energy on [−0.5, 0.5], then the
-//! density error by zone: the constant states, the rarefaction, the plateaus on either side of the contact, and
-//! the contact and the shock (the zones of `sod::wave_windows`, each wave ± 0.05).
+//! density error by zone: the constant states, the rarefaction, the plateaus on either side
+//! of the contact, and the contact and the shock (the zones of `sod::wave_windows`, each wave
+//! ± 0.05).
 use dualsph_validation::report::sod::{self, wave_windows};
 use dualsph_validation::report::{CaseSpec, Recording, coarsen, run_case};
 

@@ -3,11 +3,8 @@
 //! (runs `scenes/sod_1d_adaptive.ron`, snapshots every 0.01 s; each particle on [−0.5, 0.5]
 //! a marker coloured by its level, the exact contact, shock and rarefaction as lines).
 use dualsph_plot::{LinePlot, Series, SeriesStyle};
-use dualsph_validation::report::sod::{WAVE_WINDOW, exact, wave_windows};
+use dualsph_validation::report::sod::{WAVE_WINDOW, adaptive_level, exact, wave_windows};
 use dualsph_validation::report::{CaseSpec, Recording, run_case};
-
-/// The scene's coarsest size (m).
-const COARSEST: f64 = 0.005;
 
 fn main() {
     let out = std::env::args().nth(1).expect("usage: sod_levels OUT.png");
@@ -26,9 +23,7 @@ fn main() {
     for (_, t, table) in &run.snapshots {
         for p in table.rows() {
             let x = p.pos()[0];
-            let nominal = p.get("nominal_density").expect("a nominal_density column")[0];
-            // level log2(coarsest / (m/ρ_n)) in 1-D
-            let level = (COARSEST / (p.mass() / nominal)).log2().round() as usize;
+            let level = adaptive_level(&p).round() as usize;
             if x.abs() <= 0.5 {
                 levels[level.min(2)].push((x, *t));
             }

@@ -5,18 +5,11 @@
 
 mod common;
 
-use dualsph_validation::report::sod::{exact, wave_windows};
+use dualsph_validation::report::sod::{adaptive_level as level, exact, wave_windows};
 use dualsph_validation::report::{CaseSpec, Recording};
 
 /// The finest level of the scene's ladder (`coarsest/finest` = 4 in 1-D).
 const FINEST: f64 = 2.0;
-
-/// A particle's level, `log2(coarsest/Δx_n)` with `Δx_n = m/ρ_n` its size at its nominal
-/// density (the refinement's `level` column, which the report's tables do not carry).
-fn level(p: &dualsph_io::ParticleRow<'_>) -> f64 {
-    let nominal = p.get("nominal_density").expect("a nominal_density column")[0];
-    (0.005 / (p.mass() / nominal)).log2()
-}
 
 #[test]
 fn sod_refinement_follows_the_shock_and_the_contact_and_conserves() {

@@ -21,6 +21,20 @@ pub fn exact() -> Riemann {
     Riemann::sod(GAMMA)
 }
 
+/// The coarsest size of `scenes/sod_1d_adaptive.ron` (m).
+pub const ADAPTIVE_COARSEST: f64 = 0.005;
+
+/// A particle's level in the adaptive tube, `log2(coarsest/Δx_n)` with `Δx_n = m/ρ_n` its
+/// size at its nominal density (`Refinement(ladder: Nominal)`; in 1-D): 0 the coarsest, 2
+/// the finest. The refinement's own `level` column is a snapshot column, which the tables
+/// of a report run do not carry.
+pub fn adaptive_level(p: &dualsph_io::ParticleRow<'_>) -> f64 {
+    let nominal = p
+        .get("nominal_density")
+        .expect("the adaptive tube's particles carry a nominal density")[0];
+    (ADAPTIVE_COARSEST / (p.mass() / nominal)).log2()
+}
+
 /// One graded case: L1 errors over the window.
 #[derive(Clone, Debug)]
 pub struct SodCase {
