@@ -2,15 +2,16 @@
 //! U = 1 m/s, ν = 0.01 m²/s, Δx = 0.02, 20 s) against the centreline velocities of Ghia,
 //! Ghia & Shin (1982), *High-Re solutions for incompressible flow using the Navier–Stokes
 //! equations and a multigrid method*, J. Comput. Phys. 48, 387–411, Tables I–II
-//! ([`dualsph_reference::cavity`]).
+//! ([`dualsph_reference::cavity`]); the grading also serves the cavity at Re = 1000
+//! (`scenes/cavity_2d_re1000.ron`, [`RE1000`], `validation/tests/cavity.rs`).
 //!
 //! The measure: the largest difference, in units of U, between the simulated and Ghia's
 //! velocity at Ghia's interior points — u on x = 0.5, v on y = 0.5 — with the scene's probe
-//! lines (99 points 0.01 apart, linearly interpolated to Ghia's points) averaged over the
-//! samples at t ≥ 16 s (the flow is steady from about 10 s on). The walls' viscous velocity
-//! is the no-slip one of Adami, Hu & Adams (2012), J. Comput. Phys. 231, 7057, Eqs. 22–23;
-//! the same walls with their own velocity (the fixed walls at rest, the lid at U) are run
-//! beside it.
+//! lines (linearly interpolated to Ghia's points) averaged over the samples once the flow is
+//! steady (at Re = 100 from t = 16 s; it is steady from about 10 s on). The walls' viscous
+//! velocity is the no-slip one of Adami, Hu & Adams (2012), J. Comput. Phys. 231, 7057,
+//! Eqs. 22–23; the same walls with their own velocity (the fixed walls at rest, the lid at U)
+//! are run beside it.
 
 use super::super::{
     COST_HEADERS, CaseRun, CaseSpec, Recording, ReportError, ReportOptions, Section, Table,
@@ -19,69 +20,105 @@ use super::super::{
 use super::within;
 use dualsph_plot::{LinePlot, Series, SeriesStyle};
 use dualsph_probes::ProbeTable;
-use dualsph_reference::cavity::{GHIA_U_RE100, GHIA_V_RE100};
+use dualsph_reference::cavity::{GHIA_U_RE100, GHIA_U_RE1000, GHIA_V_RE100, GHIA_V_RE1000};
 
-/// The samples averaged are those at or after this time (s).
-pub const AVERAGE_FROM: f64 = 16.0;
 /// Bound on the largest centreline difference, in units of U, with no-slip walls.
 pub const BOUND: f64 = 0.03;
-/// Points on each probe line, at 0.01 (m + 1), m = 0..98.
-const POINTS: usize = 99;
 
-/// The two centrelines averaged over the late samples.
+/// A cavity flow's reference: Ghia et al.'s tables at its Reynolds number and the time from
+/// which its flow is steady.
+#[derive(Clone, Copy, Debug)]
+pub struct Ghia {
+    /// `(y, u)` on x = 0.5 (Table I).
+    pub u: &'static [(f64, f64)],
+    /// `(x, v)` on y = 0.5 (Table II).
+    pub v: &'static [(f64, f64)],
+    /// The probe samples averaged are those at or after this time (s).
+    pub from: f64,
+}
+
+/// Re = 100 (`scenes/cavity_2d.ron`): steady from about 10 s on, averaged from 16 s.
+pub const RE100: Ghia = Ghia {
+    u: &GHIA_U_RE100,
+    v: &GHIA_V_RE100,
+    from: 16.0,
+};
+
+/// Re = 1000 (`scenes/cavity_2d_re1000.ron`): its wall jets settle over some 30 s, averaged
+/// from 30 s.
+pub const RE1000: Ghia = Ghia {
+    u: &GHIA_U_RE1000,
+    v: &GHIA_V_RE1000,
+    from: 30.0,
+};
+
+/// The two centrelines averaged over the late samples. Each probe line has n points at
+/// `(m + 1)/(n + 1)`, m = 0..n−1 (the scenes' lines end half a spacing or a spacing off the
+/// walls).
 #[derive(Clone, Debug)]
 pub struct CentreLines {
-    /// u at (0.5, 0.01 (m + 1)), m = 0..98.
+    /// u at (0.5, (m + 1)/(n + 1)).
     pub u: Vec<f64>,
-    /// v at (0.01 (m + 1), 0.5), m = 0..98.
+    /// v at ((m + 1)/(n + 1), 0.5).
     pub v: Vec<f64>,
     /// How many samples were averaged.
     pub samples: usize,
+    /// The reference the lines are graded against.
+    pub reference: Ghia,
 }
 
 impl CentreLines {
     /// The probe lines "u" and "v" of `table` averaged over the samples at t ≥
-    /// [`AVERAGE_FROM`].
-    pub fn of(table: &ProbeTable) -> Result<Self, String> {
+    /// `reference.from`.
+    pub fn of(table: &ProbeTable, reference: Ghia) -> Result<Self, String> {
         let late: Vec<usize> = (0..table.t.len())
-            .filter(|&k| table.t[k] >= AVERAGE_FROM)
+            .filter(|&k| table.t[k] >= reference.from)
             .collect();
         let mean = |prefix: &str| -> Result<Vec<f64>, String> {
-            (0..POINTS)
-                .map(|m| {
+            let columns: Vec<usize> = (0..)
+                .map_while(|m| {
                     let name = format!("{prefix}[{m}]");
-                    let c = table
-                        .columns
-                        .iter()
-                        .position(|c| *c == name)
-                        .ok_or_else(|| format!("no probe column {name}"))?;
-                    Ok(late.iter().map(|&k| table.values[k][c]).sum::<f64>() / late.len() as f64)
+                    table.columns.iter().position(|c| *c == name)
                 })
-                .collect()
+                .collect();
+            if columns.len() < 2 {
+                return Err(format!("no probe line {prefix} of two points or more"));
+            }
+            Ok(columns
+                .iter()
+                .map(|&c| late.iter().map(|&k| table.values[k][c]).sum::<f64>() / late.len() as f64)
+                .collect())
         };
         Ok(CentreLines {
             u: mean("u")?,
             v: mean("v")?,
             samples: late.len(),
+            reference,
         })
     }
 
-    /// A line linearly interpolated at `s` (its points are at 0.01 (m + 1)).
+    /// The position of point m of a line of n points, `(m + 1)/(n + 1)`.
+    pub fn position(m: usize, n: usize) -> f64 {
+        (m + 1) as f64 / (n + 1) as f64
+    }
+
+    /// A line linearly interpolated at `s`.
     pub fn at(line: &[f64], s: f64) -> f64 {
-        let f = s / 0.01 - 1.0;
-        let m = (f.max(0.0).floor() as usize).min(POINTS - 2);
+        let n = line.len();
+        let f = s * (n + 1) as f64 - 1.0;
+        let m = (f.max(0.0).floor() as usize).min(n - 2);
         let w = f - m as f64;
         line[m] * (1.0 - w) + line[m + 1] * w
     }
 
     /// `(s, simulated, Ghia's)` at Ghia's interior points of u (on x = 0.5, s = y).
     pub fn u_points(&self) -> Vec<(f64, f64, f64)> {
-        points(&self.u, &GHIA_U_RE100)
+        points(&self.u, self.reference.u)
     }
 
     /// `(s, simulated, Ghia's)` at Ghia's interior points of v (on y = 0.5, s = x).
     pub fn v_points(&self) -> Vec<(f64, f64, f64)> {
-        points(&self.v, &GHIA_V_RE100)
+        points(&self.v, self.reference.v)
     }
 
     /// `(largest |u − u_Ghia|, largest |v − v_Ghia|)` over Ghia's interior points, in units
@@ -133,7 +170,7 @@ fn run_cases(opts: &ReportOptions) -> Result<Vec<CavityCase>, ReportError> {
             };
             let run = opts.run(c, &rec)?;
             let table = dualsph_probes::read_probes(&dir).map_err(ReportError::Output)?;
-            let lines = CentreLines::of(&table).map_err(ReportError::Output)?;
+            let lines = CentreLines::of(&table, RE100).map_err(ReportError::Output)?;
             Ok(CavityCase { run, lines })
         })
         .collect()
@@ -225,7 +262,7 @@ fn plot_line(
             .iter()
             .enumerate()
             .map(|(m, &w)| {
-                let s = 0.01 * (m + 1) as f64;
+                let s = CentreLines::position(m, line.len());
                 if u { (w, s) } else { (s, w) }
             })
             .collect();
@@ -234,4 +271,26 @@ fn plot_line(
     let png = opts.file(name);
     plot.write_png(&png)?;
     Ok(png)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Both scenes' line layouts (99 points 0.01 apart, 199 points 0.005 apart) interpolate
+    /// a linear profile exactly at Ghia's interior points.
+    #[test]
+    fn lines_of_either_layout_interpolate_at_their_positions() {
+        for n in [99, 199] {
+            let line: Vec<f64> = (0..n).map(|m| 2.0 * CentreLines::position(m, n)).collect();
+            for &(s, _) in RE1000.u.iter().filter(|(s, _)| *s > 0.0 && *s < 1.0) {
+                assert!(
+                    (CentreLines::at(&line, s) - 2.0 * s).abs() < 1e-12,
+                    "{n}: {s}"
+                );
+            }
+        }
+        assert_eq!(CentreLines::position(98, 99), 0.99);
+        assert_eq!(CentreLines::position(0, 199), 0.005);
+    }
 }
