@@ -50,13 +50,8 @@ fn grade(dir: &str, window: Option<&str>, reference: Ghia) -> Result<(), String>
     if lines.samples == 0 {
         return Err(format!("no samples in {from}-{until} s"));
     }
-    let worst = |pts: Vec<(f64, f64, f64)>| {
-        pts.into_iter()
-            .max_by(|a, b| (a.1 - a.2).abs().total_cmp(&(b.1 - b.2).abs()))
-            .unwrap_or_default()
-    };
     let (u, v) = lines.errors();
-    let (wu, wv) = (worst(lines.u_points()), worst(lines.v_points()));
+    let [wu, wv] = lines.worst();
     println!(
         "{dir}: {} samples in {from}-{until} s: u {u:.4} U (at y = {:.4}: {:+.3} against {:+.3}), v {v:.4} U (at x = {:.4}: {:+.3} against {:+.3})",
         lines.samples, wu.0, wu.1, wu.2, wv.0, wv.1, wv.2

@@ -124,12 +124,19 @@ impl CentreLines {
     /// `(largest |u − u_Ghia|, largest |v − v_Ghia|)` over Ghia's interior points, in units
     /// of U (= 1 m/s).
     pub fn errors(&self) -> (f64, f64) {
+        let [(_, u, u_ghia), (_, v, v_ghia)] = self.worst();
+        ((u - u_ghia).abs(), (v - v_ghia).abs())
+    }
+
+    /// The points of u and of v, `(s, simulated, Ghia's)`, where the line is furthest from
+    /// Ghia's value.
+    pub fn worst(&self) -> [(f64, f64, f64); 2] {
         let worst = |pts: Vec<(f64, f64, f64)>| {
-            pts.iter()
-                .map(|(_, got, expect)| (got - expect).abs())
-                .fold(0.0, f64::max)
+            pts.into_iter()
+                .max_by(|a, b| (a.1 - a.2).abs().total_cmp(&(b.1 - b.2).abs()))
+                .unwrap_or_default()
         };
-        (worst(self.u_points()), worst(self.v_points()))
+        [worst(self.u_points()), worst(self.v_points())]
     }
 }
 
