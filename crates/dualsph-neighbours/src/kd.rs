@@ -80,18 +80,27 @@ impl KdTree {
 
     /// The distance from `x` to the nearest point of the tree within `r` of it, or infinity
     /// when there is none: a search bounded by `r` returns at once where no point is near,
-    /// which an unbounded nearest-neighbour search does not.
+    /// which an unbounded nearest-neighbour search does not, and one that keeps only the
+    /// nearest point found so far prunes every branch farther than it, where a search for
+    /// all the points within `r` visits them all.
     #[inline]
     pub fn nearest_within<V: Vector>(&self, x: V, r: Real) -> Real {
         let r2 = r * r;
-        self.within(x, r2)
-            .iter()
+        let nearest = match self {
+            KdTree::One(t) => t.nearest_n_within::<SquaredEuclidean>(&coords(x), r2, ONE, true),
+            KdTree::Two(t) => t.nearest_n_within::<SquaredEuclidean>(&coords(x), r2, ONE, true),
+            KdTree::Three(t) => t.nearest_n_within::<SquaredEuclidean>(&coords(x), r2, ONE, true),
+        };
+        nearest
+            .first()
             .map(|nn| nn.distance)
             .filter(|&d2| d2 <= r2)
-            .fold(Real::INFINITY, Real::min)
-            .sqrt()
+            .map_or(Real::INFINITY, Real::sqrt)
     }
 }
+
+/// A search that keeps one point.
+const ONE: std::num::NonZero<usize> = std::num::NonZero::<usize>::MIN;
 
 /// For every point i, the sorted indices `j != i` with `|x_i − x_j| <= radii[i]`, as a CSR
 /// (rows in point order), searched in a [`KdTree`].

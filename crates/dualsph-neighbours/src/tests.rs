@@ -507,3 +507,35 @@ fn wrapping_lands_in_the_box_by_whole_periods() {
         None
     );
 }
+
+/// The nearest point within a reach is the brute-force least distance (bitwise), in 1-, 2-
+/// and 3-D, for reaches that find none, a few and every point.
+fn nearest_within_is_brute_force<V: Vector>() {
+    let (points, _) = cloud::<V>(300, 40 + V::DIM as u64);
+    let (queries, _) = cloud::<V>(200, 50 + V::DIM as u64);
+    let tree = kd::KdTree::new(&points);
+    for reach in [0.05, 0.7, 2.0, 1e3] {
+        for &q in &queries {
+            let exact = points
+                .iter()
+                .map(|&p| (q - p).length_squared())
+                .filter(|&d2| d2 <= reach * reach)
+                .fold(Real::INFINITY, Real::min)
+                .sqrt();
+            let found = tree.nearest_within(q, reach);
+            assert_eq!(
+                found.to_bits(),
+                exact.to_bits(),
+                "{}-D reach {reach}",
+                V::DIM
+            );
+        }
+    }
+}
+
+#[test]
+fn nearest_within_matches_brute_force_1d_2d_3d() {
+    nearest_within_is_brute_force::<Vec1>();
+    nearest_within_is_brute_force::<DVec2>();
+    nearest_within_is_brute_force::<DVec3>();
+}
