@@ -46,7 +46,7 @@ fn component<'a>(c: &'a Checkpoint, name: &str) -> &'a [f64] {
 /// Runs 40 steps with a checkpoint every 20, resumes a copy of the output from step 20 and
 /// compares the complete state at step 40 and every output file byte for byte.
 /// `h_changes`: the scene's h-update changes h between steps 20 and 40 (with a constant
-/// density it rewrites the same values; the rebuild it forces is checked anyway).
+/// density it rewrites the same values); the lists are rebuilt between them in every scene.
 fn check_resume(file: &str, expect: &[&str], h_changes: bool) {
     check_resume_text(
         file,

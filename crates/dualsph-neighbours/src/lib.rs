@@ -11,11 +11,16 @@
 //! ## Rebuild rule (Verlet skin)
 //! Lists are built with the enlarged radius `h_i (1 + s)` (`s` = skin). A pair outside that
 //! radius at build time can only enter `H_i` after the two particles have approached each other
-//! by more than `s·h_i >= s·h_min`, i.e. after `2·max_k |r_k − r_k^build| > s·h_min`. The lists
-//! are therefore rebuilt only when that bound is crossed, or when any `h` changed (the
-//! smoothing-length update marks them dirty). Between rebuilds the lists are a superset of the
-//! exact supports; the sweep skips candidates with `r_ij > h_i`, which contribute nothing
-//! because every kernel vanishes at `q >= 1`. With `s = 0` the lists are exactly `H_i`.
+//! by more than `s·h_i >= s·h_min`, i.e. after `2·max_k |r_k − r_k^build| > s·h_min`. When h
+//! changes between builds the same argument holds with each particle's margin between its
+//! build radius `R_i = h_i^build (1 + s)` and its current `h_i`: the lists stay supersets of
+//! the supports while `2·max_k |r_k − r_k^build| <= min_i (R_i − h_i)` (the *slack*, `s·h_min`
+//! just after a build; a smoothing-length update recomputes it with
+//! [`Neighbours::h_changed`], and a particle whose h grew past its build radius forces a
+//! rebuild). The lists are therefore rebuilt only when that bound is crossed. Between rebuilds
+//! the lists are a superset of the exact supports; the sweep skips candidates with
+//! `r_ij > h_i`, which contribute nothing because every kernel vanishes at `q >= 1`. With
+//! `s = 0` the lists are exactly `H_i`.
 //!
 //! ## Two spatial indexes, one result
 //! [`Neighbours::index`] selects the search ([`NeighbourIndex`]): kiddo's k-d tree
@@ -256,7 +261,13 @@ pub struct Neighbours<V: Vector> {
     pub build_positions: Vec<V>,
     /// Smallest h at the last build.
     pub h_min: Real,
-    /// Set when h changed; forces a rebuild.
+    /// Each particle's search radius at the last build, `R_i = h_i (1 + skin)`.
+    pub build_radii: Vec<Real>,
+    /// `min_i (R_i − h_i)` with the current h (module docs): how far two particles may
+    /// approach each other before the lists can miss a pair.
+    pub slack: Real,
+    /// Set when the lists must be rebuilt whatever the motion (h changed beyond what the
+    /// slack tracks, or the particles changed).
     pub dirty: bool,
     /// Number of builds so far.
     pub builds: u64,
@@ -300,6 +311,8 @@ impl<V: Vector> Neighbours<V> {
             steps_since_build: 0,
             build_positions: Vec::new(),
             h_min: 0.0,
+            build_radii: Vec::new(),
+            slack: 0.0,
             dirty: true,
             builds: 0,
             generation: next_generation(),
@@ -354,7 +367,21 @@ impl<V: Vector> Neighbours<V> {
     /// The rebuild rule for the largest displacement `d` since the last build (`None`: no
     /// lists for these particles yet).
     fn rule_fires(&self, d: Option<Real>) -> bool {
-        d.is_none_or(|d| self.dirty || 2.0 * d > self.skin * self.h_min)
+        d.is_none_or(|d| self.dirty || 2.0 * d > self.slack)
+    }
+
+    /// Records that the particles' support radii are now `h` (in row order): the slack
+    /// shrinks by what any h grew (module docs), and the lists are marked for a rebuild when
+    /// they were built for other particles or an h outgrew its build radius.
+    pub fn h_changed(&mut self, h: &[Real]) {
+        if self.build_radii.len() != h.len() {
+            self.dirty = true;
+            return;
+        }
+        self.slack = slack(&self.build_radii, h);
+        if self.slack.is_nan() || self.slack < 0.0 {
+            self.dirty = true;
+        }
     }
 
     /// Drops the lists because the particles changed (rows were added or removed): no loop
@@ -364,6 +391,7 @@ impl<V: Vector> Neighbours<V> {
         self.dual = Csr::default();
         self.dual_slot = Vec::new();
         self.build_positions = Vec::new();
+        self.build_radii = Vec::new();
         self.dirty = true;
     }
 
@@ -386,6 +414,8 @@ impl<V: Vector> Neighbours<V> {
         self.generation = next_generation();
         self.build_positions = positions.to_vec();
         self.h_min = h.iter().copied().fold(Real::INFINITY, Real::min);
+        self.slack = slack(&radii, h);
+        self.build_radii = radii;
         self.dirty = false;
         self.builds += 1;
         self.steps_since_build = 0;
@@ -436,6 +466,19 @@ impl<V: Vector> Neighbours<V> {
         self.rebuild(&positions, &h);
         true
     }
+}
+
+/// `min_i (R_i − h_i)`: the least margin between a build radius and the current h (NaN
+/// when an h is not a number; infinity without particles).
+fn slack(radii: &[Real], h: &[Real]) -> Real {
+    radii
+        .iter()
+        .zip(h)
+        .map(|(r, h)| r - h)
+        .fold(
+            Real::INFINITY,
+            |m, x| if x < m || x.is_nan() { x } else { m },
+        )
 }
 
 /// The exact support lists by brute force, O(n²): the reference the tests compare against.

@@ -90,6 +90,47 @@ fn skin_lists_stay_supersets_until_rebuild_rule_fires() {
     assert!(nb.needs_rebuild(&pos));
 }
 
+/// With h changing between builds (grown or shrunk by up to 4 % a step, as a smoothing-length
+/// update every step does), the lists are kept while the slack allows and stay supersets of
+/// the exact supports at every step; an h that outgrows its build radius forces a rebuild.
+#[test]
+fn lists_follow_h_changes_within_the_slack() {
+    let (mut pos, mut h) = cloud::<DVec2>(500, 9);
+    let mut nb = Neighbours::<DVec2>::new(0.3);
+    nb.rebuild(&pos, &h);
+    let mut rng = ChaCha8Rng::seed_from_u64(23);
+    let (mut kept, mut rebuilt) = (0, 0);
+    for _ in 0..40 {
+        for (p, hi) in pos.iter_mut().zip(&mut h) {
+            *p += DVec2::new(rng.random_range(-2e-3..2e-3), rng.random_range(-2e-3..2e-3));
+            *hi *= rng.random_range(0.96..1.04);
+        }
+        nb.h_changed(&h);
+        match nb.update(&pos, &h) {
+            true => rebuilt += 1,
+            false => kept += 1,
+        }
+        let exact = brute_force_support(&pos, &h);
+        for i in 0..pos.len() {
+            for j in exact.row(i) {
+                assert!(nb.support.row(i).contains(j), "pair ({i},{j}) missing");
+            }
+        }
+    }
+    assert!(kept > 0 && rebuilt > 0, "kept {kept}, rebuilt {rebuilt}");
+    // one h past its build radius: a rebuild whatever the motion
+    nb.rebuild(&pos, &h);
+    assert!(!nb.needs_rebuild(&pos));
+    h[7] = nb.build_radii[7] * 1.001;
+    nb.h_changed(&h);
+    assert!(nb.dirty && nb.needs_rebuild(&pos));
+    // an h that is not a number, too
+    nb.rebuild(&pos, &h);
+    h[3] = Real::NAN;
+    nb.h_changed(&h);
+    assert!(nb.needs_rebuild(&pos));
+}
+
 /// A tuned skin follows the motion (small while the particles creep, larger while they run)
 /// and its lists stay supersets of the exact supports at every step.
 #[test]

@@ -77,10 +77,14 @@ pub fn update_h<V: Vector>(
     }
     let inv_d = 1.0 / V::DIM as Real;
     if set.max_ratio.is_none() && set.isotropy.is_none() {
-        for (_, m, rho, _, mut h) in &mut q {
-            h.0 = set.n * (m.0 / rho.0).powf(inv_d);
-        }
-        nb.dirty = true;
+        let h: Vec<Real> = q
+            .iter_mut()
+            .map(|(_, m, rho, _, mut h)| {
+                h.0 = set.n * (m.0 / rho.0).powf(inv_d);
+                h.0
+            })
+            .collect();
+        nb.h_changed(&h);
         return;
     }
     let n = q.iter().len();
@@ -101,7 +105,7 @@ pub fn update_h<V: Vector>(
     for ((_, _, _, _, mut h), &hl) in q.iter_mut().zip(&limited) {
         h.0 = hl;
     }
-    nb.dirty = true;
+    nb.h_changed(&limited);
 }
 
 /// `h_i ← max(h_i, max_j h_j/R)` over the j whose candidate support lists hold i (the dual

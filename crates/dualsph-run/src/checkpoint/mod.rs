@@ -30,7 +30,7 @@ use std::path::{Path, PathBuf};
 pub const MAGIC: &[u8; 8] = b"DSPHCKPT";
 /// Version of the layout written by this build (of the file and of the columns it carries); a
 /// file of another version is refused.
-pub const FORMAT_VERSION: u32 = 7;
+pub const FORMAT_VERSION: u32 = 8;
 const HEADER_LEN: usize = 8 + 4 + 8 + 8;
 
 /// One particle component: `width` reals per particle, particles in row order.
@@ -63,6 +63,9 @@ pub struct NeighbourData {
     pub build_positions: Vec<f64>,
     /// Smallest h at the last build.
     pub h_min: f64,
+    /// Every particle's search radius at the last build (the slack is derived from them and
+    /// the restored h).
+    pub build_radii: Vec<f64>,
     /// A rebuild is pending (h changed).
     pub dirty: bool,
     /// Builds so far.
@@ -375,6 +378,7 @@ mod tests {
                 dual_slot: vec![1, 0],
                 build_positions: awkward.clone(),
                 h_min: 0.3,
+                build_radii: vec![0.345, f64::MIN_POSITIVE, 7.5],
                 dirty: true,
                 builds: 9,
                 steps_since_build: 4,

@@ -82,6 +82,7 @@ pub fn capture<V: Vector>(sim: &mut Sim<V>, scene_name: &str, fingerprint: u64) 
         dual_slot: nb.dual_slot.clone(),
         build_positions,
         h_min: nb.h_min,
+        build_radii: nb.build_radii.clone(),
         dirty: nb.dirty,
         builds: nb.builds,
         steps_since_build: nb.steps_since_build,
@@ -135,10 +136,13 @@ fn csr(
     })
 }
 
+/// The lists and their rebuild state; `h`, the restored support radii in row order, gives the
+/// slack (derived, not stored).
 fn restore_neighbours<V: Vector>(
     nb: &mut Neighbours<V>,
     d: &NeighbourData,
     n: usize,
+    h: Option<&[f64]>,
 ) -> Result<(), String> {
     if !(d.skin.is_finite() && d.skin >= 0.0) {
         return Err(format!(
@@ -161,7 +165,8 @@ fn restore_neighbours<V: Vector>(
             .all(|&s| (s as usize) < support.indices.len());
     let positions_ok = d.build_positions.len().is_multiple_of(V::DIM)
         && (d.build_positions.is_empty() || d.build_positions.len() == n * V::DIM);
-    if !(slots_ok && positions_ok) {
+    let radii_ok = d.build_radii.is_empty() || d.build_radii.len() == n;
+    if !(slots_ok && positions_ok && radii_ok) {
         return Err("its neighbour-list rebuild state is inconsistent".into());
     }
     nb.set_lists(support, dual, d.dual_slot.clone());
@@ -171,7 +176,12 @@ fn restore_neighbours<V: Vector>(
         .map(take_vector::<V>)
         .collect();
     nb.h_min = d.h_min;
+    nb.build_radii = d.build_radii.clone();
     nb.dirty = d.dirty;
+    match h {
+        Some(h) if h.len() == n => nb.h_changed(h),
+        _ => nb.dirty = true,
+    }
     nb.builds = d.builds;
     nb.skin = d.skin;
     nb.steps_since_build = d.steps_since_build;
@@ -200,7 +210,17 @@ pub fn restore<V: Vector>(sim: &mut Sim<V>, c: &Checkpoint) -> Result<(), String
     let world = &mut sim.world;
     restore_columns(world, &c.components, n)?;
     restore_resources(world, &c.resources)?;
-    restore_neighbours(&mut world.resource_mut::<Neighbours<V>>(), &c.neighbours, n)?;
+    let h = c
+        .components
+        .iter()
+        .find(|d| d.name == "SmoothingLength" && d.width == 1)
+        .map(|d| d.values.as_slice());
+    restore_neighbours(
+        &mut world.resource_mut::<Neighbours<V>>(),
+        &c.neighbours,
+        n,
+        h,
+    )?;
     let mut clock = world.resource_mut::<SimClock>();
     clock.t = c.t;
     clock.step = c.step;
