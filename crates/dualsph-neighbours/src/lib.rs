@@ -367,7 +367,9 @@ impl<V: Vector> Neighbours<V> {
     /// The rebuild rule for the largest displacement `d` since the last build (`None`: no
     /// lists for these particles yet).
     fn rule_fires(&self, d: Option<Real>) -> bool {
-        d.is_none_or(|d| self.dirty || 2.0 * d > self.slack)
+        // a NaN slack (an h that is not a number at the build) fires the rule instead of
+        // keeping the lists for ever
+        d.is_none_or(|d| self.dirty || self.slack.is_nan() || 2.0 * d > self.slack)
     }
 
     /// Records that the particles' support radii are now `h` (in row order): the slack

@@ -129,6 +129,9 @@ fn lists_follow_h_changes_within_the_slack() {
     h[3] = Real::NAN;
     nb.h_changed(&h);
     assert!(nb.needs_rebuild(&pos));
+    // and lists built with it are rebuilt at the next step, not kept
+    nb.rebuild(&pos, &h);
+    assert!(nb.needs_rebuild(&pos));
 }
 
 /// A tuned skin follows the motion (small while the particles creep, larger while they run)

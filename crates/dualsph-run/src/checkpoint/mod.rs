@@ -66,7 +66,8 @@ pub struct NeighbourData {
     /// Every particle's search radius at the last build (the slack is derived from them and
     /// the restored h).
     pub build_radii: Vec<f64>,
-    /// A rebuild is pending (h changed).
+    /// A rebuild is pending whatever the motion (the particles changed, or an h outgrew its
+    /// build radius).
     pub dirty: bool,
     /// Builds so far.
     pub builds: u64,
