@@ -4,6 +4,8 @@
 use dualsph::core::neighbours::Neighbours;
 use dualsph::diagnostics::Health;
 use dualsph::prelude::*;
+use dualsph::run_loop::{EveryStep, Flow, run_to_end};
+use dualsph::runner::RunError;
 use dualsph::{build_sim, default_registry, scene::Scene, with_dimension};
 
 /// The particles' positions, densities, h and pressures (0 without an equation of state).
@@ -92,30 +94,33 @@ fn dump<V: Vector>(sim: &Sim<V>, i: usize) {
     }
 }
 
-fn run<V: Vector>(scene: &Scene, every: u64) -> Result<(), SimError> {
+fn run<V: Vector>(scene: &Scene, every: u64) -> Result<(), RunError> {
     let mut sim = build_sim::<V>(scene)?;
     sim.initialize()?;
-    while sim.clock().t < scene.end_time * (1.0 - 1e-12) {
-        sim.step()?;
+    let mut report = EveryStep(|sim: &mut Sim<V>| {
         let c = sim.clock();
-        if let Some((id, what, v)) = sim.world.resource::<Health>().problem {
-            println!(
-                "step {} t {:.5e}: particle {id} {what} = {v:e}",
-                c.step, c.t
-            );
-            println!("{}", summary(&sim));
-            dump(&sim, id as usize);
-            return Ok(());
-        }
-        if c.step % every == 0 {
+        if c.step.is_multiple_of(every) {
             println!(
                 "step {} t {:.5e} dt {:.3e}: {}",
                 c.step,
                 c.t,
                 c.dt,
-                summary(&sim)
+                summary(sim)
             );
         }
+        Ok(Flow::Continue)
+    });
+    match run_to_end(&mut sim, &mut [&mut report]) {
+        Err(RunError::Sim(e)) => {
+            println!("{e}");
+            if let Some((id, _, _)) = sim.world.resource::<Health>().problem {
+                println!("{}", summary(&sim));
+                dump(&sim, id as usize);
+            }
+            return Ok(());
+        }
+        Err(e) => return Err(e),
+        Ok(_) => {}
     }
     let d = sim.diagnostics();
     println!(

@@ -1,4 +1,4 @@
-//! A headless run: load a scene, build the `Sim` in the scene's dimension, step it and print
+//! A headless run: load a scene, build the `Sim` in the scene's dimension, step it through the engine's run loop and print
 //! the conservation diagnostics.
 //!
 //! ```sh
@@ -6,15 +6,23 @@
 //! ```
 
 use dualsph::prelude::*;
+use dualsph::run_loop::{EveryStep, Flow, run_to_end};
+use dualsph::runner::RunError;
 use dualsph::{build_sim, default_registry, scene::Scene, with_dimension};
 
-fn run<V: Vector>(scene: &Scene, steps: u64) -> Result<(), SimError> {
+fn run<V: Vector>(scene: &Scene, steps: u64) -> Result<(), RunError> {
     let mut sim = build_sim::<V>(scene)?;
     sim.initialize()?; // rates at t = 0
     let d0 = sim.diagnostics();
-    for _ in 0..steps {
-        sim.step()?;
-    }
+    // the engine's run loop, to the scene's end or `steps` steps, whichever comes first
+    let mut limit = EveryStep(|sim: &mut Sim<V>| {
+        Ok(if sim.clock().step >= steps {
+            Flow::Stop
+        } else {
+            Flow::Continue
+        })
+    });
+    run_to_end(&mut sim, &mut [&mut limit])?;
     let d = sim.diagnostics();
     println!("{} particles, {} steps, t = {:.4e} s", d.n, d.step, d.t);
     println!("momentum  {:?} → {:?}", d0.momentum, d.momentum);

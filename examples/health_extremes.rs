@@ -11,6 +11,8 @@
 
 use dualsph::diagnostics::{Health, HealthBounds, InitialDensity};
 use dualsph::prelude::*;
+use dualsph::run_loop::{EveryStep, Flow, run_to_end};
+use dualsph::runner::RunError;
 use dualsph::{build_sim, default_registry, scene::Scene, with_dimension};
 
 fn extremes<V: Vector>(sim: &mut Sim<V>) -> ((Real, Real), (Real, Real)) {
@@ -24,7 +26,7 @@ fn extremes<V: Vector>(sim: &mut Sim<V>) -> ((Real, Real), (Real, Real)) {
     r
 }
 
-fn run<V: Vector>(scene: &Scene) -> Result<String, SimError> {
+fn run<V: Vector>(scene: &Scene) -> Result<String, RunError> {
     let mut sim = build_sim::<V>(scene)?;
     {
         let mut b = sim.world.resource_mut::<HealthBounds>();
@@ -44,24 +46,26 @@ fn run<V: Vector>(scene: &Scene) -> Result<String, SimError> {
     // [ρ below, ρ above, h below, h above]: the factor beyond the initial range reached
     let mut f = [1.0 as Real; 4];
     let mut at = [0.0 as Real; 4];
-    let mut stop = String::new();
-    while sim.clock().t < scene.end_time * (1.0 - 1e-12) {
-        sim.step()?;
-        if let Some((id, what, v)) = sim.world.resource::<Health>().problem {
-            stop = format!(
-                " STOPPED at t = {:.4e}: particle {id} {what} = {v:e}",
-                sim.clock().t
-            );
-            break;
-        }
-        let (rho, h) = extremes(&mut sim);
+    let mut track = EveryStep(|sim: &mut Sim<V>| {
+        let (rho, h) = extremes(sim);
         let now = [rho0.0 / rho.0, rho.1 / rho0.1, h0.0 / h.0, h.1 / h0.1];
         for k in 0..4 {
             if now[k] > f[k] {
                 (f[k], at[k]) = (now[k], sim.clock().t);
             }
         }
-    }
+        Ok(Flow::Continue)
+    });
+    let stop = match run_to_end(&mut sim, &mut [&mut track]) {
+        Ok(_) => String::new(),
+        Err(e) => match sim.world.resource::<Health>().problem {
+            Some((id, what, v)) => format!(
+                " STOPPED at t = {:.4e}: particle {id} {what} = {v:e}",
+                sim.clock().t
+            ),
+            None => return Err(e),
+        },
+    };
     Ok(format!(
         "ρ0 [{:.4e}, {:.4e}] below ×{:.4} (t {:.3e}) above ×{:.4} (t {:.3e}); h0 [{:.4e}, {:.4e}] below ×{:.4} (t {:.3e}) above ×{:.4} (t {:.3e}); t_end {:.4e}{stop}",
         rho0.0,

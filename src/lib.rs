@@ -36,5 +36,5 @@ pub use dualsph_diagnostics::{Diagnostics, SimDiagnostics};
 pub use dualsph_builtin::{default_registry, fuse_builtin_terms, plugins};
 
 pub use dualsph_run::{add_default_plugins, build_sim, build_sim_with};
-pub use dualsph_run::{checkpoint, cli, gridded, runner};
+pub use dualsph_run::{checkpoint, cli, gridded, run_loop, runner};
 pub use dualsph_run::{say, with_dimension};

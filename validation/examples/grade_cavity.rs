@@ -3,7 +3,7 @@
 //! DIR a run of `scenes/cavity_2d.ron` or `scenes/cavity_2d_re1000.ron`, or of a variant,
 //! holding `probes.csv`; FROM-UNTIL the window of samples averaged, in s, by default from the
 //! Reynolds number's steady time to the end). Prints the largest centreline errors in units
-//! of U, as `validation/tests/cavity.rs` asserts them, and where each falls.
+//! of U, as `validation/tests/validation/cavity.rs` asserts them, and where each falls.
 use dualsph_validation::report::walls::cavity::{CentreLines, Ghia, RE100, RE1000};
 
 fn main() {

@@ -12,7 +12,7 @@
 use dualsph::core::neighbours::Neighbours;
 use dualsph::prelude::*;
 use dualsph_validation::perf::{
-    Case, Layout, cpu_seconds, peak_rss_bytes, run_sweep, support_pairs,
+    Case, Layout, cpu_seconds, peak_rss_bytes, run_sweep, state_fingerprint, support_pairs,
 };
 use std::time::Instant;
 
@@ -66,7 +66,7 @@ fn run<V: Vector>(case: Case, steps: usize) {
         fmt_ratio(&sim),
         sim.world.resource::<Neighbours<V>>().skin
     );
-    println!("state fingerprint {:016x}", fingerprint(&mut sim));
+    println!("state fingerprint {:016x}", state_fingerprint(&mut sim));
     if let Some(rss) = peak_rss_bytes() {
         println!(
             "peak RSS {:.1} MiB = {:.0} bytes per particle (peak after set-up: {:.0} bytes per particle)",
@@ -104,29 +104,6 @@ fn sweep_only<V: Vector>(sim: &Sim<V>, steps: usize) {
         (pairs * steps) as f64 / cpu.max(1e-9),
         pairs as f64 / best
     );
-}
-
-/// FNV-1a over the bits of every particle's position, velocity and density, in id order:
-/// equal fingerprints mean bitwise-equal states.
-fn fingerprint<V: Vector>(sim: &mut Sim<V>) -> u64 {
-    let mut q = sim
-        .world
-        .query::<(&ParticleId, &Position<V>, &Velocity<V>, &Density)>();
-    let mut rows: Vec<_> = q.iter(&sim.world).collect();
-    rows.sort_by_key(|r| r.0.0);
-    let mut h: u64 = 0xcbf29ce484222325;
-    let mut mix = |x: f64| {
-        h ^= x.to_bits();
-        h = h.wrapping_mul(0x100000001b3);
-    };
-    for (_, r, v, rho) in rows {
-        for k in 0..V::DIM {
-            mix(r.0.get(k));
-            mix(v.0.get(k));
-        }
-        mix(rho.0);
-    }
-    h
 }
 
 fn main() {

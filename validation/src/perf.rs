@@ -211,6 +211,34 @@ pub fn run_sweep<V: Vector>(sim: &Sim<V>, buf: &mut dualsph::sweep::SweepBuffers
     sweep_into(&sim.world, terms, buf);
 }
 
+/// The steps after which docs/performance.md quotes the reference case's fingerprint.
+pub const REFERENCE_STEPS: usize = 500;
+
+/// FNV-1a over the bits of every particle's position, velocity and density, in id order:
+/// equal fingerprints mean bitwise-equal states. The `perf` example prints it, and
+/// docs/performance.md quotes it for [`REFERENCE_STEPS`] steps of [`Case::dam_column_2d`]
+/// (checked by a test, so the quote follows the arithmetic).
+pub fn state_fingerprint<V: Vector>(sim: &mut Sim<V>) -> u64 {
+    let mut q = sim
+        .world
+        .query::<(&ParticleId, &Position<V>, &Velocity<V>, &Density)>();
+    let mut rows: Vec<_> = q.iter(&sim.world).collect();
+    rows.sort_by_key(|r| r.0.0);
+    let mut h: u64 = 0xcbf29ce484222325;
+    let mut mix = |x: f64| {
+        h ^= x.to_bits();
+        h = h.wrapping_mul(0x100000001b3);
+    };
+    for (_, r, v, rho) in rows {
+        for k in 0..V::DIM {
+            mix(r.0.get(k));
+            mix(v.0.get(k));
+        }
+        mix(rho.0);
+    }
+    h
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

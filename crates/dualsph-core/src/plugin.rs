@@ -112,6 +112,14 @@ pub trait SimPlugin:
     fn validate(&self, _info: &SceneInfo) -> Result<(), String> {
         Ok(())
     }
+    /// Publishes what other plugins read while they build — a resource such as gravity's
+    /// acceleration or an inlet's speed scale, never a system or a column. Run for every
+    /// plugin of a scene before any plugin is built (bevy's `Plugin::build`/`finish` pair is
+    /// the pattern), so that a plugin reading it at build time does not depend on the order
+    /// of the scene's plugin list. Nothing by default.
+    fn prepare<V: Vector>(&self, _sim: &mut Sim<V>) -> Result<(), SimError> {
+        Ok(())
+    }
     /// Adds the plugin's components, systems and pair terms.
     fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError>;
     /// At most how many particles the plugin adds over a run to `end_time` in `dimension`
@@ -140,6 +148,8 @@ pub trait PluginConfig: Debug + Send + Sync {
     fn particles_added(&self, end_time: Real, dimension: usize) -> Real;
     /// Builds into a simulation of any dimension.
     fn build_dyn(&self, sim: &mut dyn Any) -> Result<(), SimError>;
+    /// Prepares (see [`SimPlugin::prepare`]) a simulation of any dimension.
+    fn prepare_dyn(&self, sim: &mut dyn Any) -> Result<(), SimError>;
     /// The settings in a canonical form: the name, then the settings as they were resolved
     /// (defaults filled in) in postcard's encoding. Two spellings of the same settings (field
     /// order, whitespace, comments, a default written out or left out) give the same bytes; it
@@ -176,20 +186,46 @@ impl<P: SimPlugin> PluginConfig for P {
         })
     }
     fn build_dyn(&self, sim: &mut dyn Any) -> Result<(), SimError> {
-        if let Some(s) = sim.downcast_mut::<Sim<Vec1>>() {
-            return self.build(s);
-        }
-        if let Some(s) = sim.downcast_mut::<Sim<DVec2>>() {
-            return self.build(s);
-        }
-        if let Some(s) = sim.downcast_mut::<Sim<DVec3>>() {
-            return self.build(s);
-        }
-        Err(SimError::Build(format!(
-            "{}: unsupported simulation type",
-            P::NAME
-        )))
+        with_sim(
+            sim,
+            P::NAME,
+            |s| self.build(s),
+            |s| self.build(s),
+            |s| self.build(s),
+        )
     }
+    fn prepare_dyn(&self, sim: &mut dyn Any) -> Result<(), SimError> {
+        with_sim(
+            sim,
+            P::NAME,
+            |s| self.prepare(s),
+            |s| self.prepare(s),
+            |s| self.prepare(s),
+        )
+    }
+}
+
+/// `f1`, `f2` or `f3` on `sim` as the simulation of its dimension; an error naming `name`
+/// for any other type.
+fn with_sim(
+    sim: &mut dyn Any,
+    name: &str,
+    f1: impl FnOnce(&mut Sim<Vec1>) -> Result<(), SimError>,
+    f2: impl FnOnce(&mut Sim<DVec2>) -> Result<(), SimError>,
+    f3: impl FnOnce(&mut Sim<DVec3>) -> Result<(), SimError>,
+) -> Result<(), SimError> {
+    if let Some(s) = sim.downcast_mut::<Sim<Vec1>>() {
+        return f1(s);
+    }
+    if let Some(s) = sim.downcast_mut::<Sim<DVec2>>() {
+        return f2(s);
+    }
+    if let Some(s) = sim.downcast_mut::<Sim<DVec3>>() {
+        return f3(s);
+    }
+    Err(SimError::Build(format!(
+        "{name}: unsupported simulation type"
+    )))
 }
 
 impl dyn PluginConfig + '_ {
@@ -197,12 +233,19 @@ impl dyn PluginConfig + '_ {
     pub fn build_into<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
         self.build_dyn(sim as &mut dyn Any)
     }
+
+    /// Prepares `sim` (see [`SimPlugin::prepare`]).
+    pub fn prepare_into<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
+        self.prepare_dyn(sim as &mut dyn Any)
+    }
 }
 
-/// Parses a plugin's settings from any serde deserializer (type-erased).
-pub type ParseFn = fn(
-    &mut dyn erased_serde::Deserializer<'_>,
-) -> Result<Box<dyn PluginConfig>, erased_serde::Error>;
+/// Parses a plugin's settings from their RON text, `(field: value, ...)`, with the scene's
+/// options. Text, not a type-erased deserializer: RON hands a bare word (`quantity: density`)
+/// to serde's buffering types by name only when it sees their concrete type, which erasure
+/// hides, so a plugin is parsed by RON itself.
+pub type ParseFn =
+    fn(&ron::Options, &str) -> Result<Box<dyn PluginConfig>, ron::error::SpannedError>;
 
 /// One registered plugin.
 #[derive(Clone, Copy)]
@@ -226,9 +269,10 @@ impl Debug for PluginEntry {
 }
 
 fn parse_plugin<P: SimPlugin>(
-    d: &mut dyn erased_serde::Deserializer<'_>,
-) -> Result<Box<dyn PluginConfig>, erased_serde::Error> {
-    let p: P = erased_serde::deserialize(d)?;
+    options: &ron::Options,
+    text: &str,
+) -> Result<Box<dyn PluginConfig>, ron::error::SpannedError> {
+    let p: P = options.from_str(text)?;
     Ok(Box::new(p))
 }
 
@@ -321,5 +365,10 @@ impl<V: Vector> Sim<V> {
     /// constraints' names and messages).
     pub fn build_plugin(&mut self, plugin: &dyn PluginConfig) -> Result<(), SimError> {
         self.as_plugin(plugin.name(), |sim| plugin.build_into(sim))
+    }
+
+    /// Runs `plugin`'s [`SimPlugin::prepare`] on the simulation.
+    pub fn prepare_plugin(&mut self, plugin: &dyn PluginConfig) -> Result<(), SimError> {
+        self.as_plugin(plugin.name(), |sim| plugin.prepare_into(sim))
     }
 }

@@ -212,8 +212,9 @@ pub fn apply_population<V: Vector>(world: &mut World) {
     let first = match world.resource_mut::<NextId>().take(spawns.len()) {
         Ok(first) => first,
         Err(e) => {
-            world.resource_mut::<StepFailure>().0 =
-                Some(format!("particles could not be added: {e}"));
+            world
+                .resource_mut::<StepFailure>()
+                .fail(|| format!("particles could not be added: {e}"));
             return;
         }
     };

@@ -499,7 +499,28 @@ impl<V: Vector> Sim<V> {
         self.world.resource_mut::<SimClock>().initializing = true;
         self.run_schedule();
         self.world.resource_mut::<SimClock>().initializing = false;
-        Ok(())
+        self.failure()
+    }
+
+    /// Whether the run has reached its end ([`SimClock::at_end`] with the scene's step limit,
+    /// [`StepLimit`](crate::output::StepLimit), when it has one).
+    pub fn at_end(&self) -> bool {
+        let limit = self.world.get_resource::<crate::output::StepLimit>();
+        self.clock().at_end(limit.map(|l| l.0))
+    }
+
+    /// The failure a system reported ([`StepFailure`]) as a blow-up naming the step and time.
+    fn failure(&self) -> Result<(), SimError> {
+        match &self.world.resource::<StepFailure>().0 {
+            Some(e) => {
+                let c = self.clock();
+                Err(SimError::BlowUp(format!(
+                    "step {}, t = {:.6e}: {e}",
+                    c.step, c.t
+                )))
+            }
+            None => Ok(()),
+        }
     }
 
     /// Advances one time step: the plugins' changes of the particles
@@ -518,10 +539,7 @@ impl<V: Vector> Sim<V> {
             *self.world.resource_mut::<StepPhase>() = StepPhase::Step;
         }
         self.run_schedule();
-        match &self.world.resource::<StepFailure>().0 {
-            Some(e) => Err(SimError::BlowUp(format!("step {}: {e}", self.clock().step))),
-            None => Ok(()),
-        }
+        self.failure()
     }
 
     /// Runs the step's schedule in `phase` (left set: the caller sets it back).

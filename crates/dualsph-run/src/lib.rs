@@ -1,13 +1,16 @@
 //! Running `dualsph` scenes: a scene becomes a [`Sim`] ([`build_sim`], with the built-in
-//! plugin group of `dualsph-builtin`), runs headless ([`runner`]) with checkpoints
+//! plugin group of `dualsph-builtin`), runs headless ([`runner`], through the one run loop
+//! [`run_loop`]) with checkpoints
 //! ([`checkpoint`]) and gridded output ([`gridded`]), and the whole command line is a library
 //! function ([`cli::main`]). The `dualsph` facade re-exports all of it under its own paths.
 #![warn(missing_docs)]
 
 pub mod checkpoint;
 pub mod cli;
+mod error;
 mod file_columns;
 pub mod gridded;
+pub mod run_loop;
 pub mod runner;
 
 /// The engine, for the paths inside [`with_dimension!`].
@@ -114,13 +117,26 @@ pub fn build_sim_with<V: Vector>(
     sim.world
         .insert_resource(runner::DtFloor::new(health.dt_below));
     sim.keep_resource::<runner::DtFloor>(runner::DT_FLOOR_KEY);
+    sim.add_system(
+        StepSet::Diagnostics,
+        "check_dt_floor (a stalled run)",
+        runner::check_dt_floor,
+    );
+    if let Some(limit) = scene.max_steps {
+        sim.world
+            .insert_resource(dualsph_core::output::StepLimit(limit));
+    }
     sim.set_diagnostics_every(scene.output.diagnostics_every);
     {
         let mut clock = sim.world.resource_mut::<SimClock>();
         clock.t_end = scene.end_time;
     }
     fuse_builtin_terms(&mut sim);
-    for p in scene.plugins.iter().filter(|p| p.role() == Role::Physics) {
+    let physics = || scene.plugins.iter().filter(|p| p.role() == Role::Physics);
+    for p in physics() {
+        named(p.as_ref(), sim.prepare_plugin(p.as_ref()))?;
+    }
+    for p in physics() {
         build_named(&mut sim, p.as_ref())?;
     }
     extra(&mut sim)?;
@@ -188,7 +204,12 @@ impl<'s> RolePlugins<'s> {
 
 /// Builds one plugin; its error names it.
 fn build_named<V: Vector>(sim: &mut Sim<V>, p: &dyn PluginConfig) -> Result<(), SimError> {
-    sim.build_plugin(p).map_err(|e| {
+    named(p, sim.build_plugin(p))
+}
+
+/// `result` of preparing or building `p`, its error naming the plugin.
+fn named(p: &dyn PluginConfig, result: Result<(), SimError>) -> Result<(), SimError> {
+    result.map_err(|e| {
         let why = match e {
             SimError::Build(m) | SimError::BlowUp(m) => m,
         };

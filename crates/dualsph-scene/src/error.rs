@@ -45,12 +45,29 @@ impl SceneError {
     /// moved past any whitespace (ron sometimes reports the position before the blank that
     /// precedes the offending token).
     pub(crate) fn from_ron(path: &Path, text: &str, e: ron::error::SpannedError) -> Self {
-        let (line, col) = skip_blanks(text, e.span.start.line, e.span.start.col);
+        SceneError::parse_at(
+            path,
+            text,
+            e.span.start.line,
+            e.span.start.col,
+            e.code.to_string(),
+        )
+    }
+
+    /// [`SceneError::Parse`] at (`line`, `col`) moved past any whitespace.
+    pub(crate) fn parse_at(
+        path: &Path,
+        text: &str,
+        line: usize,
+        col: usize,
+        message: String,
+    ) -> Self {
+        let (line, col) = skip_blanks(text, line, col);
         SceneError::Parse {
             path: path.to_path_buf(),
             line,
             col,
-            message: e.code.to_string(),
+            message,
         }
     }
 }

@@ -153,7 +153,7 @@ pub struct Scene {
 
 /// ron options: variant newtypes unwrap (`Gravity(g: [..])`, not `Gravity((g: [..]))`) and
 /// `Some(..)` may be omitted.
-fn ron_options() -> ron::Options {
+pub(crate) fn ron_options() -> ron::Options {
     ron::Options::default()
         .with_default_extension(Extensions::UNWRAP_VARIANT_NEWTYPES | Extensions::IMPLICIT_SOME)
 }
@@ -208,9 +208,16 @@ impl Scene {
         // a UTF-8 byte-order mark (as some editors save) is not part of the scene; editors
         // hide it, so positions on the first line are counted without it
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-        let mut scene =
-            plugins_list::with_registry(registry, || ron_options().from_str::<Scene>(text))
-                .map_err(|e| SceneError::from_ron(path, text, e))?;
+        let (parsed, in_plugin) =
+            plugins_list::with_registry(registry, text, || ron_options().from_str::<Scene>(text));
+        let mut scene = parsed.map_err(|e| match in_plugin {
+            // ron places the error at the end of the plugin; its settings' parser knows where
+            Some(p) => {
+                let (line, col) = overrides::line_col(text, p.at);
+                SceneError::parse_at(path, text, line, col, p.message)
+            }
+            None => SceneError::from_ron(path, text, e),
+        })?;
         let dir = path.parent().unwrap_or(Path::new(""));
         files::load(&mut scene.particles, dir, scene.dimension).map_err(|p| p.into_error(path))?;
         Ok(scene)

@@ -9,7 +9,7 @@ use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::chunks::{DENSE, MIN_LEN};
 use dualsph_core::components::*;
 use dualsph_core::math::{Real, Vector};
-use dualsph_core::sim::Domain;
+use dualsph_core::sim::{Domain, SimClock, StepFailure};
 use dualsph_fluid::components::*;
 use rayon::prelude::*;
 
@@ -147,6 +147,7 @@ pub fn check_health<V: Vector>(
     domain: Res<Domain<V>>,
     q: HealthQuery<V>,
     init_rho: Query<&InitialDensity>,
+    (clock, mut failure): (Res<SimClock>, ResMut<StepFailure>),
 ) {
     if bounds.rho_range.is_none() {
         // captured at the initial evaluation, restored with a checkpoint
@@ -203,6 +204,47 @@ pub fn check_health<V: Vector>(
         }
     }
     health.problem = worst;
+    if let Some((id, what, value)) = worst {
+        failure.fail(|| problem_message(id, what, value, &bounds, clock.dt));
+    }
+}
+
+/// What the step's failure says of an unphysical `value` of `what` at particle `id`: the
+/// sane interval it left, the time step, and the usual cause ([`likely_cause`]).
+fn problem_message(id: u32, what: &str, value: Real, bounds: &HealthBounds, dt: Real) -> String {
+    let sane = bounds
+        .interval(what)
+        .map(|(lo, hi)| format!(", outside [{lo:.4e}, {hi:.4e}]"))
+        .unwrap_or_default();
+    format!(
+        "particle {id} has {what} = {value:e}{sane} (dt = {dt:.3e}; likely cause: {})",
+        likely_cause(what)
+    )
+}
+
+/// The usual cause of an unphysical `quantity` (as named by [`Health`]).
+pub fn likely_cause(quantity: &str) -> &'static str {
+    match quantity {
+        OUTSIDE_DOMAIN => {
+            "a particle thrown out of the domain: a dt above the CFL limit, or a missing wall (SpecularWalls)"
+        }
+        DENSITY_ABOVE => {
+            "density far above its initial range: likely dt too large or c0 too small for the flow speed (a compression the equation of state does not resist)"
+        }
+        DENSITY_BELOW => {
+            "density far below its initial range: likely the tensile instability (particles under tension pairing up) or particles left with too few neighbours"
+        }
+        H_ABOVE => {
+            "smoothing length far above its initial range: particles spreading apart (a splash or a free end with too few neighbours), or the density collapsing"
+        }
+        H_BELOW => {
+            "smoothing length far below its initial range: particles clumping (the tensile instability) or a runaway compression (dt too large or c0 too small)"
+        }
+        "density" | "smoothing length" => {
+            "a dt above the CFL limit, or particles left with too few neighbours"
+        }
+        _ => "a dt above the CFL limit or too few neighbours",
+    }
 }
 
 /// The sane ranges of one health check.

@@ -72,7 +72,8 @@ pub fn implied_speed<V: Vector>(world: &mut World) -> Option<(Real, String)> {
 /// The height the fluid can fall under `g`: over columns of the domain along gravity (each
 /// two fluid spacings wide), the drop from the highest fluid top to the lowest, where a column
 /// with no fluid counts at the fluid's lowest level (an empty floor the water can run onto)
-/// unless a wall stands in it (a non-fluid particle above that level) or, in a scene with
+/// unless a wall stands in it (a non-fluid particle between that level and the fluid's
+/// highest: a tank's lid above the water blocks no column) or, in a scene with
 /// walls of particles, it holds no particle at all (outside the container). A tank at rest has a
 /// level surface and no fall; a dam-break column falls its height. With gravity along no
 /// single axis, the fluid's whole height.
@@ -100,7 +101,7 @@ fn fall_height<V: Vector>(seen: &[(V, bool, Real)], g: V, domain: &Domain<V>) ->
     }
     let cells: Vec<usize> = cells_f.iter().map(|&c| c as usize).collect();
     let total: usize = cells.iter().product();
-    // per column: the fluid's top, and whether a wall rises in it above the fluid's lowest level
+    // per column: the fluid's top, and whether a wall stands in it within the fluid's heights
     let mut top = vec![Real::NEG_INFINITY; total];
     let mut wall = vec![false; total];
     // with walls of particles the container is theirs, and a column with no particle at all
@@ -117,7 +118,7 @@ fn fall_height<V: Vector>(seen: &[(V, bool, Real)], g: V, domain: &Domain<V>) ->
         empty[c] = false;
         if *is_fluid {
             top[c] = top[c].max(h);
-        } else if h > low {
+        } else if h > low && h <= high {
             wall[c] = true;
         }
     }

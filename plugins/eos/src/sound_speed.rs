@@ -118,7 +118,7 @@ impl JsonSchema for SoundSpeedSetting {
                 { "type": "number", "description": "The value (m/s)." },
                 {
                     "type": "object",
-                    "description": "c0 = factor · U, U the largest speed the scene implies: √(2 g H) of the\nfluid's fall under gravity (list Gravity before TaitEos), the fastest initial fluid\nparticle, an inlet's speed (list Inlet before TaitEos).",
+                    "description": "c0 = factor · U, U the largest speed the scene implies: √(2 g H) of the\nfluid's fall under gravity, the fastest initial fluid particle, an inlet's speed\n(wherever Gravity and Inlet stand in the plugin list).",
                     "properties": { "Auto": {
                         "type": "object",
                         "properties": { "factor": {
@@ -135,8 +135,9 @@ impl JsonSchema for SoundSpeedSetting {
 }
 
 /// The sound speed `c0` gives: its value, or one derived from the speeds the scene implies
-/// (`Auto`, noted on the simulation; gravity and inlets built later then refuse, naming the
-/// order); `None` when the scene gives `p0` instead.
+/// (`Auto`, noted on the simulation; gravity and inlets are prepared before any plugin
+/// builds, so their speeds count wherever they are listed); `None` when the scene gives `p0`
+/// instead.
 pub(crate) fn resolve<V: Vector>(
     sim: &mut Sim<V>,
     c0: Option<SoundSpeedSetting>,
@@ -152,13 +153,10 @@ pub(crate) fn resolve<V: Vector>(
         .ok_or_else(|| {
             SimError::Build(format!(
                 "TaitEos.{field}: Auto(..) finds no speed in the scene (no fall under gravity, \
-                 no initial velocity, no inlet; list Gravity and Inlet before TaitEos): give \
-                 c0 in m/s"
+                 no initial velocity, no inlet): give c0 in m/s"
             ))
         })?;
     let c = factor * u;
-    sim.world
-        .insert_resource(dualsph_fluid::speeds::SoundSpeedDerived("TaitEos"));
     sim.note(format!(
         "TaitEos.{field} = {c:.4} m/s: Auto(factor: {factor}) × {u:.4} m/s, {what}"
     ));

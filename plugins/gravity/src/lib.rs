@@ -62,6 +62,14 @@ pub fn apply_gravity<V: Vector>(
     }
 }
 
+impl Gravity {
+    /// `g` as a vector of the simulation's dimension.
+    fn vector<V: Vector>(&self) -> Result<V, SimError> {
+        V::from_slice(&self.g)
+            .ok_or_else(|| SimError::Build(format!("Gravity.g needs {} components", V::DIM)))
+    }
+}
+
 impl SimPlugin for Gravity {
     const NAME: &'static str = "Gravity";
     const SUMMARY: &'static str = "uniform body force g with potential energy -g·x";
@@ -80,10 +88,15 @@ impl SimPlugin for Gravity {
         Ok(())
     }
 
+    /// Publishes `g` ([`GravityAccel`]) before any plugin builds: the sound speed's `Auto`,
+    /// the hydrostatic start and the walls read it whatever the plugin list's order.
+    fn prepare<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
+        sim.world.insert_resource(GravityAccel(self.vector::<V>()?));
+        Ok(())
+    }
+
     fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
-        let g = V::from_slice(&self.g)
-            .ok_or_else(|| SimError::Build(format!("Gravity.g needs {} components", V::DIM)))?;
-        dualsph_fluid::speeds::refuse_after_derived(&sim.world, "Gravity")?;
+        let g = self.vector::<V>()?;
         sim.enable::<dualsph_fluid::GravityField>();
         sim.world.insert_resource(GravityAccel(g));
         let mut pots = sim.world.resource_mut::<ExternalPotentials>();

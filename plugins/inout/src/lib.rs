@@ -164,6 +164,14 @@ impl SimPlugin for Inlet {
         Ok(())
     }
 
+    /// Publishes the inlet's speed (a speed scale the sound speed's `Auto` counts) before any
+    /// plugin builds.
+    fn prepare<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
+        let speed = self.velocity.iter().map(|v| v * v).sum::<Real>().sqrt();
+        dualsph_fluid::speeds::impose_speed(&mut sim.world, speed, "Inlet (its velocity)");
+        Ok(())
+    }
+
     /// A layer every `spacing/|velocity|` up to `until` (or the end), the first at t = 0.
     fn particles_added(&self, end_time: Real, dimension: usize) -> Real {
         let speed = self.velocity.iter().map(|v| v * v).sum::<Real>().sqrt();
@@ -192,11 +200,6 @@ impl SimPlugin for Inlet {
             vector(&self.max)?,
             vector(&self.velocity)?,
         );
-        dualsph_fluid::speeds::impose_speed(
-            &mut sim.world,
-            velocity.length(),
-            "Inlet (its velocity)",
-        )?;
         let dx = self.spacing;
         let template = ParticleInit {
             pos: V::zero(),

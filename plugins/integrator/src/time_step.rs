@@ -11,7 +11,7 @@
 
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::chunks::{DENSE, MIN_LEN};
-use dualsph_core::sim::MaxViscosity;
+use dualsph_core::sim::{MaxViscosity, StepFailure};
 use dualsph_fluid::prelude::*;
 use rayon::prelude::*;
 
@@ -131,6 +131,7 @@ pub fn cfl_limit<'a, V: Vector>(
 pub fn check_time_step<V: Vector>(
     rule: Res<TimeStepping>,
     mut check: ResMut<TimeStepCheck>,
+    mut failure: ResMut<StepFailure>,
     q: Query<(
         &ParticleId,
         &Velocity<V>,
@@ -147,6 +148,12 @@ pub fn check_time_step<V: Vector>(
         && dt > limit
     {
         check.violation = Some((id, dt, limit));
+        failure.fail(|| {
+            format!(
+                "the fixed dt = {dt:.3e} is above the CFL limit {limit:.3e} = {CFL_LIMIT} h/(c + |v|) \
+                 of particle {id} (likely cause: dt above the CFL limit; lower dt or use Adaptive)"
+            )
+        });
     }
 }
 

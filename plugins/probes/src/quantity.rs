@@ -34,9 +34,13 @@ const AXES: [char; 3] = ['x', 'y', 'z'];
 #[serde(try_from = "Spelling", into = "String")]
 pub struct Quantity(String);
 
-/// A quantity as written in a scene: a string or a bare identifier.
+/// A quantity as written in a scene: a string, or a bare word, which RON hands to an untagged
+/// enum by its name.
 #[derive(Deserialize, schemars::JsonSchema)]
-#[serde(untagged)]
+#[serde(
+    untagged,
+    expecting = "a quantity: a column name in quotes (\"density\", \"velocity.x\") or a bare word (density, Pressure)"
+)]
 enum Spelling {
     Name(String),
 }

@@ -84,7 +84,7 @@ impl<V: Vector> Sampled<V> {
 pub fn sample_probes<V: Vector>(world: &mut World) {
     let clock = *world.resource::<SimClock>();
     let limit = world.get_resource::<StepLimit>().map(|l| l.0);
-    let at_end = clock.t >= clock.t_end * (1.0 - 1e-12) || limit.is_some_and(|l| clock.step >= l);
+    let at_end = clock.at_end(limit);
     let every = world.resource::<ProbeState<V>>().every;
     if !(clock.step.is_multiple_of(every) || at_end) {
         return;
@@ -95,7 +95,7 @@ pub fn sample_probes<V: Vector>(world: &mut World) {
             .rows
             .partition_point(|r| r.0 < clock.step);
         if let Some(why) = table_full(state.columns.len(), keep + 1, state.max_values) {
-            world.resource_mut::<StepFailure>().0 = Some(why);
+            world.resource_mut::<StepFailure>().fail(|| why);
             return;
         }
         let values = sample_columns(world, &state);

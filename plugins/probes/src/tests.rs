@@ -580,7 +580,7 @@ fn a_table_past_its_bound_is_refused_or_stops_the_run() {
     sim.step().unwrap();
     let e = sim.step().unwrap_err().to_string();
     assert!(
-        e.contains("step 2: Probes: the table would hold 12 values (4 columns × 3 samples)"),
+        e.contains("step 2, t = 2.000000e-5: Probes: the table would hold 12 values (4 columns × 3 samples)"),
         "{e}"
     );
     assert_eq!(sim.world.resource::<ProbeSamples>().rows.len(), 2);

@@ -389,10 +389,9 @@ fn apply<V: Vector>(world: &mut World, plan: Plan<V>) {
     for (parent, axes) in plan.splits {
         let kids = split::children(&parent.state, axes, child_offset, child_h);
         if let Err(e) = split_particle(world, parent.entity, &kids) {
-            world.resource_mut::<StepFailure>().0 = Some(format!(
-                "Refinement: particle {} could not split: {e}",
-                parent.id
-            ));
+            world
+                .resource_mut::<StepFailure>()
+                .fail(|| format!("Refinement: particle {} could not split: {e}", parent.id));
             return;
         }
         world.resource_mut::<RefinementStats>().splits += 1;

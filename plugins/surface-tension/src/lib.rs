@@ -29,7 +29,7 @@
 //! 3-D. With `F = k_d σ V² c(r/h)/(M_d h^{d+2})` and `nV = 1` both give back σ for every h:
 //! the coefficient is a surface tension in N/m (3-D) or N (2-D), not a tuning knob. It is a
 //! mean-field value: the particles' discreteness and the truncated support at the surface
-//! change the effective σ by a factor of order one (measured in `tests/surface_tension.rs`).
+//! change the effective σ by a factor of order one (measured in `tests/e2e/surface_tension.rs`).
 //! The same force also carries a bulk cohesive pressure
 //! `p_c = −(n²/2d) ∫ r F dS_d(r) ∝ −σ/h`, balanced by the equation of state, so a drop at rest
 //! sits slightly compressed; use a `TaitEos` with `c0² ≫ σ/(ρ h)`.

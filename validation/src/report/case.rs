@@ -2,6 +2,7 @@
 //! resolution coarsened), run in-process while time series and snapshots are recorded.
 
 use dualsph::prelude::*;
+use dualsph::run_loop::{EveryStep, Flow, run_to_end};
 use dualsph::runner::column_table;
 use dualsph::{build_sim, with_dimension};
 use dualsph_diagnostics::{Diagnostics, SimDiagnostics};
@@ -162,10 +163,6 @@ fn largest_x<V: Vector>(sim: &mut Sim<V>) -> Real {
         .map_or(Real::NEG_INFINITY, |k| water[k].0.get(0))
 }
 
-fn health<V: Vector>(sim: &Sim<V>, label: &str) -> Result<(), SimError> {
-    dualsph::runner::check(sim).map_err(|e| SimError::BlowUp(format!("case {label}: {e}")))
-}
-
 fn run_dim<V: Vector>(spec: &CaseSpec, rec: &Recording) -> Result<CaseRun, SimError> {
     let scene = &spec.scene;
     let mut sim = build_sim::<V>(scene)?;
@@ -175,8 +172,8 @@ fn run_dim<V: Vector>(spec: &CaseSpec, rec: &Recording) -> Result<CaseRun, SimEr
         sim.world
             .insert_resource(dualsph_core::output::RunOutputDir(dir.clone()));
     }
-    sim.initialize()?;
-    health(&sim, &spec.label)?;
+    sim.initialize()
+        .map_err(|e| SimError::BlowUp(format!("case {}: {e}", spec.label)))?;
     let initial = column_table(&mut sim);
     let mut run = CaseRun {
         label: spec.label.clone(),
@@ -197,24 +194,23 @@ fn run_dim<V: Vector>(spec: &CaseSpec, rec: &Recording) -> Result<CaseRun, SimEr
     let mut pending: Vec<Real> = rec.snapshot_times.clone();
     pending.sort_by(Real::total_cmp);
     pending.reverse();
-    let max_steps = scene.max_steps.unwrap_or(u64::MAX);
     let (cpu0, wall0) = (process_cpu_seconds(), Instant::now());
-    while sim.clock().t < scene.end_time * (1.0 - 1e-12) && sim.clock().step < max_steps {
-        if let Err(e) = sim.step().and_then(|()| health(&sim, &spec.label)) {
-            run.failure = Some(e.to_string());
-            break;
-        }
+    let mut record = EveryStep(|sim: &mut Sim<V>| {
         let c = sim.clock();
-        if rec.every > 0 && c.step % rec.every == 0 {
+        if rec.every > 0 && c.step.is_multiple_of(rec.every) {
             run.diagnostics.push(sim.diagnostics());
             if rec.front {
-                run.front.push((c.t, largest_x(&mut sim)));
+                run.front.push((c.t, largest_x(sim)));
             }
         }
         while pending.last().is_some_and(|&t| c.t >= t * (1.0 - 1e-12)) {
             let t = pending.pop().unwrap_or(c.t);
-            run.snapshots.push((t, c.t, column_table(&mut sim)));
+            run.snapshots.push((t, c.t, column_table(sim)));
         }
+        Ok(Flow::Continue)
+    });
+    if let Err(e) = run_to_end(&mut sim, &mut [&mut record]) {
+        run.failure = Some(format!("case {}: {e}", spec.label));
     }
     run.cpu_seconds = process_cpu_seconds() - cpu0;
     run.wall_seconds = wall0.elapsed().as_secs_f64();

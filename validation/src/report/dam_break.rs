@@ -417,12 +417,12 @@ fn energy_finding(g: &[DamBreakCase]) -> String {
         );
     }
     if lost.contains(&"Case I") {
-        s += "; SingleSupport's pair sums do not conserve energy with variable h (tests/conservation.rs)";
+        s += "; SingleSupport's pair sums do not conserve energy with variable h (tests/e2e/conservation.rs)";
     }
     let other: Vec<&str> = lost.into_iter().filter(|c| *c != "Case I").collect();
     if !other.is_empty() {
         s += &format!(
-            "; {} {} not, though {} pair sums conserve energy (tests/conservation.rs): the difference is \
+            "; {} {} not, though {} pair sums conserve energy (tests/e2e/conservation.rs): the difference is \
              in the walls or gravity, not measured apart here",
             other.join(" and "),
             if other.len() == 1 { "does" } else { "do" },

@@ -136,7 +136,7 @@ fn finding(ds: &DropCase, ss: &DropCase) -> String {
          keeps it {}, SingleSupport {} (the paper's Fig. 9). The pair sums conserve energy at every evaluation; \
          the time integration keeps it because the internal energy is advanced by the work of each particle's \
          pair forces over the step's mean velocity (`LeapfrogPC(energy: Consistent)`, the default; with \
-         `energy: Rates` it drifts by the scheme's error: `tests/energy_in_time.rs` measures both).\n\n",
+         `energy: Rates` it drifts by the scheme's error: `tests/e2e/energy_in_time.rs` measures both).\n\n",
         drift_words(ds.momentum_drift),
         drift_words(ds.angular_momentum_drift),
         ss.momentum_drift,

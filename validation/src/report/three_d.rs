@@ -14,6 +14,7 @@ use super::case::process_cpu_seconds;
 use super::{ReportError, ReportOptions, Section, Table, image};
 use dualsph::build_sim_with;
 use dualsph::prelude::*;
+use dualsph::run_loop::{EveryStep, Flow, run_to_end};
 use dualsph_core::glam::DVec3;
 use dualsph_diagnostics::{Diagnostics, PairBalance, SimDiagnostics, track_pair_balance};
 use dualsph_plot::{LinePlot, Series, SeriesStyle};
@@ -141,21 +142,20 @@ pub fn run_scene(scene: &Scene, every: u64) -> Result<ThreeDRun, SimError> {
         bounds: ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]),
     };
     widen(&mut sim, &mut run.bounds);
-    let max_steps = scene.max_steps.unwrap_or(u64::MAX);
     let cpu0 = process_cpu_seconds();
-    while sim.clock().t < scene.end_time * (1.0 - 1e-12) && sim.clock().step < max_steps {
-        sim.step()?;
-        dualsph::runner::check(&sim)?;
+    let mut record = EveryStep(|sim: &mut Sim<DVec3>| {
         let step = sim.clock().step;
         if step.is_multiple_of(every.max(1)) {
             run.diagnostics.push(sim.diagnostics());
-            run.front.push((sim.clock().t, largest_x(&mut sim)));
-            let (f, t) = pair_imbalance(&sim);
+            run.front.push((sim.clock().t, largest_x(sim)));
+            let (f, t) = pair_imbalance(sim);
             run.force_imbalance = run.force_imbalance.max(f);
             run.torque_imbalance = run.torque_imbalance.max(t);
-            widen(&mut sim, &mut run.bounds);
+            widen(sim, &mut run.bounds);
         }
-    }
+        Ok(Flow::Continue)
+    });
+    run_to_end(&mut sim, &mut [&mut record]).map_err(|e| SimError::BlowUp(e.to_string()))?;
     run.cpu_seconds = process_cpu_seconds() - cpu0;
     run.steps = sim.clock().step;
     if run.diagnostics.last().is_none_or(|d| d.step != run.steps) {

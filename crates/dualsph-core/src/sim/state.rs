@@ -22,6 +22,15 @@ pub struct SimClock {
     pub t_end: Real,
 }
 
+impl SimClock {
+    /// Whether a run has reached its end: the end time (to a relative 1e-12, the last dt
+    /// having landed on it) or `max_steps` steps. The one stop condition of every run loop and
+    /// of the samplers that record the last state.
+    pub fn at_end(&self, max_steps: Option<u64>) -> bool {
+        self.t >= self.t_end * (1.0 - 1e-12) || max_steps.is_some_and(|m| self.step >= m)
+    }
+}
+
 /// The kernel of the scene, normalised for its dimension.
 #[derive(Resource, Clone, Copy, Debug)]
 pub struct KernelRes(pub Kernel);
@@ -207,11 +216,23 @@ impl std::str::FromStr for Formulation {
     }
 }
 
-/// Why the last step failed, as reported by one of its systems (the population when the id
-/// space is exhausted): [`Sim::step`](crate::sim::Sim::step) returns it as a blow-up that
-/// names the step.
+/// Why the last step failed, as reported by one of its systems — the health check (an
+/// unphysical value), the fixed time step's CFL check, the population when the id space is
+/// exhausted, a refinement that cannot split: [`Sim::step`](crate::sim::Sim::step) (and
+/// [`Sim::initialize`](crate::sim::Sim::initialize)) return it as a blow-up naming the step
+/// and time. The one failure channel of a step: the first failure a step reports stands
+/// ([`StepFailure::fail`]).
 #[derive(Resource, Debug, Default)]
 pub struct StepFailure(pub Option<String>);
+
+impl StepFailure {
+    /// Records `why` unless a failure is already recorded (the first cause stands).
+    pub fn fail(&mut self, why: impl FnOnce() -> String) {
+        if self.0.is_none() {
+            self.0 = Some(why());
+        }
+    }
+}
 
 /// The name of the simulation's one time-integration scheme, once its plugin has set it
 /// (through `dualsph_integrate::SimIntegrate::set_integrator`, which holds the scheme); at

@@ -2,7 +2,9 @@
 //! that the end time is out of reach. Both stop the run as a blow-up with the cause, instead
 //! of stepping forever.
 
-use bevy_ecs::prelude::Resource;
+use bevy_ecs::prelude::{Res, ResMut, Resource};
+use dualsph_core::output::StepLimit;
+use dualsph_core::sim::{SimClock, StepFailure};
 use dualsph_fluid::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -66,21 +68,20 @@ impl DtFloor {
     }
 }
 
-/// Checks the step just taken against the floor of `sim` (a simulation without one is not
-/// checked).
-pub(crate) fn check<V: Vector>(
-    sim: &mut Sim<V>,
-    t_end: Real,
-    capped: bool,
-) -> Result<(), SimError> {
-    let c = sim.clock();
-    let (step, t, dt) = (c.step, c.t, c.dt);
-    let Some(mut floor) = sim.world.get_resource_mut::<DtFloor>() else {
-        return Ok(());
-    };
-    match floor.after_step(dt, t, t_end, capped) {
-        None => Ok(()),
-        Some(why) => Err(SimError::BlowUp(format!("step {step}, t = {t:.6e}: {why}"))),
+/// The stall check as a step system (with the diagnostics): after every step — not the
+/// initial evaluation — the floor's verdict ([`DtFloor::after_step`]) is the step's failure, so
+/// a stalled run stops as any blow-up does, naming the step and time.
+pub(crate) fn check_dt_floor(
+    clock: Res<SimClock>,
+    limit: Option<Res<StepLimit>>,
+    mut floor: ResMut<DtFloor>,
+    mut failure: ResMut<StepFailure>,
+) {
+    if clock.initializing {
+        return;
+    }
+    if let Some(why) = floor.after_step(clock.dt, clock.t, clock.t_end, limit.is_some()) {
+        failure.fail(|| why);
     }
 }
 

@@ -3,7 +3,7 @@
 //! Ghia & Shin (1982), *High-Re solutions for incompressible flow using the Navier–Stokes
 //! equations and a multigrid method*, J. Comput. Phys. 48, 387–411, Tables I–II
 //! ([`dualsph_reference::cavity`]); the grading also serves the cavity at Re = 1000
-//! (`scenes/cavity_2d_re1000.ron`, [`RE1000`], `validation/tests/cavity.rs`).
+//! (`scenes/cavity_2d_re1000.ron`, [`RE1000`], `validation/tests/validation/cavity.rs`).
 //!
 //! The measure: the largest difference, in units of U, between the simulated and Ghia's
 //! velocity at Ghia's interior points — u on x = 0.5, v on y = 0.5 — with the scene's probe

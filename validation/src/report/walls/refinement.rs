@@ -155,7 +155,7 @@ pub fn run(opts: &ReportOptions) -> Result<(Section, Vec<CaseRun>), ReportError>
          at H/40, H/80 and H/160 to t* = 8. Every other setting is the shipped scene's \
          (h = h_factor Δx follows the spacing); the probes are left out. The density \
          variation is the largest over the diagnostics rows (every 100 steps). The CI's \
-         second tier runs the Δx/2 and H/40 cases (`validation/tests/refinement.rs`); the \
+         second tier runs the Δx/2 and H/40 cases (`validation/tests/validation/refinement.rs`); the \
          finer ones run here only.\n\n",
     );
     body += &table.render();

@@ -239,7 +239,7 @@ pub fn run(opts: &ReportOptions) -> Result<(Section, SensorGrade), ReportError> 
          over the first impact, where Marrone et al.'s δ-SPH is {:.3} at the same H/Δx and \
          {:.3} at H/80: this model is {:.1}× their error at the same resolution there. The \
          sensor first wets at t* {:.3}, the experiment's at {:.3}. The figures are {} the \
-         bounds of `validation/tests/dam_break_pressure.rs` ({:.2}, {:.2}, {:.2}; {:.2} by \
+         bounds of `validation/tests/validation/dam_break_pressure.rs` ({:.2}, {:.2}, {:.2}; {:.2} by \
          TrixiParticles' measure). By \
          TrixiParticles' measure the mean |Δp*| over t* 2–6.5 is {:.3}, of which {:.3} comes \
          from the second impact (t* 5.5–6.5), whose peak the sensor reads at t* {:.2} and \
