@@ -343,13 +343,14 @@ fn plugins_with_fields_documents_every_listed_name() {
 }
 
 #[test]
-fn the_readme_shows_doc_as_it_prints() {
-    let readme =
-        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("README.md")).unwrap();
-    let start = readme
+fn the_plugin_docs_show_doc_as_it_prints() {
+    let page =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/plugins.md"))
+            .unwrap();
+    let start = page
         .find("$ dualsph doc Gravity\n")
-        .expect("the README's example");
-    let block = &readme[start..];
+        .expect("docs/plugins.md's example");
+    let block = &page[start..];
     let shown = &block["$ dualsph doc Gravity\n".len()..block.find("```").unwrap()];
     let (code, printed, _) = stdout_of(&["doc", "Gravity"]);
     assert_eq!(code, Some(0));

@@ -12,8 +12,10 @@ use std::path::Path;
 use std::process::Command;
 
 /// The documents whose commands are run.
-const DOCS: [&str; 5] = [
+const DOCS: [&str; 7] = [
     "README.md",
+    "docs/cli.md",
+    "docs/output.md",
     "docs/tutorial.md",
     "docs/python.md",
     "docs/performance.md",
@@ -157,16 +159,15 @@ fn every_command_in_the_docs_runs_as_shown() {
             ran += 1;
         }
     }
-    // the README's, the tutorial's, python.md's and performance.md's command lines
+    // the command lines of the README, cli.md, output.md, the tutorial, python.md, ...
     assert!(ran >= 25, "only {ran} commands found");
 }
 
 #[test]
 fn the_harness_finds_and_shortens_the_commands() {
-    let readme = lines("README.md");
+    let cli = lines("docs/cli.md");
     assert!(
-        readme
-            .iter()
+        cli.iter()
             .any(|l| l.command == "cargo run --release -- plugins")
     );
     let tutorial = lines("docs/tutorial.md");

@@ -39,6 +39,7 @@ macro_rules! say {
 
 mod doc;
 mod probe;
+pub use doc::reference_markdown;
 mod run;
 
 #[derive(Parser)]

@@ -31,6 +31,34 @@ pub(crate) fn listing(registry: &Registry, fields: bool) -> String {
     out
 }
 
+/// The plugin reference that `docs/plugins.md` holds between its generated-section markers:
+/// every name `dualsph doc` knows, grouped as plugins, scene sections and body kinds (in
+/// registration order), each under a heading of its own with its text exactly as
+/// `dualsph doc NAME` prints it, in a `text` block. Ends with one newline.
+pub fn reference_markdown(registry: &Registry) -> String {
+    let plugins = registry.entries().iter().map(|e| e.name.to_string());
+    let sections = registry.sections().iter().map(|e| e.key.to_string());
+    let kinds = registry.body_kinds().iter().map(|e| e.name.to_string());
+    let groups: [(&str, Vec<String>); 3] = [
+        ("Plugins", plugins.collect()),
+        ("Scene sections", sections.collect()),
+        ("Body kinds", kinds.collect()),
+    ];
+    let mut out = String::new();
+    for (title, names) in groups {
+        out.push_str(&format!("### {title}\n\n"));
+        for name in names {
+            let text = doc(registry, &name).expect("a registered name");
+            out.push_str(&format!(
+                "#### `{name}`\n\n```text\n{}\n```\n\n",
+                text.trim_end()
+            ));
+        }
+    }
+    out.truncate(out.trim_end().len() + 1);
+    out
+}
+
 /// Every name `doc` knows: plugins, then sections, then body kinds, in registration order.
 pub(crate) fn names(registry: &Registry) -> Vec<String> {
     let plugins = registry.entries().iter().map(|e| e.name.to_string());

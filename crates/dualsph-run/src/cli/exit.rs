@@ -95,7 +95,7 @@ pub fn cause(code: u8) -> &'static str {
     }
 }
 
-/// The table of codes, for `--help` and the README.
+/// The table of codes, for `--help` and `docs/cli.md`.
 pub const HELP: &str = "Exit status: 0 success, 1 other failure, 2 invalid input (scene, \
 options, checkpoint, an output directory in use), 3 blow-up or stalled run (the last good \
 state is written), 4 a file could not be read or written, 130 interrupted by Ctrl-C (a \
