@@ -104,3 +104,6 @@ pub(crate) fn doc(registry: &Registry, name: &str) -> Result<String, Failure> {
         ),
     ))
 }
+
+#[cfg(test)]
+mod tests;

@@ -5,7 +5,7 @@
 //! deliberate mistake is fenced ` ```ron,ignore ` and skipped (the page says why); a failure
 //! names the block's file and line.
 //!
-//! `DUALSPH_BLESS=1 cargo test --release -p dualsph-run --test docs` rewrites the generated
+//! `DUALSPH_BLESS=1 cargo test --release -p dualsph-run --lib cli::doc::tests` rewrites the generated
 //! section of `docs/plugins.md` instead of failing on it.
 
 use dualsph_builtin::default_registry;
@@ -36,7 +36,7 @@ fn with_reference(text: &str, reference: &str) -> Result<String, String> {
 fn the_plugin_reference_in_the_docs_is_what_dualsph_doc_prints() {
     let path = root().join("docs/plugins.md");
     let text = std::fs::read_to_string(&path).unwrap();
-    let reference = dualsph_run::cli::reference_markdown(&default_registry());
+    let reference = crate::cli::reference_markdown(&default_registry());
     let want = with_reference(&text, &reference).unwrap_or_else(|e| panic!("docs/plugins.md: {e}"));
     if std::env::var_os("DUALSPH_BLESS").is_some_and(|v| v == "1") {
         if want != text {
@@ -47,7 +47,7 @@ fn the_plugin_reference_in_the_docs_is_what_dualsph_doc_prints() {
     assert!(
         want == text,
         "docs/plugins.md: the generated plugin reference is not what `dualsph doc` prints; \
-         regenerate it with `DUALSPH_BLESS=1 cargo test --release -p dualsph-run --test docs`"
+         regenerate it with `DUALSPH_BLESS=1 cargo test --release -p dualsph-run --lib cli::doc::tests`"
     );
 }
 
