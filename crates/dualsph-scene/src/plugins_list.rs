@@ -73,21 +73,6 @@ fn offset_in_text(part: &str) -> Option<usize> {
     (at + part.len() <= len).then_some(at)
 }
 
-/// The byte offset of 1-based (`line`, `col`) (columns in characters) in `text`.
-fn offset_at(text: &str, line: usize, col: usize) -> usize {
-    let mut at = 0;
-    for (k, l) in text.split_inclusive('\n').enumerate() {
-        if k + 1 == line {
-            return at
-                + l.char_indices()
-                    .nth(col.saturating_sub(1))
-                    .map_or(l.len(), |(b, _)| b);
-        }
-        at += l.len();
-    }
-    text.len()
-}
-
 /// Runs `f` with the registry of the parse call running on this thread, if any.
 pub(crate) fn with_current<T>(f: impl FnOnce(Option<&Registry>) -> T) -> T {
     REGISTRY.with(|r| f(r.borrow().as_ref()))
@@ -174,7 +159,8 @@ impl<'de> DeserializeSeed<'de> for PluginSeed {
             ));
         }
         (entry.parse)(&crate::ron_options(), settings).map_err(|e| {
-            let at = offset_at(settings, e.span.start.line, e.span.start.col);
+            let at =
+                crate::overrides::offset_of(settings, e.span.start.line, e.span.start.col.max(1));
             placed(
                 settings,
                 at,

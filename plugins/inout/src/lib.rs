@@ -101,6 +101,11 @@ impl Inlet {
             })
             .product()
     }
+
+    /// |velocity|, the speed of the layers.
+    fn speed(&self) -> Real {
+        self.velocity.iter().map(|v| v * v).sum::<Real>().sqrt()
+    }
 }
 
 impl SimPlugin for Inlet {
@@ -167,14 +172,14 @@ impl SimPlugin for Inlet {
     /// Publishes the inlet's speed (a speed scale the sound speed's `Auto` counts) before any
     /// plugin builds.
     fn prepare<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
-        let speed = self.velocity.iter().map(|v| v * v).sum::<Real>().sqrt();
+        let speed = self.speed();
         dualsph_fluid::speeds::impose_speed(&mut sim.world, speed, "Inlet (its velocity)");
         Ok(())
     }
 
     /// A layer every `spacing/|velocity|` up to `until` (or the end), the first at t = 0.
     fn particles_added(&self, end_time: Real, dimension: usize) -> Real {
-        let speed = self.velocity.iter().map(|v| v * v).sum::<Real>().sqrt();
+        let speed = self.speed();
         let last = self.until.map_or(end_time, |u| u.min(end_time)).max(0.0);
         let layers = (last * speed / self.spacing).floor() + 1.0;
         layers * self.layer_size(dimension)
