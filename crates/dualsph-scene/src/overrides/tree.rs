@@ -47,9 +47,18 @@ pub(super) struct Group<T> {
 /// A syntax problem at a byte offset.
 pub(super) type Error = (usize, String);
 
+/// The deepest nesting of brackets read: as deep as the scene parser goes (`ron`'s default
+/// recursion limit, 128). The reader recurses per bracket, so without a bound a value nested
+/// ten thousand deep (`--set 'end_time=[[[[…]]]]'`) overflowed the stack.
+pub(super) const MAX_DEPTH: usize = 128;
+
 /// Reads one value from `text` and checks nothing but blanks and comments follow it.
 pub(super) fn parse(text: &str) -> Result<Node, Error> {
-    let mut r = Reader { text, pos: 0 };
+    let mut r = Reader {
+        text,
+        pos: 0,
+        depth: 0,
+    };
     let node = r.value()?;
     r.blank()?;
     if r.pos < text.len() {
@@ -61,6 +70,8 @@ pub(super) fn parse(text: &str) -> Result<Node, Error> {
 struct Reader<'a> {
     text: &'a str,
     pos: usize,
+    /// Brackets open at `pos`.
+    depth: usize,
 }
 
 /// Characters that end a bare token (number, identifier, `true`, `-inf`, ..).
@@ -115,6 +126,20 @@ impl<'a> Reader<'a> {
 
     fn value(&mut self) -> Result<Node, Error> {
         self.blank()?;
+        if self.depth >= MAX_DEPTH {
+            return Err((
+                self.pos,
+                format!("values nested more than {MAX_DEPTH} deep"),
+            ));
+        }
+        self.depth += 1;
+        let node = self.value_here();
+        self.depth -= 1;
+        node
+    }
+
+    /// The value at `pos` (blanks skipped), one level deeper.
+    fn value_here(&mut self) -> Result<Node, Error> {
         let start = self.pos;
         match self.peek() {
             None => Err((start, "expected a value".into())),
@@ -332,6 +357,15 @@ mod tests {
             ("/* (", 0),
         ] {
             let e = parse(text).unwrap_err();
+            assert_eq!(e.0, at, "{text}: {e:?}");
+        }
+        // nesting past the bound is refused where it goes too deep, without a stack overflow
+        for (text, at) in [
+            ("[".repeat(10_000), MAX_DEPTH),
+            (format!("Scene(a: {}", "(".repeat(200)), 9 + MAX_DEPTH - 1),
+        ] {
+            let e = parse(&text).unwrap_err();
+            assert!(e.1.contains("nested more than 128 deep"), "{e:?}");
             assert_eq!(e.0, at, "{text}: {e:?}");
         }
     }
