@@ -228,6 +228,55 @@ pub(crate) fn one_of_role(s: &Scene, role: Role) -> Check {
     Ok(())
 }
 
+/// Whether `c` may be part of a body name: letters, digits, `_`, `-` and `.`.
+fn body_name_char(c: char) -> bool {
+    c.is_alphanumeric() || matches!(c, '_' | '-' | '.')
+}
+
+/// A body name is not empty and made of [`body_name_char`]s only: the name heads columns of
+/// `diagnostics.csv` (`mass[water]`) and `bodies.csv`, where a comma, a quote, a bracket, a
+/// blank or a line break would break the row (the run failed when it wrote the file).
+fn body_name(i: usize, name: &str) -> Check {
+    let field = format!("bodies[{i}].name");
+    if name.is_empty() {
+        return Err(Problem::new(field, "must not be empty"));
+    }
+    match name.chars().find(|&c| !body_name_char(c)) {
+        None => Ok(()),
+        Some(c) => Err(Problem::new(
+            field,
+            format!(
+                "{name:?} holds {c:?}: a body name is made of letters, digits, `_`, `-` and `.` \
+                 (it heads columns of diagnostics.csv)"
+            ),
+        )),
+    }
+}
+
+/// Every declared body that is not a fluid (a fixed or a moved one) has particles from some
+/// generator: nothing can add any later (an inlet fills fluid bodies only), so an empty one
+/// is a body named in a generator's stead by mistake, or a generator's `body` forgotten.
+fn solid_bodies_have_particles(s: &Scene) -> Check {
+    let single = s.bodies.len() == 1;
+    for (i, b) in s.bodies.iter().enumerate() {
+        let filled = s.particles.iter().any(|g| match g.common().body {
+            Some(name) => name == b.name,
+            None => single,
+        });
+        if !b.kind.is_fluid() && !filled {
+            return Err(Problem::new(
+                format!("bodies[{i}]"),
+                format!(
+                    "the body `{}` is not a fluid and no generator gives it particles (set a \
+                     generator's `body: \"{}\"`, or remove the body)",
+                    b.name, b.name
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// Body names are unique and not empty, at most `u16::MAX + 1` of them; every generator
 /// names a declared body, or leaves it out when there is one body.
 fn bodies(s: &Scene) -> Check {
@@ -239,12 +288,7 @@ fn bodies(s: &Scene) -> Check {
         ));
     }
     for (i, name) in names.iter().enumerate() {
-        if name.is_empty() {
-            return Err(Problem::new(
-                format!("bodies[{i}].name"),
-                "must not be empty",
-            ));
-        }
+        body_name(i, name)?;
         if names[..i].contains(name) {
             return Err(Problem::new(
                 format!("bodies[{i}].name"),
@@ -310,7 +354,7 @@ fn bodies(s: &Scene) -> Check {
             moment_arm_bounded(&at, c, s)?;
         }
     }
-    Ok(())
+    solid_bodies_have_particles(s)
 }
 
 /// How far outside the domain (in domain diagonals from its centre) a moment may be taken:
