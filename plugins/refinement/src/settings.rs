@@ -273,7 +273,19 @@ impl SimPlugin for Refinement {
         Ok(())
     }
 
+    /// Refused with formulation `ConstantH`: a split gives its children `child_h` of the
+    /// parent's support and a merge doubles it, so the particles would hold several smoothing
+    /// lengths in a scheme that assumes one (and sums with it as if they had).
     fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
+        if *sim.world.resource::<Formulation>() == Formulation::ConstantH {
+            return Err(SimError::Build(
+                "Refinement cannot be used with formulation ConstantH: a split halves the \
+                 children's smoothing length (child_h) and a merge doubles it, so the \
+                 particles would have several smoothing lengths where ConstantH assumes one; \
+                 use the default DualSupport"
+                    .into(),
+            ));
+        }
         let resolved = self.resolve::<V>(sim.world.resource::<Bodies>())?;
         let levels = resolved.levels;
         sim.world.insert_resource(resolved);
