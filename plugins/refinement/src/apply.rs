@@ -402,23 +402,39 @@ fn apply<V: Vector>(world: &mut World, plan: Plan<V>) {
 /// clamped into `0..=levels`, with `Δx_l` its size on the ladder (at its ladder density,
 /// [`crate::ladder::LadderSize`]; 0 the coarsest; a merge of two equal particles moves up
 /// one level, a split down `d`), with whether its body is refined, in row order.
+///
+/// A world that never held a [`NominalDensity`] (the ladder at the current density, before
+/// the first decision) has not registered it, and a query naming it, even as an option,
+/// cannot be made there: the sizes are then read without it (every snapshot before the first
+/// decision held NaN for both columns).
 pub fn sizes_and_levels<V: Vector>(world: &World) -> Vec<(Real, usize, bool)> {
     let Some(set) = world.get_resource::<Resolved<V>>() else {
         return Vec::new();
     };
-    let Some(mut q) = world.try_query::<(&Mass, &Density, &BodyId, Option<&NominalDensity>)>()
-    else {
+    let d = V::DIM as Real;
+    let read = |m: Real, rho: Real, b: &BodyId, ladder_rho: Real| {
+        let size = split::size(V::DIM, m, rho);
+        let on_ladder = split::size(V::DIM, m, ladder_rho);
+        let level = (d * (set.coarsest / on_ladder).log2()).round();
+        let refined = set.refined.get(b.0 as usize).copied().unwrap_or(false);
+        (size, level.clamp(0.0, set.levels as Real) as usize, refined)
+    };
+    if world
+        .components()
+        .component_id::<NominalDensity>()
+        .is_some()
+        && let Some(mut q) =
+            world.try_query::<(&Mass, &Density, &BodyId, Option<&NominalDensity>)>()
+    {
+        return (q.iter(world))
+            .map(|(m, rho, b, nominal)| read(m.0, rho.0, b, nominal.map_or(rho.0, |n| n.0)))
+            .collect();
+    }
+    let Some(mut q) = world.try_query::<(&Mass, &Density, &BodyId)>() else {
         return Vec::new();
     };
-    let d = V::DIM as Real;
-    q.iter(world)
-        .map(|(m, rho, b, nominal)| {
-            let size = split::size(V::DIM, m.0, rho.0);
-            let on_ladder = split::size(V::DIM, m.0, nominal.map_or(rho.0, |n| n.0));
-            let level = (d * (set.coarsest / on_ladder).log2()).round();
-            let refined = set.refined.get(b.0 as usize).copied().unwrap_or(false);
-            (size, level.clamp(0.0, set.levels as Real) as usize, refined)
-        })
+    (q.iter(world))
+        .map(|(m, rho, b)| read(m.0, rho.0, b, rho.0))
         .collect()
 }
 
