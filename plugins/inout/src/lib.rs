@@ -108,6 +108,28 @@ impl Inlet {
     }
 }
 
+impl Inlet {
+    /// Refuses an inlet whose box holds a particle of the scene at t = 0: its first layer
+    /// would be put on top of that particle (two particles at one place, or a layer inside a
+    /// wall). The error names the inlet by its box and the body and place of the particle.
+    fn refuse_overlap<V: Vector>(&self, world: &mut World, min: V, max: V) -> Result<(), SimError> {
+        let Some((id, pos, body)) = settings::first_inside(world, min, max, self.spacing) else {
+            return Ok(());
+        };
+        let name = (world.get_resource::<Bodies>())
+            .and_then(|b| b.names().get(usize::from(body)).cloned())
+            .unwrap_or_else(|| format!("#{body}"));
+        Err(SimError::Build(format!(
+            "Inlet (min: {:?}, max: {:?}): its box holds particle {id} of the body `{name}` at \
+             {:?} at t = 0, so its first layer would overlap that body; move the box off the \
+             body's particles or start the body's generator past it",
+            self.min,
+            self.max,
+            (0..V::DIM).map(|k| pos.get(k)).collect::<Vec<_>>()
+        )))
+    }
+}
+
 impl SimPlugin for Inlet {
     const NAME: &'static str = "Inlet";
     const SUMMARY: &'static str =
@@ -205,6 +227,7 @@ impl SimPlugin for Inlet {
             vector(&self.max)?,
             vector(&self.velocity)?,
         );
+        self.refuse_overlap(&mut sim.world, min, max)?;
         let dx = self.spacing;
         let template = ParticleInit {
             pos: V::zero(),

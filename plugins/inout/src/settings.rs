@@ -1,5 +1,8 @@
 //! Checks and geometry shared by the inlet and the outlet.
 
+use dualsph_core::bevy_ecs::prelude::*;
+use dualsph_core::bodies::BodyId;
+use dualsph_core::components::{ParticleId, Position};
 use dualsph_core::math::{Real, Vector};
 
 /// Checks a box's corners: `d` finite components each, `min < max` on every axis; the error
@@ -17,6 +20,25 @@ pub fn check_box(min: &[Real], max: &[Real], d: usize) -> Result<(), String> {
         ));
     }
     Ok(())
+}
+
+/// The particle of `world` with the lowest id strictly inside the box `[min, max]` (by more
+/// than a millionth of `spacing` on every axis, so that a body ending on the box's face is
+/// not inside it): its id, position and body.
+pub fn first_inside<V: Vector>(
+    world: &mut World,
+    min: V,
+    max: V,
+    spacing: Real,
+) -> Option<(u32, V, u16)> {
+    let eps = 1e-6 * spacing;
+    let inside =
+        |p: &V| (0..V::DIM).all(|k| p.get(k) > min.get(k) + eps && p.get(k) < max.get(k) - eps);
+    let mut q = world.query::<(&ParticleId, &Position<V>, &BodyId)>();
+    q.iter(world)
+        .filter(|(_, p, _)| inside(&p.0))
+        .map(|(id, p, b)| (id.0, p.0, b.0))
+        .min_by_key(|(id, _, _)| *id)
 }
 
 /// The cell centres of a lattice of `spacing` over `[min, max]`: `round(extent/spacing)`
