@@ -27,7 +27,7 @@ use dualsph_fluid::prelude::*;
 use dualsph_io::{OutputDir, ParticleTable, TableColumn};
 use dualsph_scene::Scene;
 use keeper::Keeper;
-use observers::{Files, ProgressReport};
+use observers::{Files, MemoryGuard, ProgressReport};
 use rows::DiagnosticsOutput;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -175,7 +175,12 @@ pub fn run_dim_with<V: Vector>(
     restart: &RestartOptions,
 ) -> Result<RunSummary, RunError> {
     let n = scene.generate().len();
-    memory::check_memory(scene, n, memory::memory_available())?;
+    let available = memory::memory_available();
+    memory::check_memory(scene, n, available)?;
+    let mut guard = MemoryGuard {
+        budget: memory::Budget::new(available, n),
+        scene,
+    };
     let mut sim = build_sim::<V>(scene)?;
     for n in sim.notes() {
         eprintln!("note: {n}");
@@ -191,7 +196,10 @@ pub fn run_dim_with<V: Vector>(
     let mut keeper = Keeper::new(scene, restart, &opts.out);
     keeper.keep(&mut sim);
     let mut progress = ProgressReport::new(opts.progress);
-    let ran = run_to_end(&mut sim, &mut [&mut files, &mut keeper, &mut progress]);
+    let ran = run_to_end(
+        &mut sim,
+        &mut [&mut guard, &mut files, &mut keeper, &mut progress],
+    );
     drop(progress);
     let stepped = match ran {
         Ok(s) => s,

@@ -5,6 +5,7 @@
 //! available (`MemAvailable` in `/proc/meminfo`; no check where that cannot be read).
 
 use dualsph_core::prelude::SimError;
+use dualsph_core::sim::SimClock;
 use dualsph_scene::Scene;
 
 /// Bytes per particle besides its neighbour lists, by dimension (index = dimension): the
@@ -56,12 +57,86 @@ pub fn memory_needed(scene: &Scene, n: usize) -> u64 {
     bytes_per_particle(scene).saturating_mul(n as u64)
 }
 
-/// `MemAvailable` of `/proc/meminfo` in bytes, if it can be read.
+/// The environment variable that caps the memory a run may use (bytes): on a machine shared
+/// with others, or in a container whose limit `/proc/meminfo` does not show.
+pub const MEMORY_LIMIT_VAR: &str = "DUALSPH_MEMORY_LIMIT";
+
+/// The memory a run may use, in bytes: `MemAvailable` of `/proc/meminfo`, or
+/// [`MEMORY_LIMIT_VAR`] when that is set to a whole number of bytes and is smaller; `None`
+/// when neither can be read.
 pub fn memory_available() -> Option<u64> {
+    let limit = std::env::var(MEMORY_LIMIT_VAR)
+        .ok()
+        .and_then(|v| v.trim().parse::<u64>().ok());
+    let available = mem_available();
+    match (limit, available) {
+        (Some(l), Some(a)) => Some(l.min(a)),
+        (l, a) => l.or(a),
+    }
+}
+
+/// `MemAvailable` of `/proc/meminfo` in bytes, if it can be read.
+fn mem_available() -> Option<u64> {
     let text = std::fs::read_to_string("/proc/meminfo").ok()?;
     let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
     let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
     Some(kib.saturating_mul(1024))
+}
+
+/// The run-time side of [`check_memory`]: the memory available when the run started, and the
+/// particle count last checked against it. Plugins that add particles (the refinement's
+/// splits, inlets) can multiply the count far past what the scene generates, which no check
+/// before the run bounds; the run then stops with what went wrong where, as a blow-up does,
+/// instead of being killed for memory with its files left as they were.
+#[derive(Clone, Debug)]
+pub struct Budget {
+    available: Option<u64>,
+    start: usize,
+    last: usize,
+}
+
+impl Budget {
+    /// The budget of a run that starts with `n` particles and `available` bytes.
+    pub fn new(available: Option<u64>, n: usize) -> Self {
+        Budget {
+            available,
+            start: n,
+            last: n,
+        }
+    }
+
+    /// After a step: when the particle count `n` grew since the last check, an error if `n`
+    /// particles of `scene` need more than the memory available at the start (naming the
+    /// step and time of `clock`).
+    pub fn after_step(
+        &mut self,
+        scene: &Scene,
+        n: usize,
+        clock: &SimClock,
+    ) -> Result<(), SimError> {
+        let grew = n > self.last;
+        self.last = n;
+        let Some(have) = self.available.filter(|_| grew) else {
+            return Ok(());
+        };
+        let per = bytes_per_particle(scene);
+        let need = per.saturating_mul(n as u64);
+        if need <= have {
+            return Ok(());
+        }
+        Err(SimError::BlowUp(format!(
+            "step {}, t = {:.6e}: the particle count grew to {n} ({} at the start; \
+             particles added by refinement splits or inlets), which needs about {:.2} GB of \
+             memory (~{per} bytes per particle), more than the {:.2} GB available to the run; \
+             stopped before memory runs out: coarsen the finest size or the regions, refine \
+             less often, or stop the inlets earlier",
+            clock.step,
+            clock.t,
+            self.start,
+            need as f64 / 1e9,
+            have as f64 / 1e9
+        )))
+    }
 }
 
 /// The most particles of `scene` that fit in `available` bytes, and the reason to print with
@@ -139,6 +214,34 @@ mod tests {
         );
         let path = std::path::Path::new("m.ron");
         Scene::parse_only(&text, path, &dualsph_builtin::default_registry()).unwrap()
+    }
+
+    #[test]
+    fn the_budget_stops_a_growing_run_once_it_outgrows_the_memory() {
+        let s = scene(2, 2.0); // 3,002 bytes per particle
+        let at = |step| SimClock {
+            step,
+            t: 0.1 * step as f64,
+            dt: 0.1,
+            initializing: false,
+            t_end: 1.0,
+        };
+        let mut b = Budget::new(Some(3_002_000), 100);
+        assert!(b.after_step(&s, 400, &at(1)).is_ok());
+        assert!(b.after_step(&s, 1000, &at(2)).is_ok());
+        let e = b.after_step(&s, 1001, &at(3)).unwrap_err().to_string();
+        assert!(
+            e.contains("step 3") && e.contains("grew to 1001 (100 at the start"),
+            "{e}"
+        );
+        // no growth, no check; an unknown memory never stops a run
+        let mut b = Budget::new(Some(1), 100);
+        assert!(b.after_step(&s, 100, &at(1)).is_ok());
+        assert!(
+            Budget::new(None, 1)
+                .after_step(&s, usize::MAX, &at(1))
+                .is_ok()
+        );
     }
 
     #[test]

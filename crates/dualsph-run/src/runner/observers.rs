@@ -3,12 +3,14 @@
 //! progress report.
 
 use super::keeper::Keeper;
+use super::memory::Budget;
 use super::rows::DiagnosticsOutput;
 use super::{Progress, RunError, SnapshotSchedule, interrupted, particle_table};
 use crate::run_loop::{Flow, Observer};
 use dualsph_diagnostics::{DiagnosticsLog, SimDiagnostics};
 use dualsph_fluid::prelude::*;
 use dualsph_io::OutputDir;
+use dualsph_scene::Scene;
 use std::time::Instant;
 
 /// The files of a run's output directory written as it runs: a diagnostics row every
@@ -50,6 +52,22 @@ impl<V: Vector> Observer<V> for Files {
         }
         self.out.write_final(&records)?;
         Ok(())
+    }
+}
+
+/// The run-time memory guard ([`Budget`]): after a step that grew the particle count, the run
+/// stops as a blow-up (its last good state written) once the count needs more memory than
+/// was available at the start.
+pub(crate) struct MemoryGuard<'a> {
+    pub(crate) budget: Budget,
+    pub(crate) scene: &'a Scene,
+}
+
+impl<V: Vector> Observer<V> for MemoryGuard<'_> {
+    fn after_step(&mut self, sim: &mut Sim<V>) -> Result<Flow, RunError> {
+        let (n, clock) = (sim.particle_count(), sim.clock());
+        self.budget.after_step(self.scene, n, &clock)?;
+        Ok(Flow::Continue)
     }
 }
 
