@@ -170,6 +170,14 @@ struct Canonical<'a> {
 /// blow-up check's sane ranges, which never change the state) are left out, so a resumed run
 /// may go further, write at another cadence or check with other bounds.
 pub fn fingerprint(scene: &Scene) -> u64 {
+    fingerprint_of(scene, |_| true)
+}
+
+/// [`fingerprint`] with only the plugins for which `keep` holds (by name): with the
+/// `Probes` left out, what `dualsph probe --scene` compares, since probes only watch the
+/// state and a scene with probes added after a run still describes that run.
+pub fn fingerprint_of(scene: &Scene, keep: impl Fn(&str) -> bool) -> u64 {
+    let plugins = scene.plugins.iter().filter(|p| keep(p.name()));
     let canonical = Canonical {
         name: &scene.name,
         dimension: scene.dimension,
@@ -179,7 +187,7 @@ pub fn fingerprint(scene: &Scene) -> u64 {
         neighbours: &scene.neighbours,
         bodies: &scene.bodies,
         particles: &scene.particles,
-        plugins: scene.plugins.iter().map(|p| p.canonical()).collect(),
+        plugins: plugins.map(|p| p.canonical()).collect(),
     };
     // every field has a known length, which is all postcard needs
     let mut bytes = postcard::to_stdvec(&canonical).unwrap_or_default();

@@ -26,7 +26,11 @@ pub(crate) fn probe_command(
     registry: &Registry,
 ) -> Result<(PathBuf, usize), Failure> {
     let scene = match scene {
-        Some(path) => load(path, registry, set)?,
+        Some(path) => {
+            let s = load(path, registry, set)?;
+            describes_the_run(dir, path, &s, registry)?;
+            s
+        }
         None => recorded_scene(dir, registry, set)?,
     };
     let list = dir.join(dualsph_io::SNAPSHOT_INDEX_FILE);
@@ -71,6 +75,43 @@ fn recorded_scene(dir: &Path, registry: &Registry, set: &SetArgs) -> Result<Scen
         .validate(&path)
         .map_err(|e| invalid(format!("its scene: {e}")))?;
     Ok(scene)
+}
+
+/// Refuses a `--scene` that does not describe the run in `dir`: the rule is the run's
+/// scene fingerprint ([`crate::checkpoint::fingerprint`]: name, dimension, domain, kernel,
+/// formulation, bodies, generators, plugins and integrator) with the `Probes` plugins left
+/// out of both sides; `end_time`, `max_steps`, `output` and `health` may differ. An unrelated
+/// scene's probes read the snapshots of another flow, and wrote readings of nothing.
+fn describes_the_run(
+    dir: &Path,
+    path: &Path,
+    scene: &Scene,
+    registry: &Registry,
+) -> Result<(), Failure> {
+    let run = recorded_scene(dir, registry, &SetArgs::default())?;
+    let of = |s: &Scene| crate::checkpoint::fingerprint_of(s, |name| name != "Probes");
+    if of(&run) == of(scene) {
+        return Ok(());
+    }
+    Err(Failure::new(
+        exit::INVALID_INPUT,
+        format!(
+            "{}: the scene does not describe the run in {} (the run's scene is `{}`, {}-D with \
+             {} generators and {} plugins; this is `{}`, {}-D with {} generators and {} \
+             plugins): --scene must be the run's scene, its --set included, with probes added \
+             or changed; only its Probes, end_time, max_steps, output and health may differ",
+            path.display(),
+            dir.display(),
+            run.name,
+            run.dimension,
+            run.particles.len(),
+            run.plugins.len(),
+            scene.name,
+            scene.dimension,
+            scene.particles.len(),
+            scene.plugins.len(),
+        ),
+    ))
 }
 
 /// `(step, t, file)` of every snapshot `snapshots.csv` lists.
