@@ -38,6 +38,7 @@ macro_rules! say {
 }
 
 mod doc;
+mod lock;
 mod probe;
 pub use doc::reference_markdown;
 mod run;

@@ -49,13 +49,15 @@ pub fn prepare_out_dir(dir: &Path, force: bool) -> Result<(), Failure> {
     };
     let mut names: Vec<String> = Vec::new();
     for entry in entries {
-        names.push(
-            entry
-                .map_err(io)?
-                .file_name()
-                .to_string_lossy()
-                .into_owned(),
-        );
+        let name = entry
+            .map_err(io)?
+            .file_name()
+            .to_string_lossy()
+            .into_owned();
+        // the lock of this run ([`super::lock`]), not a file of another one
+        if name != super::lock::LOCK_FILE {
+            names.push(name);
+        }
     }
     if names.is_empty() {
         return Ok(());
@@ -115,7 +117,7 @@ pub fn check_resume_dir(dir: &Path, fingerprint: u64) -> Result<(), Failure> {
         Ok(text) => text,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
             let holds_files = std::fs::read_dir(dir)
-                .map(|mut entries| entries.next().is_some())
+                .map(|entries| (entries.flatten()).any(|e| e.file_name() != super::lock::LOCK_FILE))
                 .unwrap_or(false);
             return if holds_files {
                 Err(refuse("it holds files but no run.json".into()))

@@ -102,21 +102,16 @@ pub(crate) fn run(args: RunArgs, registry: &Registry) -> Result<(), Failure> {
     let fingerprint = crate::checkpoint::fingerprint(&s);
     let set: Vec<String> = args.set.set.iter().map(|o| o.given.clone()).collect();
     let out = match &args.resume {
-        Some(ck) => {
-            let out = resume_dir(ck, args.out.as_deref());
-            check_resume(&args.scene, &s, ck, &out, fingerprint)
-                .map_err(|f| f.with_hint(&overrides_hint(&out, &set)))?;
-            out
-        }
-        None => {
-            let out = args
-                .out
-                .clone()
-                .unwrap_or_else(|| runner::default_out_dir(&args.scene));
-            prepare_out_dir(&out, args.force)?;
-            out
-        }
+        Some(ck) => resume_dir(ck, args.out.as_deref()),
+        None => (args.out.clone()).unwrap_or_else(|| runner::default_out_dir(&args.scene)),
     };
+    // held until the run has written its record: no other run or resume writes here meanwhile
+    let _lock = super::lock::lock_out_dir(&out)?;
+    match &args.resume {
+        Some(ck) => check_resume(&args.scene, &s, ck, &out, fingerprint)
+            .map_err(|f| f.with_hint(&overrides_hint(&out, &set)))?,
+        None => prepare_out_dir(&out, args.force)?,
+    }
     let mut record = RunRecord::start(
         &args.scene,
         text,
