@@ -66,29 +66,31 @@ impl ParticleTable {
         (0..self.len()).map(|k| self.row(k))
     }
 
-    /// The table has every column of `names`; the error names the first missing and lists
-    /// the columns it has.
+    /// The table has every column of `names`; the error names the first missing and the
+    /// columns required, and counts the columns the file has without naming them: a file
+    /// that is not a particle file (a `File(path: "/etc/passwd")`) has its first line for
+    /// labels, and a message must not quote a byte of someone else's file.
     pub fn require(&self, names: &[&str]) -> Result<(), String> {
         match names.iter().find(|n| self.column(n).is_none()) {
             None => Ok(()),
             Some(n) => Err(format!(
-                "no column `{n}` (the columns are: {})",
-                self.columns
-                    .iter()
-                    .map(|c| c.name.as_str())
-                    .collect::<Vec<_>>()
-                    .join(", ")
+                "no column `{n}`: the columns needed are {} (as final.csv and the snapshots \
+                 name them), and the file's {} column(s) do not include it",
+                names.join(", "),
+                self.columns.len()
             )),
         }
     }
 
-    /// Every column's values fit the row count; the error names the first that does not.
+    /// Every column's values fit the row count; the error names the first that does not by
+    /// its place (its label is the file's, not to be quoted).
     pub fn check(&self) -> Result<(), String> {
-        for c in &self.columns {
+        for (k, c) in self.columns.iter().enumerate() {
             if c.labels.is_empty() || c.values.len() != c.width() * self.len() {
                 return Err(format!(
-                    "column {} has {} values for {} particles of width {}",
-                    c.name,
+                    "column {} (of {}) has {} values for {} particles of width {}",
+                    k + 1,
+                    self.columns.len(),
                     c.values.len(),
                     self.len(),
                     c.width()

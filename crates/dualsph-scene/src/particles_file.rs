@@ -118,9 +118,10 @@ pub(crate) fn read(i: usize, f: &mut FileParticles, dir: &Path, d: usize) -> Res
     });
     let (particles, table) =
         read.map_err(|e| Problem::new(&at, format!("cannot read particles: {e}")))?;
-    particles
-        .require(&REQUIRED)
-        .map_err(|e| Problem::new(&at, format!("cannot read particles: {e}")))?;
+    particles.require(&REQUIRED).map_err(|e| {
+        let file = path.display();
+        Problem::new(&at, format!("cannot read particles: {file}: {e}"))
+    })?;
     let spacing = particles
         .rows()
         .map(|r| (r.mass() / r.rho()).powf(1.0 / d.clamp(1, 3) as f64))
