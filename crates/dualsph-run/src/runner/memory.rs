@@ -126,17 +126,22 @@ impl Budget {
         }
         Err(SimError::BlowUp(format!(
             "step {}, t = {:.6e}: the particle count grew to {n} ({} at the start; \
-             particles added by refinement splits or inlets), which needs about {:.2} GB of \
-             memory (~{per} bytes per particle), more than the {:.2} GB available to the run; \
+             particles added by refinement splits or inlets), which needs about {} of memory \
+             (~{per} bytes per particle), more than the {} available to the run; \
              stopped before memory runs out: coarsen the finest size or the regions, refine \
              less often, or stop the inlets earlier",
             clock.step,
             clock.t,
             self.start,
-            need as f64 / 1e9,
-            have as f64 / 1e9
+            megabytes(need),
+            megabytes(have)
         )))
     }
+}
+
+/// `bytes` as megabytes, e.g. `4.80 MB`, `12000.00 MB`.
+fn megabytes(bytes: u64) -> String {
+    format!("{:.2} MB", bytes as f64 / 1e6)
 }
 
 /// The most particles of `scene` that fit in `available` bytes, and the reason to print with
