@@ -17,6 +17,7 @@ mod fuzz_corpus;
 mod hard_cases_cli;
 mod hostile_fields;
 mod hostile_files;
+mod hostile_run;
 mod layers;
 mod limited;
 mod loads;
