@@ -1,4 +1,4 @@
-//! `--set PATH=VALUE`: a run with overrides is the run of the scene file edited by hand, the
+//! `--set PATH=VALUE` (and `PATH[+]=VALUE`, an append): a run with overrides is the run of the scene file edited by hand, the
 //! overrides are recorded in run.json, and an override that names nothing (or a bad value)
 //! is refused naming it, before anything is written.
 
@@ -33,6 +33,7 @@ fn a_run_with_set_is_the_run_of_the_edited_file_and_records_it() {
         "HeatConduction.conductivity=2e-4",
         "output.snapshot_every=5",
         "max_steps=15",
+        "plugins[+]=Gravity(g: [0.1])",
     ];
     let mut args = Vec::new();
     for s in sets {
@@ -50,7 +51,11 @@ fn a_run_with_set_is_the_run_of_the_edited_file_and_records_it() {
         .replace("end_time: 4.0", "end_time: 0.2, max_steps: 15")
         .replace("spacing: 0.005", "spacing: 0.0025")
         .replace("conductivity: 1e-4", "conductivity: 2e-4")
-        .replace("snapshot_every: 100", "snapshot_every: 5");
+        .replace("snapshot_every: 100", "snapshot_every: 5")
+        .replace(
+            "heat_capacity: 1.0),   // Eq. 3.13\n",
+            "heat_capacity: 1.0),   // Eq. 3.13\n    Gravity(g: [0.1]), ",
+        );
     let path = dir.path().join("edited.ron");
     std::fs::write(&path, edited).unwrap();
     let by_hand = run(&path, &dir.path().join("hand"), &[]);
@@ -91,6 +96,7 @@ fn an_override_that_names_nothing_or_holds_a_bad_value_is_refused_naming_it() {
         ("particles[3].spacing=0.01", "has 3 members"),
         ("HeatConduction.conductivity=\"a\"", "Expected float"),
         ("Gravity.g=[0.0]", "no field or list member `Gravity`"),
+        ("end_time[+]=1", "`end_time` is not a list"),
     ] {
         let out_dir = dir.path().join("out");
         let out = run(&heat(), &out_dir, &["--set", set]);

@@ -3,7 +3,8 @@
 //! The path walks the scene as it is written: field names (`end_time`,
 //! `integrator.dt.courant`), list indices (`particles[1].spacing`, `plugins[2].c0`), and the
 //! name of a list member where it is the only one so named (`TaitEos.c0` is the `c0` of the
-//! scene's one `TaitEos` plugin). The value is RON text, parsed with the scene as if it were
+//! scene's one `TaitEos` plugin). A path that ends in `[+]` appends the value to that list
+//! (`plugins[+]=Viscosity(alpha: 0.02)`; the list is added when the scene leaves it out). The value is RON text, parsed with the scene as if it were
 //! written there (`0.01`, `Adaptive(courant: 0.1)`, `"name"`). A field the scene leaves out
 //! (so at its default) is added. The edit is made on the text and the result is parsed and
 //! validated as any scene, so an override can never produce a scene the file could not be.
@@ -26,6 +27,8 @@ pub struct Override {
 struct Step {
     name: String,
     indices: Vec<usize>,
+    /// `[+]` after the indices: append to the list (only at the end of a path).
+    append: bool,
 }
 
 impl std::str::FromStr for Override {
@@ -52,10 +55,14 @@ fn parse_path(path: &str) -> Result<Vec<Step>, String> {
     if path.is_empty() {
         return Err("empty path".into());
     }
-    path.split('.').map(parse_step).collect()
+    let steps: Vec<Step> = path.split('.').map(parse_step).collect::<Result<_, _>>()?;
+    if steps[..steps.len() - 1].iter().any(|s| s.append) {
+        return Err("`[+]` appends to a list, so it ends the path".into());
+    }
+    Ok(steps)
 }
 
-/// `name`, `name[2]`, `name[2][0]`.
+/// `name`, `name[2]`, `name[2][0]`, `name[+]`, `name[2][+]`.
 fn parse_step(step: &str) -> Result<Step, String> {
     let (name, mut rest) = step.split_at(step.find('[').unwrap_or(step.len()));
     let valid = |c: char| c.is_ascii_alphanumeric() || c == '_';
@@ -65,7 +72,16 @@ fn parse_step(step: &str) -> Result<Step, String> {
         ));
     }
     let mut indices = Vec::new();
+    let mut append = false;
     while !rest.is_empty() {
+        if append {
+            return Err(format!("`{step}`: `[+]` appends to a list, so it ends the path"));
+        }
+        if rest.starts_with("[+]") {
+            append = true;
+            rest = &rest[3..];
+            continue;
+        }
         let close = rest.find(']').filter(|_| rest.starts_with('['));
         let index = close.and_then(|k| rest[1..k].parse::<usize>().ok());
         match (close, index) {
@@ -73,12 +89,17 @@ fn parse_step(step: &str) -> Result<Step, String> {
                 indices.push(i);
                 rest = &rest[k + 1..];
             }
-            _ => return Err(format!("`{step}`: expected [index] with a whole number")),
+            _ => {
+                return Err(format!(
+                    "`{step}`: expected [index] with a whole number, or [+] to append"
+                ));
+            }
         }
     }
     Ok(Step {
         name: name.to_owned(),
         indices,
+        append,
     })
 }
 
@@ -177,7 +198,8 @@ pub(crate) fn offset_of(text: &str, line: usize, col: usize) -> usize {
 }
 
 /// The span to replace and its new text: the value at `path`, or, for a field the scene
-/// leaves out, the place to add `field: value`.
+/// leaves out, the place to add `field: value`; for a path ending in `[+]`, the place to
+/// append the value to the list.
 fn locate(root: &Node, path: &[Step], value: &str) -> Result<(usize, usize, String), String> {
     let mut node = root;
     let mut walked = String::new();
@@ -185,6 +207,9 @@ fn locate(root: &Node, path: &[Step], value: &str) -> Result<(usize, usize, Stri
         let last = k + 1 == path.len();
         node = match member(node, &step.name, &walked)? {
             Some(n) => n,
+            None if last && step.indices.is_empty() && step.append => {
+                return add_field(node, &step.name, &format!("[{value}]"));
+            }
             None if last && step.indices.is_empty() => return add_field(node, &step.name, value),
             None if step.name.starts_with(char::is_uppercase) => {
                 return Err(format!(
@@ -208,8 +233,26 @@ fn locate(root: &Node, path: &[Step], value: &str) -> Result<(usize, usize, Stri
             node = index(node, i, &walked)?;
             walked.push_str(&format!("[{i}]"));
         }
+        if step.append {
+            return append_item(node, value, &walked);
+        }
     }
     Ok((node.start, node.end, value.to_owned()))
+}
+
+/// The place after the last member of the list `node` and the text that appends `value`.
+fn append_item(node: &Node, value: &str, walked: &str) -> Result<(usize, usize, String), String> {
+    match &node.body {
+        Body::Items(g) if node.name.is_none() => {
+            let text = match (g.members.last(), g.trailing_comma) {
+                (None, _) => value.to_owned(),
+                (Some(_), true) => format!("{value}, "),
+                (Some(last), false) => return Ok((last.end, last.end, format!(", {value}"))),
+            };
+            Ok((g.close, g.close, text))
+        }
+        _ => Err(format!("`{walked}` is not a list, so `[+]` cannot append to it")),
+    }
 }
 
 fn push_name(walked: &mut String, name: &str) {

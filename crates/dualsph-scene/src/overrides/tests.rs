@@ -106,3 +106,29 @@ fn a_broken_scene_is_left_to_the_scene_parser() {
         Err(ApplyError::Text(..))
     ));
 }
+
+#[test]
+fn a_value_is_appended_to_a_list() {
+    let t = set(&["plugins[+]=Viscosity(alpha: 0.02)"]).unwrap();
+    assert!(
+        t.contains("Probes(probes: []), Viscosity(alpha: 0.02)]"),
+        "{t}"
+    );
+    // after a trailing comma, into an empty list, twice, and into a list the scene leaves out
+    let t = set(&["particles[+]=Block(min: [4.0], max: [5.0], spacing: 0.1)"]).unwrap();
+    assert!(t.contains("spacing: 0.1,),\n    Block(min: [4.0], max: [5.0], spacing: 0.1), ]"), "{t}");
+    let t = set(&["Probes.probes[+]=A", "Probes.probes[+]=B"]).unwrap();
+    assert!(t.contains("Probes(probes: [A, B])"), "{t}");
+    let t = set(&["bodies[+]=(name: \"w\")"]).unwrap();
+    assert!(t.contains("end_time: 1.0,\n bodies: [(name: \"w\")])"), "{t}");
+}
+
+#[test]
+fn an_append_that_cannot_be_made_says_why() {
+    assert!(set_err("end_time[+]=1").contains("`end_time` is not a list"));
+    assert!(set_err("TaitEos[+]=1").contains("`TaitEos` is not a list"));
+    for bad in ["plugins[+].c0=1", "plugins[+][0]=1", "plugins[+=1"] {
+        let e = bad.parse::<Override>().unwrap_err();
+        assert!(e.contains("[+]") || e.contains("[index]"), "{bad}: {e}");
+    }
+}
