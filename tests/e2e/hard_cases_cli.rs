@@ -3,8 +3,12 @@
 //! in-process in validation/tests/validation/hard_cases.rs). Results and figures:
 //! docs/validation/hard_cases.md.
 
+use crate::common::assert_doc_quotes;
 use std::path::{Path, PathBuf};
 use std::process::Command;
+
+/// The doc of the hard cases, whose table quotes each run's figures.
+const DOC: &str = "docs/validation/hard_cases.md";
 
 fn hard(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -60,6 +64,9 @@ fn fixed_dt_at_one_and_a_half_times_the_cfl_limit_is_refused_before_the_first_st
     );
     let dt = number_after(&err, "fixed dt = ");
     assert!((dt / limit - 1.5).abs() < 0.01, "dt/limit = {}", dt / limit);
+    let row = "| `sod_dt_above_cfl.ron` |";
+    assert_doc_quotes(DOC, row, &format!("{dt:.3e} is above the CFL limit {reported:.3e}"));
+    assert_doc_quotes(DOC, row, &format!("computed by hand from the left state: {limit:.3e}"));
 }
 
 #[test]
@@ -79,4 +86,7 @@ fn fixed_dt_that_drifts_above_the_cfl_limit_is_stopped_mid_run() {
     // the limit it reports is below dt and is 0.25 h/(c + |v|) with h = 0.1 m: c + |v| > c0
     let limit = number_after(&err, "the CFL limit ");
     assert!(limit < 2.45e-4 && limit > 0.25 * 0.1 / 150.0, "{limit:e}");
+    let row = "| `dam_break_dt_drifts_above_cfl.ron` |";
+    let quoted = format!("stopped at step {step}, t = {t:.4} s: limit {limit:.3e}");
+    assert_doc_quotes(DOC, row, &quoted);
 }

@@ -142,6 +142,9 @@ fn cohesion_conserves_momentum_and_angular_momentum_with_two_spacings() {
     );
     assert!(dp <= 1e-12, "momentum drift {dp:e}");
     assert!(dl <= 1e-12, "angular momentum drift {dl:e}");
+    let quoted = format!("over 400 steps (measured {dp:.1e} and {dl:.1e}");
+    let anchor = "`tests/e2e/surface_tension.rs` builds a `Sim`";
+    crate::common::assert_doc_quotes("docs/extending.md", anchor, &quoted);
 
     // The same particles without the support/dual-support bookkeeping: the pair forces no
     // longer balance where h changes, so the conservation checks above can fail.
@@ -149,6 +152,9 @@ fn cohesion_conserves_momentum_and_angular_momentum_with_two_spacings() {
     let (sp, sl) = momentum_drifts(&mut single, 100, 0.5);
     println!("SingleSupport, 100 steps: momentum drift {sp:.2e}, angular {sl:.2e}");
     assert!(sp > 1e-8, "SingleSupport momentum drift only {sp:e}");
+    let quoted = format!("SingleSupport on the same particles drifts by {sp:.2}");
+    let anchor = "`tests/e2e/surface_tension.rs` builds a `Sim`";
+    crate::common::assert_doc_quotes("docs/extending.md", anchor, &quoted);
 }
 
 /// `√(⟨(x − x̄)²⟩ / ⟨(y − ȳ)²⟩)`, volume-weighted: 2 for the 2:1 rectangle, 1 for a disk.
@@ -202,6 +208,9 @@ fn elongated_drop_rounds_up_under_cohesion_and_not_without() {
     let mut control = drop_sim(&particles, Formulation::DualSupport, 0.0);
     let (cmin, _) = min_ratio(&mut control, t_end);
     println!("σ = 0: axis ratio min {cmin:.3}");
+    let quoted = format!("(axis ratio {r0:.2} → {rmin:.2} in {tmin:.2} s at Δx = 0.05 m");
+    let anchor = "`tests/e2e/surface_tension.rs` builds a `Sim`";
+    crate::common::assert_doc_quotes("docs/extending.md", anchor, &quoted);
 
     // Cell-centred lattice: ⟨x²⟩ = (L² − Δx²)/12, so the ratio starts at 2.0019.
     assert!((r0 - 2.0).abs() < 0.01, "initial ratio {r0}");

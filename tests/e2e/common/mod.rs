@@ -236,3 +236,66 @@ pub fn snapshots(dir: &std::path::Path) -> Vec<(f64, std::path::PathBuf)> {
         })
         .collect()
 }
+
+/// Asserts that the documentation quotes a figure as a deterministic run gives it: the
+/// paragraph (or table row) of `doc` (a path from the repository's root) that holds `anchor`
+/// must also hold `figure` (both read with runs of white space as one space), so that a
+/// change of arithmetic fails here until the doc is updated in the same commit.
+pub fn assert_doc_quotes(doc: &str, anchor: &str, figure: &str) {
+    let flat = |t: &str| t.split_whitespace().collect::<Vec<_>>().join(" ");
+    let (anchor, figure) = (flat(anchor), flat(figure));
+    let units = doc_units(&doc_text(doc));
+    let unit = units
+        .iter()
+        .map(|u| flat(u))
+        .find(|u| u.contains(&anchor))
+        .unwrap_or_else(|| panic!("{doc} has no paragraph or table row with `{anchor}`"));
+    assert!(
+        unit.contains(&figure),
+        "{doc}: the paragraph of `{anchor}` should quote `{figure}`, as the run gives it: \
+         update the doc if the arithmetic changed on purpose"
+    );
+}
+
+/// The paragraphs of a markdown text, each table row on its own.
+fn doc_units(text: &str) -> Vec<String> {
+    let mut units = vec![String::new()];
+    for line in text.lines() {
+        let row = line.trim_start().starts_with('|');
+        if row || line.trim().is_empty() {
+            units.push(if row { line.to_owned() } else { String::new() });
+            if row {
+                units.push(String::new());
+            }
+        } else {
+            let last = units.last_mut().expect("one unit at least");
+            last.push(' ');
+            last.push_str(line);
+        }
+    }
+    units.retain(|u| !u.trim().is_empty());
+    units
+}
+
+/// `n` with a comma between thousands, as the docs write counts (`42,004`).
+pub fn thousands(n: u64) -> String {
+    let digits = n.to_string();
+    let mut out = String::new();
+    for (k, c) in digits.chars().enumerate() {
+        if k > 0 && (digits.len() - k).is_multiple_of(3) {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    out
+}
+
+/// The text of `doc`, a path from the repository's root.
+pub fn doc_text(doc: &str) -> String {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .ancestors()
+        .find(|d| d.join("Cargo.lock").exists())
+        .expect("the workspace root")
+        .join(doc);
+    std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{doc}: {e}"))
+}

@@ -3,7 +3,11 @@
 //! asserted by the facade's tests/e2e/hard_cases_cli.rs). Results and figures:
 //! docs/validation/hard_cases.md.
 
+use crate::common::{assert_doc_quotes, thousands};
 use std::path::Path;
+
+/// The doc of the hard cases, whose table quotes each run's figures.
+const DOC: &str = "docs/validation/hard_cases.md";
 
 /// Runs `scenes/hard/FILE` in-process (diagnostics every `every` steps) and asserts that it
 /// reached t = `end` without a blow-up.
@@ -32,7 +36,7 @@ fn strong_shock_tube_with_pressure_ratio_1e5_is_stable_conservative_and_accurate
     use dualsph_reference::riemann::{GasState, Riemann};
     use dualsph_validation::report::sod;
     let run = run_in_process("strong_shock_tube.ron", 10, 0.15);
-    let (d0, d1) = (run.diagnostics[0].clone(), run.final_diagnostics());
+    let (d0, d1) = (run.diagnostics[0].clone(), run.final_diagnostics().clone());
     let de = (d1.e_tot / d0.e_tot - 1.0).abs();
     // no walls: the ends stay at rest, so total momentum stays 0 to round-off
     let dp = d1.momentum[0].abs() / d0.momentum_scale.max(d1.momentum_scale);
@@ -55,6 +59,16 @@ fn strong_shock_tube_with_pressure_ratio_1e5_is_stable_conservative_and_accurate
         "strong shock: ΔE/E {de:.2e}, momentum {dp:.2e}, L1 ρ {:.4} u {:.4} p {:.4} e {:.4}",
         graded.l1[0], graded.l1[1], graded.l1[2], graded.l1[3]
     );
+    let row = "| `strong_shock_tube.ron` |";
+    let steps = thousands(d1.step);
+    assert_doc_quotes(DOC, row, &format!("{steps} steps"));
+    assert_doc_quotes(DOC, row, &format!("ΔE/E = {de:.1e}, momentum {dp:.1e}"));
+    let l1 = &graded.l1;
+    let quoted = format!(
+        "ρ {:.4}, u {:.4}, p {:.4}, e {:.4}",
+        l1[0], l1[1], l1[2], l1[3]
+    );
+    assert_doc_quotes(DOC, row, &quoted);
     // Measured: ΔE/E 5.0e-15 (the work-consistent energy update keeps the total to round-off;
     // 1e-12 leaves 200 × for round-off accumulating over the 788 steps), momentum 1.4e-15.
     assert!(de < 1e-12, "energy drift {de:e}");
@@ -85,6 +99,11 @@ fn dam_break_runs_to_eight_seconds_through_the_sloshing() {
         "dam break to 8 s: {} steps; |ΔE/E| ≤ {to_paper:.3e} to 2.5 s, {to_end:.3e} to 8 s",
         run.final_diagnostics().step
     );
+    let row = "| `dam_break_8s.ron` |";
+    let steps = thousands(run.final_diagnostics().step);
+    assert_doc_quotes(DOC, row, &format!("{steps} steps"));
+    let quoted = format!("{to_paper:.1e} to 2.5 s, {to_end:.1e} to 8 s");
+    assert_doc_quotes(DOC, row, &quoted);
     // Measured: 1.4e-15 to 2.5 s, 2.4e-15 to 8 s (the work-consistent internal-energy update;
     // the walls' clearance reflection only reverses normal velocities): round-off, bounded at
     // 1e-12 over the whole run as in the conservation tests.
@@ -120,6 +139,17 @@ mod drops {
             case.angular_momentum_drift,
             case.energy_drift
         );
+        let row = format!("| `{file}` |");
+        let steps = super::thousands(case.run.final_diagnostics().step);
+        let quoted = format!("{steps} steps");
+        super::assert_doc_quotes(super::DOC, &row, &quoted);
+        let quoted = format!("b = {:.5} against the ODE's {:.5}", case.axes.1, case.ode.1);
+        super::assert_doc_quotes(super::DOC, &row, &quoted);
+        let quoted = format!(
+            "momentum drift {:.1e}, angular momentum {:.1e}, energy {:.1e}",
+            case.momentum_drift, case.angular_momentum_drift, case.energy_drift
+        );
+        super::assert_doc_quotes(super::DOC, &row, &quoted);
         case
     }
 

@@ -9,6 +9,7 @@ mod cavity;
 mod common;
 mod dam_break_obstacle;
 mod dam_break_pressure;
+mod doc_figures;
 mod grad_h;
 mod hard_cases;
 mod hydrostatic;
