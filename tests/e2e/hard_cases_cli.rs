@@ -65,8 +65,16 @@ fn fixed_dt_at_one_and_a_half_times_the_cfl_limit_is_refused_before_the_first_st
     let dt = number_after(&err, "fixed dt = ");
     assert!((dt / limit - 1.5).abs() < 0.01, "dt/limit = {}", dt / limit);
     let row = "| `sod_dt_above_cfl.ron` |";
-    assert_doc_quotes(DOC, row, &format!("{dt:.3e} is above the CFL limit {reported:.3e}"));
-    assert_doc_quotes(DOC, row, &format!("computed by hand from the left state: {limit:.3e}"));
+    assert_doc_quotes(
+        DOC,
+        row,
+        &format!("{dt:.3e} is above the CFL limit {reported:.3e}"),
+    );
+    assert_doc_quotes(
+        DOC,
+        row,
+        &format!("computed by hand from the left state: {limit:.3e}"),
+    );
 }
 
 #[test]

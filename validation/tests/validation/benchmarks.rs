@@ -136,46 +136,6 @@ fn elliptical_drop_follows_the_ode_and_conserves_momentum_with_dual_support() {
 }
 
 #[test]
-#[ignore = "second tier (cargo test --workspace --release -- --ignored): a minute of dam break"]
-fn dam_break_two_level_dual_support_tracks_the_uniform_run_and_the_experiment() {
-    // The paper's resolution (Case II 5,600 particles, Case III 12,800) up to t = 0.75 s, just
-    // past the last experimental point: at half resolution the artificial viscosity (∝ h)
-    // slows the front too much to meet the 0.30 m bound (measured: 0.347 m for Case II).
-    let opts = report_options(1.0, Some(0.75));
-    let specs = dam_break::cases(&opts).unwrap();
-    let rec = dualsph_validation::report::Recording {
-        every: 20,
-        front: true,
-        ..Default::default()
-    };
-    let two_level = dam_break::grade(opts.run(&specs[1], &rec).unwrap());
-    let uniform = dam_break::grade(opts.run(&specs[2], &rec).unwrap());
-    let between = dam_break::front_rms_between(&two_level.run, &uniform.run);
-    println!(
-        "dam break fronts: II–III RMS {between:.4} m; vs experiment II {:.3} m, III {:.3} m",
-        two_level.front_rms_experiment, uniform.front_rms_experiment
-    );
-    assert!(
-        between <= 0.05,
-        "Case II front is {between} m RMS from Case III's"
-    );
-    for c in [&two_level, &uniform] {
-        assert!(
-            c.front_points >= 13,
-            "{} experimental points compared",
-            c.front_points
-        );
-        assert!(
-            c.front_rms_experiment <= 0.30,
-            "{}: front RMS {} m",
-            c.run.label,
-            c.front_rms_experiment
-        );
-    }
-    assert!(two_level.run.particles * 2 < uniform.run.particles);
-}
-
-#[test]
 #[ignore = "second tier (cargo test --workspace --release -- --ignored): half a minute of dam break"]
 fn dam_break_total_energy_holds_to_two_and_a_half_seconds() {
     // Half the paper's resolution (1,400 and 3,200 particles) through the impact on the far
@@ -199,5 +159,51 @@ fn dam_break_total_energy_holds_to_two_and_a_half_seconds() {
             c.run.label,
             c.energy_variation
         );
+    }
+}
+
+/// The long tier: the paper's dam break at its resolution (`dualsph-validation report dam-break`
+/// runs it too).
+mod long {
+    use dualsph_validation::report::dam_break;
+
+    #[test]
+    #[ignore = "long tier (cargo test --release -p dualsph-validation --test validation -- --ignored long::): two dam breaks at the paper's resolution to 0.75 s"]
+    fn dam_break_two_level_dual_support_tracks_the_uniform_run_and_the_experiment() {
+        // The paper's resolution (Case II 5,600 particles, Case III 12,800) up to t = 0.75 s, just
+        // past the last experimental point: at half resolution the artificial viscosity (∝ h)
+        // slows the front too much to meet the 0.30 m bound (measured: 0.347 m for Case II).
+        let opts = crate::common::report_options(1.0, Some(0.75));
+        let specs = dam_break::cases(&opts).unwrap();
+        let rec = dualsph_validation::report::Recording {
+            every: 20,
+            front: true,
+            ..Default::default()
+        };
+        let two_level = dam_break::grade(opts.run(&specs[1], &rec).unwrap());
+        let uniform = dam_break::grade(opts.run(&specs[2], &rec).unwrap());
+        let between = dam_break::front_rms_between(&two_level.run, &uniform.run);
+        println!(
+            "dam break fronts: II–III RMS {between:.4} m; vs experiment II {:.3} m, III {:.3} m",
+            two_level.front_rms_experiment, uniform.front_rms_experiment
+        );
+        assert!(
+            between <= 0.05,
+            "Case II front is {between} m RMS from Case III's"
+        );
+        for c in [&two_level, &uniform] {
+            assert!(
+                c.front_points >= 13,
+                "{} experimental points compared",
+                c.front_points
+            );
+            assert!(
+                c.front_rms_experiment <= 0.30,
+                "{}: front RMS {} m",
+                c.run.label,
+                c.front_rms_experiment
+            );
+        }
+        assert!(two_level.run.particles * 2 < uniform.run.particles);
     }
 }

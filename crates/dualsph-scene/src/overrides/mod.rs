@@ -75,7 +75,9 @@ fn parse_step(step: &str) -> Result<Step, String> {
     let mut append = false;
     while !rest.is_empty() {
         if append {
-            return Err(format!("`{step}`: `[+]` appends to a list, so it ends the path"));
+            return Err(format!(
+                "`{step}`: `[+]` appends to a list, so it ends the path"
+            ));
         }
         if rest.starts_with("[+]") {
             append = true;
@@ -251,7 +253,9 @@ fn append_item(node: &Node, value: &str, walked: &str) -> Result<(usize, usize, 
             };
             Ok((g.close, g.close, text))
         }
-        _ => Err(format!("`{walked}` is not a list, so `[+]` cannot append to it")),
+        _ => Err(format!(
+            "`{walked}` is not a list, so `[+]` cannot append to it"
+        )),
     }
 }
 

@@ -116,11 +116,17 @@ fn a_value_is_appended_to_a_list() {
     );
     // after a trailing comma, into an empty list, twice, and into a list the scene leaves out
     let t = set(&["particles[+]=Block(min: [4.0], max: [5.0], spacing: 0.1)"]).unwrap();
-    assert!(t.contains("spacing: 0.1,),\n    Block(min: [4.0], max: [5.0], spacing: 0.1), ]"), "{t}");
+    assert!(
+        t.contains("spacing: 0.1,),\n    Block(min: [4.0], max: [5.0], spacing: 0.1), ]"),
+        "{t}"
+    );
     let t = set(&["Probes.probes[+]=A", "Probes.probes[+]=B"]).unwrap();
     assert!(t.contains("Probes(probes: [A, B])"), "{t}");
     let t = set(&["bodies[+]=(name: \"w\")"]).unwrap();
-    assert!(t.contains("end_time: 1.0,\n bodies: [(name: \"w\")])"), "{t}");
+    assert!(
+        t.contains("end_time: 1.0,\n bodies: [(name: \"w\")])"),
+        "{t}"
+    );
 }
 
 #[test]
