@@ -254,7 +254,8 @@ fn body_name(i: usize, name: &str) -> Check {
 }
 
 /// Every declared body that is not a fluid (a fixed or a moved one) has particles from some
-/// generator: nothing can add any later (an inlet fills fluid bodies only), so an empty one
+/// generator, unless its kind is filled during the run (an open boundary's buffer): nothing
+/// else adds any later (an inlet fills fluid bodies only), so an empty one
 /// is a body named in a generator's stead by mistake, or a generator's `body` forgotten.
 fn solid_bodies_have_particles(s: &Scene) -> Check {
     let single = s.bodies.len() == 1;
@@ -263,7 +264,7 @@ fn solid_bodies_have_particles(s: &Scene) -> Check {
             Some(name) => name == b.name,
             None => single,
         });
-        if !b.kind.is_fluid() && !filled {
+        if !b.kind.is_fluid() && !b.kind.filled_during_run() && !filled {
             return Err(Problem::new(
                 format!("bodies[{i}]"),
                 format!(

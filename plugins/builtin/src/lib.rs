@@ -14,7 +14,7 @@ pub mod plugins {
     pub use dualsph_eos::{HydrostaticStart, IdealGas, InitialPressure, TaitEos};
     pub use dualsph_gravity::Gravity;
     pub use dualsph_heat::HeatConduction;
-    pub use dualsph_inout::{Inlet, Outlet};
+    pub use dualsph_inout::{InflowBoundary, Inlet, OutflowBoundary, Outlet};
     pub use dualsph_integrator::{EnergyUpdate, LeapfrogPC, PositionVerlet};
     pub use dualsph_kernel_correction::KernelCorrection;
     pub use dualsph_motion::Prescribed;
@@ -37,7 +37,8 @@ pub fn default_registry() -> Registry {
     let mut r = Registry::new();
     r.register_body_kind::<dualsph_core::bodies::Fluid>()
         .register_body_kind::<dualsph_core::bodies::Fixed>()
-        .register_body_kind::<dualsph_motion::Prescribed>();
+        .register_body_kind::<dualsph_motion::Prescribed>()
+        .register_body_kind::<dualsph_inout::Buffer>();
     r.register_section::<dualsph_integrator::IntegratorSettings>()
         .register_section::<dualsph_diagnostics::HealthSettings>()
         .register::<LeapfrogPC>()
@@ -63,6 +64,8 @@ pub fn default_registry() -> Registry {
         .register::<WallPressure>()
         .register::<Inlet>()
         .register::<Outlet>()
+        .register::<InflowBoundary>()
+        .register::<OutflowBoundary>()
         .register::<Probes>()
         .register::<SurfaceTension>()
         .register::<ParticleShifting>()

@@ -13,6 +13,10 @@
 //!
 //! Both act in `StepSet::Population`, at the start of the step; the core applies their
 //! requests at the end of that set (removals in id order, then additions in the order asked).
+//!
+//! An inlet's bare layers and an outlet's cut leave the particles at either end without
+//! support beyond them; [`open`] gives a stream buffer zones that hold:
+//! `InflowBoundary(..)` and `OutflowBoundary(..)`.
 #![warn(missing_docs)]
 
 use dualsph_core::bevy_ecs::prelude::*;
@@ -22,7 +26,9 @@ use dualsph_core::population::Population;
 use dualsph_fluid::prelude::*;
 use serde::{Deserialize, Serialize};
 
+pub mod open;
 mod settings;
+pub use open::{Buffer, InflowBoundary, OutflowBoundary};
 pub use settings::{check_box, lattice};
 
 /// The most particles one inlet layer may hold (checked before the lattice is built).
@@ -93,12 +99,14 @@ struct Outlets<V: Vector>(Vec<(V, V)>);
 impl Inlet {
     /// The particles of one layer: the lattice of `spacing` over the box, in `d` dimensions.
     fn layer_size(&self, d: usize) -> Real {
-        (0..d.min(self.min.len()).min(self.max.len()))
-            .map(|k| {
-                ((self.max[k] - self.min[k]) / self.spacing)
-                    .round()
-                    .max(1.0)
-            })
+        Inlet::cells(&self.min, &self.max, self.spacing, d)
+    }
+
+    /// The cells of the lattice of `spacing` over the box `[min, max]` (see [`lattice`]), on
+    /// its first `d` axes.
+    pub(crate) fn cells(min: &[Real], max: &[Real], spacing: Real, d: usize) -> Real {
+        (0..d.min(min.len()).min(max.len()))
+            .map(|k| ((max[k] - min[k]) / spacing).round().max(1.0))
             .product()
     }
 

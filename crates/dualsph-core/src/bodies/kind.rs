@@ -26,6 +26,9 @@ pub trait BodyKind:
     /// True for a kind written as a bare name (`Fixed`, deserialized from a unit), false for
     /// one written with its settings in parentheses (`Prescribed(..)`).
     const BARE: bool = false;
+    /// True for a kind whose particles a plugin creates during the run (an open boundary's
+    /// buffer): the scene may leave it without particles.
+    const FILLED_DURING_RUN: bool = false;
     /// Rejects meaningless settings; the problem's field is relative to the kind (`axis`, or
     /// empty for the kind as a whole).
     fn validate(&self, _info: &SceneInfo) -> Result<(), SectionProblem> {
@@ -48,6 +51,8 @@ pub trait BodyKindConfig: Debug + Send + Sync {
     fn is_fluid(&self) -> bool {
         self.motion().is_none()
     }
+    /// See [`BodyKind::FILLED_DURING_RUN`].
+    fn filled_during_run(&self) -> bool;
     /// The name, then the settings as resolved in postcard's encoding (see
     /// [`PluginConfig::canonical`](crate::plugin::PluginConfig::canonical)).
     fn canonical(&self) -> Vec<u8>;
@@ -62,6 +67,9 @@ impl<K: BodyKind> BodyKindConfig for K {
     }
     fn motion(&self) -> Option<Arc<dyn BodyMotion>> {
         BodyKind::motion(self)
+    }
+    fn filled_during_run(&self) -> bool {
+        K::FILLED_DURING_RUN
     }
     fn canonical(&self) -> Vec<u8> {
         let mut bytes = K::NAME.as_bytes().to_vec();

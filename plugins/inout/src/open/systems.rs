@@ -1,0 +1,568 @@
+//! The systems of the open boundaries, in step order:
+//!
+//! 1. `Population` ([`cross`]): particles that crossed an open plane change body — an inflow's
+//!    buffer particle past its plane joins the fluid and a new buffer particle is created one
+//!    buffer depth `L` behind it (`x − L n`); a fluid particle past an outflow's plane joins its
+//!    buffer; an outflow's buffer particle past the far face is deleted. A fluid particle that
+//!    drifts back into an inflow's buffer is deleted, and an outflow's buffer particle that
+//!    drifts back upstream of the plane rejoins the fluid. Every change is applied in
+//!    particle-id order, through the core's `Population` for the new and deleted ones.
+//! 2. `Predict`, after the bodies' drive ([`move_buffers`]): each buffer particle moves from
+//!    its start-of-step position (kept in the core's `Anchor` column) by its velocity — the
+//!    inflow's exact travel `u(x) n (S(t + Δt) − S(t))` ([`super::profile::ramp_integral`]),
+//!    the outflow's `Δt v`.
+//! 3. `Eos`, before the equation of state ([`extrapolate`]): the zero-gradient extrapolation
+//!    of Tafuni et al. (2018, §3: values at the mirror image of each buffer particle in the
+//!    open plane, interpolated from the fluid), here in its zeroth-order (Shepard) form:
+//!    `φ_b = Σ_f φ_f W(x_g − x_f, h_b) V_f / Σ_f W(x_g − x_f, h_b) V_f`, `x_g = x_b − 2 d_b n`,
+//!    `V_f = m_f/ρ_f`, over the fluid particles within `h_b` of the mirror point `x_g`
+//!    (Shepard 1968's normalisation keeps a constant field exact next to the truncated
+//!    support). The inflow takes the density so (or the prescribed pressure's), the outflow the
+//!    velocity and the density (or the prescribed pressure's). A buffer particle with no fluid
+//!    near its mirror point keeps its values.
+//! 4. `Correct`, after the drive and the density's corrector ([`hold_buffers`]): the buffer
+//!    particles get back their velocity and density (the integrator's update is discarded).
+//! 5. `Diagnostics` ([`account`]): the load on each buffer and the impulse on the fluid
+//!    ([`super::ledger`]).
+
+use super::ledger::{BoundaryLedger, OpenLedger, add3};
+use super::profile::{Profile, ramp_factor, ramp_integral};
+use super::zone::Zone;
+use dualsph_core::bevy_ecs::prelude::*;
+use dualsph_core::bodies::{Anchor, Bodies, DriveBodies};
+use dualsph_core::population::Population;
+use dualsph_fluid::prelude::*;
+use dualsph_fluid::{BodyEos, EquationOfState};
+use dualsph_integrate::Updates;
+
+/// What an inflow prescribes, and the particle it creates.
+#[derive(Clone, Debug)]
+pub struct Inflow<V: Vector> {
+    /// The speed across the section.
+    pub profile: Profile,
+    /// The ramp time T (s).
+    pub ramp: Real,
+    /// A new buffer particle (mass, h, internal energy, body).
+    pub template: ParticleInit<V>,
+}
+
+/// One open boundary.
+#[derive(Clone, Debug)]
+pub struct Boundary<V: Vector> {
+    /// Its buffer zone.
+    pub zone: Zone<V>,
+    /// The body of its buffer particles.
+    pub buffer: u16,
+    /// The fluid body.
+    pub fluid: u16,
+    /// `Some` for an inflow.
+    pub inflow: Option<Inflow<V>>,
+    /// A prescribed pressure (Pa).
+    pub pressure: Option<Real>,
+}
+
+impl<V: Vector> Boundary<V> {
+    /// The prescribed velocity of an inflow's buffer particle at `x` at time `t`.
+    fn inflow_velocity(&self, x: V, t: Real) -> V {
+        match &self.inflow {
+            Some(i) => {
+                self.zone.normal() * (i.profile.speed(&self.zone, x) * ramp_factor(i.ramp, t))
+            }
+            None => V::zero(),
+        }
+    }
+}
+
+/// The boundaries of the scene, in the order built, and the boundary of each buffer body.
+#[derive(Resource, Clone, Debug)]
+pub struct Boundaries<V: Vector> {
+    /// The boundaries.
+    pub list: Vec<Boundary<V>>,
+    /// By `BodyId`: the boundary whose buffer it is.
+    pub of_body: Vec<Option<usize>>,
+}
+
+/// A buffer particle's velocity and density, as its boundary set them (kept in checkpoints).
+#[derive(Component, Clone, Copy, Debug, Default, PartialEq)]
+pub struct BufferState<V: Vector> {
+    /// Its velocity.
+    pub v: V,
+    /// Its density.
+    pub rho: Real,
+}
+
+impl<V: Vector> ColumnValue<V> for BufferState<V> {
+    const SHAPE: Shape = Shape::Record;
+    fn width() -> usize {
+        V::DIM + 1
+    }
+    fn put(&self, out: &mut Vec<Real>) {
+        dualsph_core::columns::put_vector(self.v, out);
+        out.push(self.rho);
+    }
+    fn take(&mut self, values: &[Real]) {
+        self.v = dualsph_core::columns::take_vector(values);
+        self.rho = values[V::DIM];
+    }
+}
+
+/// Refuses a boundary whose buffer overlaps another's or shares its body, and an outflow
+/// upstream of an inflow (or an inflow downstream of an outflow) on the same axis.
+pub(crate) fn refuse_conflicts<V: Vector>(
+    sim: &Sim<V>,
+    what: &str,
+    zone: &Zone<V>,
+) -> Result<(), SimError> {
+    let Some(all) = sim.world.get_resource::<Boundaries<V>>() else {
+        return Ok(());
+    };
+    for other in &all.list {
+        let o = &other.zone;
+        let overlap =
+            (0..V::DIM).all(|k| zone.min.get(k) < o.max.get(k) && o.min.get(k) < zone.max.get(k));
+        if overlap {
+            return Err(SimError::Build(format!(
+                "{what} (min: {:?}, max: {:?}): its buffer overlaps another open boundary's \
+                 (min: {:?}, max: {:?})",
+                zone.min.to_xyz(),
+                zone.max.to_xyz(),
+                o.min.to_xyz(),
+                o.max.to_xyz()
+            )));
+        }
+        let is_inflow = what == "InflowBoundary";
+        let same_flow = o.axis == zone.axis && o.sign == zone.sign;
+        if same_flow && is_inflow != other.inflow.is_some() {
+            let (inlet, outlet) = if is_inflow { (zone, o) } else { (o, zone) };
+            if zone.sign * (outlet.plane - inlet.plane) <= 0.0 {
+                return Err(SimError::Build(format!(
+                    "{what}: the outflow's open plane (axis {} at {}) is upstream of the \
+                     inflow's (at {}) for a flow along {}{}: the outflow must lie downstream",
+                    zone.axis,
+                    outlet.plane,
+                    inlet.plane,
+                    if zone.sign > 0.0 { "+" } else { "-" },
+                    ["x", "y", "z"][zone.axis]
+                )));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Adds `boundary` (its buffer the body `name`): on the first one, the resources, the
+/// `buffer_state` column and the systems.
+pub(crate) fn install<V: Vector>(
+    sim: &mut Sim<V>,
+    boundary: Boundary<V>,
+    name: &str,
+) -> Result<(), SimError> {
+    if !sim.has::<Boundaries<V>>() {
+        let n = sim.world.resource::<Bodies>().0.len();
+        sim.world.insert_resource(Boundaries::<V> {
+            list: Vec::new(),
+            of_body: vec![None; n],
+        });
+        sim.world.insert_resource(OpenLedger::default());
+        sim.keep_resource::<OpenLedger>("open_boundaries");
+        sim.enable_population();
+        let spec = ColumnSpec::restart_only("buffer_state");
+        sim.add_column(spec, |seed| BufferState {
+            v: seed.init.vel,
+            rho: seed.init.density,
+        })?;
+        add_systems(sim);
+        sim.add_finish_hook("open_boundaries", check_finished::<V>);
+    }
+    let mut all = sim.world.resource_mut::<Boundaries<V>>();
+    let b = usize::from(boundary.buffer);
+    if all.of_body[b].is_some() {
+        return Err(SimError::Build(format!(
+            "the body `{name}` is the buffer of two open boundaries; give each its own"
+        )));
+    }
+    all.of_body[b] = Some(all.list.len());
+    all.list.push(boundary);
+    let k = all.list.len() - 1;
+    sim.world
+        .resource_mut::<OpenLedger>()
+        .0
+        .push(BoundaryLedger::default());
+    let mut cols = sim
+        .world
+        .resource_mut::<dualsph_core::output::DiagnosticColumns>();
+    super::ledger::add_columns::<V>(&mut cols, k, name).map_err(SimError::Build)
+}
+
+fn add_systems<V: Vector>(sim: &mut Sim<V>) {
+    sim.add_system(
+        StepSet::Population,
+        "open_boundaries_cross (conversions, new and deleted buffer particles)",
+        cross::<V>,
+    );
+    sim.add_system(
+        StepSet::Predict,
+        "open_boundaries_move (buffer particles, after the predictor)",
+        move_buffers::<V>,
+    )
+    .after::<DriveBodies>();
+    sim.add_system(
+        StepSet::Eos,
+        "open_boundaries_extrapolate (zero gradient, Tafuni et al. 2018)",
+        extrapolate::<V>,
+    )
+    .before::<EquationOfState>();
+    sim.add_system(
+        StepSet::Correct,
+        "open_boundaries_hold (buffer particles, after the corrector)",
+        hold_buffers::<V>,
+    )
+    .after::<DriveBodies>()
+    .after::<Updates<Density>>();
+    sim.add_system(
+        StepSet::Diagnostics,
+        "open_boundaries_account (loads and impulses)",
+        account::<V>,
+    );
+}
+
+/// Refuses, once every plugin is built, a scheme other than the leapfrog (the ledger's
+/// impulse is its corrector's trapezoid) and a `WallPressure` that treats a buffer as a wall.
+fn check_finished<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimError> {
+    let scheme = sim.integrator();
+    if scheme.is_some_and(|s| s != "LeapfrogPC") {
+        return Err(SimError::Build(format!(
+            "the open boundaries' accounting follows the LeapfrogPC integrator's corrector; \
+             this scene's is {}",
+            scheme.unwrap_or_default()
+        )));
+    }
+    let all = sim.world.resource::<Boundaries<V>>();
+    if let Some(walls) = sim.world.get_resource::<dualsph_walls::WallBodies>() {
+        let bodies = sim.world.resource::<Bodies>();
+        for (b, _) in all.of_body.iter().enumerate().filter(|(_, k)| k.is_some()) {
+            if walls.0.get(b).copied().unwrap_or(false) {
+                return Err(SimError::Build(format!(
+                    "WallPressure treats the buffer `{}` as a wall; name the walls in \
+                     WallPressure(bodies: [..])",
+                    bodies.0[b].name
+                )));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// What happens to a particle at the start of a step.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Change {
+    /// Joins the fluid from boundary k's buffer.
+    Enter(usize),
+    /// Leaves the fluid into boundary k's buffer.
+    Leave(usize),
+    /// A fluid particle leaves the fluid through boundary k and is deleted.
+    LeaveDeleted(usize),
+    /// A buffer particle of boundary k is deleted.
+    Delete(usize),
+}
+
+/// The change of a particle of `body` at `x`, if any (module docs, step 1).
+fn change_of<V: Vector>(all: &Boundaries<V>, body: u16, x: V) -> Option<Change> {
+    if let Some(Some(k)) = all.of_body.get(usize::from(body)) {
+        let b = &all.list[*k];
+        let d = b.zone.depth_of(x);
+        return match (b.inflow.is_some(), d >= 0.0, d > b.zone.depth()) {
+            (true, true, _) => Some(Change::Enter(*k)),
+            (false, false, _) => Some(Change::Enter(*k)),
+            (false, _, true) => Some(Change::Delete(*k)),
+            _ => None,
+        };
+    }
+    for (k, b) in all.list.iter().enumerate() {
+        if b.fluid != body || !b.zone.in_section(x) {
+            continue;
+        }
+        let d = b.zone.depth_of(x);
+        if b.inflow.is_some() && d < 0.0 && d >= -b.zone.depth() {
+            return Some(Change::LeaveDeleted(k));
+        }
+        if b.inflow.is_none() && d >= 0.0 {
+            return Some(Change::Leave(k));
+        }
+    }
+    None
+}
+
+/// The particle data [`cross`] reads and changes.
+type CrossQuery<'w, 's, V> = Query<
+    'w,
+    's,
+    (
+        Entity,
+        &'static ParticleId,
+        &'static mut BodyId,
+        &'static Position<V>,
+        &'static Velocity<V>,
+        &'static Mass,
+        &'static Density,
+        Option<&'static InternalEnergy>,
+        &'static mut Acceleration<V>,
+        &'static mut Anchor<V>,
+        &'static mut BufferState<V>,
+    ),
+>;
+
+/// Step 1 of the module docs.
+#[inline(never)] // a frame of its own in profiles
+pub fn cross<V: Vector>(
+    clock: Res<SimClock>,
+    all: Res<Boundaries<V>>,
+    mut ledger: ResMut<OpenLedger>,
+    mut population: ResMut<Population<V>>,
+    mut q: CrossQuery<V>,
+) {
+    let mut changes: Vec<(u32, Entity, Change)> = q
+        .iter()
+        .filter_map(|(e, id, b, r, ..)| change_of(&all, b.0, r.0).map(|c| (id.0, e, c)))
+        .collect();
+    changes.sort_unstable_by_key(|c| c.0);
+    for (_, e, change) in changes {
+        let Ok((_, _, mut body, r, v, m, rho, eps, mut a, mut anchor, mut st)) = q.get_mut(e)
+        else {
+            continue;
+        };
+        let energy = 0.5 * m.0 * v.0.length_squared() + m.0 * eps.map_or(0.0, |e| e.0);
+        match change {
+            Change::Enter(k) => {
+                let (b, l) = (&all.list[k], &mut ledger.0[k]);
+                l.mass_in += m.0;
+                add3(&mut l.p_in, v.0 * m.0);
+                l.e_in += energy;
+                l.counts[0] += 1;
+                body.0 = b.fluid;
+                // a new fluid particle starts with zero acceleration (its first half-kick
+                // is its first sweep's), as a particle the population adds does
+                a.0 = V::zero();
+                if let Some(inflow) = &b.inflow {
+                    let pos = r.0 - b.zone.normal() * b.zone.depth();
+                    population.spawn(ParticleInit {
+                        pos,
+                        vel: b.inflow_velocity(pos, clock.t),
+                        density: st.rho,
+                        ..inflow.template
+                    });
+                    l.counts[2] += 1;
+                }
+            }
+            Change::Leave(k) | Change::LeaveDeleted(k) => {
+                let l = &mut ledger.0[k];
+                l.mass_out += m.0;
+                add3(&mut l.p_out, v.0 * m.0);
+                l.e_out += energy;
+                add3(&mut l.pending, a.0 * m.0);
+                l.counts[1] += 1;
+                if change == Change::Leave(k) {
+                    body.0 = all.list[k].buffer;
+                    anchor.0 = r.0;
+                    *st = BufferState { v: v.0, rho: rho.0 };
+                } else {
+                    population.remove(e);
+                    l.counts[3] += 1;
+                }
+            }
+            Change::Delete(k) => {
+                population.remove(e);
+                ledger.0[k].counts[3] += 1;
+            }
+        }
+    }
+}
+
+/// Step 2 of the module docs.
+#[inline(never)] // a frame of its own in profiles
+pub fn move_buffers<V: Vector>(
+    clock: Res<SimClock>,
+    all: Res<Boundaries<V>>,
+    mut q: Query<(
+        &BodyId,
+        &mut Position<V>,
+        &mut Velocity<V>,
+        &mut Anchor<V>,
+        &BufferState<V>,
+    )>,
+) {
+    let (t, dt) = (clock.t, clock.dt);
+    for (body, mut r, mut v, mut anchor, st) in &mut q {
+        let Some(Some(k)) = all.of_body.get(usize::from(body.0)) else {
+            continue;
+        };
+        let b = &all.list[*k];
+        let (shift, vel) = match &b.inflow {
+            Some(i) => {
+                let u = b.zone.normal() * i.profile.speed(&b.zone, anchor.0);
+                let travel = ramp_integral(i.ramp, t + dt) - ramp_integral(i.ramp, t);
+                (u * travel, b.inflow_velocity(anchor.0, t + dt))
+            }
+            None => (st.v * dt, st.v),
+        };
+        anchor.0 += shift;
+        r.0 = anchor.0;
+        v.0 = vel;
+    }
+}
+
+/// Step 4 of the module docs.
+#[inline(never)] // a frame of its own in profiles
+pub fn hold_buffers<V: Vector>(
+    clock: Res<SimClock>,
+    all: Res<Boundaries<V>>,
+    mut q: Query<(
+        &BodyId,
+        &mut Position<V>,
+        &mut Velocity<V>,
+        &mut Density,
+        &Anchor<V>,
+        &BufferState<V>,
+    )>,
+) {
+    let t = clock.t + clock.dt;
+    for (body, mut r, mut v, mut rho, anchor, st) in &mut q {
+        let Some(Some(k)) = all.of_body.get(usize::from(body.0)) else {
+            continue;
+        };
+        let b = &all.list[*k];
+        r.0 = anchor.0;
+        v.0 = match b.inflow {
+            Some(_) => b.inflow_velocity(anchor.0, t),
+            None => st.v,
+        };
+        rho.0 = st.rho;
+    }
+}
+
+/// A fluid particle next to a buffer: position, velocity, mass, density.
+type Near<V> = (V, V, Real, Real);
+
+/// The fluid particles of boundary `b`'s fluid within `reach` of its open plane on the fluid's
+/// side (and of its section, widened by `reach`), in id order.
+fn fluid_near<V: Vector>(
+    b: &Boundary<V>,
+    reach: Real,
+    rows: &[(u32, u16, V, V, Real, Real)],
+) -> Vec<Near<V>> {
+    let z = &b.zone;
+    let side = |d: Real| match b.inflow {
+        Some(_) => (0.0..=z.depth() + reach).contains(&d),
+        None => d < 0.0 && d >= -(z.depth() + reach),
+    };
+    let lateral = |x: V| {
+        (0..V::DIM)
+            .filter(|&k| k != z.axis)
+            .all(|k| x.get(k) >= z.min.get(k) - reach && x.get(k) <= z.max.get(k) + reach)
+    };
+    rows.iter()
+        .filter(|r| r.1 == b.fluid && side(z.depth_of(r.2)) && lateral(r.2))
+        .map(|r| (r.2, r.3, r.4, r.5))
+        .collect()
+}
+
+/// The Shepard average of the velocity and the density of `near` at `x` with support `h`
+/// (module docs, step 3), or `None` when no fluid particle is within `h` of `x`.
+pub fn shepard<V: Vector>(kernel: &Kernel, near: &[Near<V>], x: V, h: Real) -> Option<(V, Real)> {
+    let (mut s0, mut sv, mut sm) = (0.0, V::zero(), 0.0);
+    for &(xf, vf, mf, rhof) in near {
+        let w = kernel.w((x - xf).length(), h);
+        if w > 0.0 {
+            let wv = w * mf / rhof;
+            s0 += wv;
+            sv += vf * wv;
+            sm += w * mf;
+        }
+    }
+    (s0 > 0.0).then(|| (sv / s0, sm / s0))
+}
+
+/// Step 3 of the module docs.
+#[inline(never)] // a frame of its own in profiles
+pub fn extrapolate<V: Vector>(
+    all: Res<Boundaries<V>>,
+    kernel: Res<KernelRes>,
+    eos: Option<Res<BodyEos>>,
+    mut q: Query<(
+        &ParticleId,
+        &BodyId,
+        &Position<V>,
+        &mut Velocity<V>,
+        &Mass,
+        &mut Density,
+        &SmoothingLength,
+        &mut BufferState<V>,
+    )>,
+) {
+    let mut rows: Vec<(u32, u16, V, V, Real, Real)> = q
+        .iter()
+        .map(|(id, b, r, v, m, rho, ..)| (id.0, b.0, r.0, v.0, m.0, rho.0))
+        .collect();
+    rows.sort_unstable_by_key(|r| r.0);
+    let h_max = q.iter().map(|r| r.6.0).fold(0.0, Real::max);
+    let near: Vec<Vec<Near<V>>> = all
+        .list
+        .iter()
+        .map(|b| fluid_near(b, h_max, &rows))
+        .collect();
+    let prescribed: Vec<Option<Real>> = (all.list.iter())
+        .map(|b| {
+            let law = eos
+                .as_ref()
+                .and_then(|e| e.0.get(usize::from(b.fluid)).cloned());
+            b.pressure.and_then(|p| law.and_then(|l| l.density_at(p)))
+        })
+        .collect();
+    for (_, body, r, mut v, _, mut rho, h, mut st) in &mut q {
+        let Some(Some(k)) = all.of_body.get(usize::from(body.0)) else {
+            continue;
+        };
+        let b = &all.list[*k];
+        let Some((v_g, rho_g)) = shepard(&kernel.0, &near[*k], b.zone.mirror(r.0), h.0) else {
+            continue;
+        };
+        st.rho = prescribed[*k].unwrap_or(rho_g);
+        rho.0 = st.rho;
+        if b.inflow.is_none() {
+            st.v = v_g;
+            v.0 = v_g;
+        }
+    }
+}
+
+/// Step 5 of the module docs: `L_B = Σ_{i∈B} m_i a_i` in id order, and the impulse.
+#[inline(never)] // a frame of its own in profiles
+pub fn account<V: Vector>(
+    clock: Res<SimClock>,
+    all: Res<Boundaries<V>>,
+    mut ledger: ResMut<OpenLedger>,
+    q: Query<(&ParticleId, &BodyId, &Mass, &Acceleration<V>)>,
+) {
+    let mut rows: Vec<(u32, usize, V)> = q
+        .iter()
+        .filter_map(|(id, b, m, a)| match all.of_body.get(usize::from(b.0)) {
+            Some(Some(k)) => Some((id.0, *k, a.0 * m.0)),
+            _ => None,
+        })
+        .collect();
+    rows.sort_unstable_by_key(|r| r.0);
+    let mut loads = vec![[0.0; 3]; all.list.len()];
+    for (_, k, f) in rows {
+        add3(&mut loads[k], f);
+    }
+    let half = 0.5 * clock.dt;
+    for (l, load) in ledger.0.iter_mut().zip(loads) {
+        if !clock.initializing {
+            for a in 0..3 {
+                l.impulse[a] -= half * (l.load[a] + load[a] + l.pending[a]);
+            }
+        }
+        l.load = load;
+        l.pending = [0.0; 3];
+    }
+}
