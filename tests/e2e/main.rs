@@ -21,6 +21,7 @@ mod hostile_run;
 mod layers;
 mod limited;
 mod loads;
+mod open_boundary;
 mod order;
 mod output;
 mod particles_file;

@@ -353,12 +353,17 @@ fn refuse_overlap<V: Vector>(
         return Err(SimError::Build(format!(
             "{what} (min: {:?}, max: {:?}): its buffer holds particle {id} of the body \
              `{name}` at {:?} at t = 0; end the body's generators at the buffer's face",
-            zone.min.to_xyz(),
-            zone.max.to_xyz(),
-            pos.to_xyz()
+            comps(zone.min),
+            comps(zone.max),
+            comps(pos)
         )));
     }
     systems::refuse_conflicts(sim, what, &zone)
+}
+
+/// The components of `v` in the scene's dimension.
+pub(crate) fn comps<V: Vector>(v: V) -> Vec<Real> {
+    (0..V::DIM).map(|k| v.get(k)).collect()
 }
 
 /// The largest support radius of the particles of `body`.

@@ -124,10 +124,10 @@ pub(crate) fn refuse_conflicts<V: Vector>(
             return Err(SimError::Build(format!(
                 "{what} (min: {:?}, max: {:?}): its buffer overlaps another open boundary's \
                  (min: {:?}, max: {:?})",
-                zone.min.to_xyz(),
-                zone.max.to_xyz(),
-                o.min.to_xyz(),
-                o.max.to_xyz()
+                super::comps(zone.min),
+                super::comps(zone.max),
+                super::comps(o.min),
+                super::comps(o.max)
             )));
         }
         let is_inflow = what == "InflowBoundary";
