@@ -13,11 +13,13 @@
 //!    the outflow's `Δt v`.
 //! 3. `Eos`, before the equation of state ([`extrapolate`]): the zero-gradient extrapolation
 //!    of Tafuni et al. (2018, §3: values at the mirror image of each buffer particle in the
-//!    open plane, interpolated from the fluid), here in its zeroth-order (Shepard) form:
-//!    `φ_b = Σ_f φ_f W(x_g − x_f, h_b) V_f / Σ_f W(x_g − x_f, h_b) V_f`, `x_g = x_b − 2 d_b n`,
-//!    `V_f = m_f/ρ_f`, over the fluid particles within `h_b` of the mirror point `x_g`
-//!    (Shepard 1968's normalisation keeps a constant field exact next to the truncated
-//!    support). The inflow takes the density so (or the prescribed pressure's), the outflow the
+//!    open plane, interpolated from the fluid with first-order consistency): `φ_b = a`, where
+//!    `a + b·(x_f − x_g)` is the linear fit to the fluid's `φ_f` minimising
+//!    `Σ_f W(x_g − x_f, h_b) V_f (φ_f − a − b·(x_f − x_g))²` ([`linear_fit`]), `x_g = x_b − 2 d_b n`,
+//!    `V_f = m_f/ρ_f`, over the fluid particles within `h_b` of the mirror point `x_g`; the
+//!    Shepard average `Σ_f φ_f W V_f / Σ_f W V_f` (Shepard 1968) where the fit is singular. A
+//!    linear field is extrapolated exactly next to a wall, where the truncated support makes the
+//!    Shepard average lean towards the interior. The inflow takes the density so (or the prescribed pressure's), the outflow the
 //!    velocity and the density (or the prescribed pressure's). A buffer particle with no fluid
 //!    near its mirror point keeps its values.
 //! 4. `Correct`, after the drive and the density's corrector ([`hold_buffers`]): the buffer
@@ -466,8 +468,9 @@ fn fluid_near<V: Vector>(
         .collect()
 }
 
-/// The Shepard average of the velocity and the density of `near` at `x` with support `h`
-/// (module docs, step 3), or `None` when no fluid particle is within `h` of `x`.
+/// The Shepard average of the velocity and the density of `near` at `x` with support `h`,
+/// `φ(x) = Σ_f φ_f W_f V_f / Σ_f W_f V_f` ([Shepard 1968]; the density as `Σ_f m_f W_f /
+/// Σ_f W_f V_f`), or `None` when no fluid particle is within `h` of `x`.
 pub fn shepard<V: Vector>(kernel: &Kernel, near: &[Near<V>], x: V, h: Real) -> Option<(V, Real)> {
     let (mut s0, mut sv, mut sm) = (0.0, V::zero(), 0.0);
     for &(xf, vf, mf, rhof) in near {
@@ -480,6 +483,107 @@ pub fn shepard<V: Vector>(kernel: &Kernel, near: &[Near<V>], x: V, h: Real) -> O
         }
     }
     (s0 > 0.0).then(|| (sv / s0, sm / s0))
+}
+
+/// The velocity and density at `x` from the linear fit to `near` weighted by `W_f V_f`
+/// (the first-order moving least squares: `φ(x_f) ≈ a + b·(x_f − x)` minimising
+/// `Σ_f W_f V_f (φ_f − a − b·(x_f − x))²`, which gives `a`, exact for a linear field however
+/// the support is truncated — next to a wall the Shepard average leans towards the interior,
+/// by a first-order error in the distance to the wall). Falls back to [`shepard`] where the
+/// fit's matrix is singular (fewer than d + 1 particles in the support, or all on a line);
+/// `None` when no fluid particle is within `h` of `x`.
+pub fn linear_fit<V: Vector>(
+    kernel: &Kernel,
+    near: &[Near<V>],
+    x: V,
+    h: Real,
+) -> Option<(V, Real)> {
+    let d = V::DIM;
+    let n = d + 1;
+    // the normal equations M c = r for every field (d velocity components and the density)
+    let mut m = [[0.0; 4]; 4];
+    let mut rhs = [[0.0; 4]; 4];
+    let mut any = false;
+    for &(xf, vf, mf, rhof) in near {
+        let w = kernel.w((x - xf).length(), h) * mf / rhof;
+        if w <= 0.0 {
+            continue;
+        }
+        any = true;
+        let dx = xf - x;
+        let basis: [Real; 4] = std::array::from_fn(|k| {
+            if k == 0 {
+                1.0
+            } else if k <= d {
+                dx.get(k - 1)
+            } else {
+                0.0
+            }
+        });
+        let fields: [Real; 4] = std::array::from_fn(|k| {
+            if k < d {
+                vf.get(k)
+            } else if k == d {
+                rhof
+            } else {
+                0.0
+            }
+        });
+        for i in 0..n {
+            for j in 0..n {
+                m[i][j] += w * basis[i] * basis[j];
+            }
+            for (f, value) in fields.iter().enumerate().take(n) {
+                rhs[f][i] += w * basis[i] * value;
+            }
+        }
+    }
+    if !any {
+        return None;
+    }
+    let Some(a) = solve_first(m, rhs, n) else {
+        return shepard(kernel, near, x, h);
+    };
+    let mut v = V::zero();
+    for k in 0..d {
+        v.set(k, a[k]);
+    }
+    Some((v, a[d]))
+}
+
+/// The first unknown of `M c = r_f` for each right-hand side `r_f` (f < n), by Gaussian
+/// elimination with partial pivoting; `None` for a (numerically) singular `M`.
+fn solve_first(mut m: [[Real; 4]; 4], mut r: [[Real; 4]; 4], n: usize) -> Option<[Real; 4]> {
+    let scale = (0..n).map(|i| m[i][i].abs()).fold(0.0, Real::max);
+    for col in 0..n {
+        let pivot = (col..n).max_by(|&a, &b| m[a][col].abs().total_cmp(&m[b][col].abs()))?;
+        if m[pivot][col].abs() <= 1e-10 * scale {
+            return None;
+        }
+        m.swap(col, pivot);
+        for f in r.iter_mut().take(n) {
+            f.swap(col, pivot);
+        }
+        for row in col + 1..n {
+            let k = m[row][col] / m[col][col];
+            for j in col..n {
+                m[row][j] -= k * m[col][j];
+            }
+            for f in r.iter_mut().take(n) {
+                f[row] -= k * f[col];
+            }
+        }
+    }
+    let mut first = [0.0; 4];
+    for (f, out) in r.iter().take(n).zip(first.iter_mut()) {
+        let mut c = [0.0; 4];
+        for i in (0..n).rev() {
+            let s: Real = (i + 1..n).map(|j| m[i][j] * c[j]).sum();
+            c[i] = (f[i] - s) / m[i][i];
+        }
+        *out = c[0];
+    }
+    Some(first)
 }
 
 /// Step 3 of the module docs.
@@ -523,7 +627,7 @@ pub fn extrapolate<V: Vector>(
             continue;
         };
         let b = &all.list[*k];
-        let Some((v_g, rho_g)) = shepard(&kernel.0, &near[*k], b.zone.mirror(r.0), h.0) else {
+        let Some((v_g, rho_g)) = linear_fit(&kernel.0, &near[*k], b.zone.mirror(r.0), h.0) else {
             continue;
         };
         st.rho = prescribed[*k].unwrap_or(rho_g);
@@ -564,5 +668,109 @@ pub fn account<V: Vector>(
         }
         l.load = load;
         l.pending = [0.0; 3];
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DVec2;
+
+    /// An inflow (buffer body 2) on x ∈ [−0.1, 0] and an outflow (buffer body 3) on
+    /// x ∈ [1, 1.1], both for the fluid body 1, flow towards +x.
+    fn boundaries() -> Boundaries<DVec2> {
+        let template = ParticleInit {
+            pos: DVec2::ZERO,
+            vel: DVec2::ZERO,
+            mass: 1.0,
+            density: 1.0,
+            h: 0.1,
+            internal_energy: 0.0,
+            body: 2,
+        };
+        let zone =
+            |x0, x1, inflow| Zone::new(DVec2::new(x0, 0.0), DVec2::new(x1, 1.0), 0, 1.0, inflow);
+        let inflow = Boundary {
+            zone: zone(-0.1, 0.0, true),
+            buffer: 2,
+            fluid: 1,
+            inflow: Some(Inflow {
+                profile: Profile::Uniform(1.0),
+                ramp: 0.0,
+                template,
+            }),
+            pressure: None,
+        };
+        let outflow = Boundary {
+            zone: zone(1.0, 1.1, false),
+            buffer: 3,
+            fluid: 1,
+            inflow: None,
+            pressure: Some(0.0),
+        };
+        Boundaries {
+            list: vec![inflow, outflow],
+            of_body: vec![None, None, Some(0), Some(1)],
+        }
+    }
+
+    #[test]
+    fn particles_change_role_where_they_cross() {
+        let all = boundaries();
+        let at = |x: f64| DVec2::new(x, 0.5);
+        // the inflow's buffer particles join the fluid at the plane
+        assert_eq!(change_of(&all, 2, at(-0.01)), None);
+        assert_eq!(change_of(&all, 2, at(0.0)), Some(Change::Enter(0)));
+        // fluid that drifts back into the inflow's buffer is deleted; fluid elsewhere stays
+        assert_eq!(change_of(&all, 1, at(-0.05)), Some(Change::LeaveDeleted(0)));
+        assert_eq!(change_of(&all, 1, at(0.5)), None);
+        assert_eq!(
+            change_of(&all, 1, DVec2::new(1.05, 1.5)),
+            None,
+            "outside the section"
+        );
+        // the outflow takes the fluid at its plane, deletes past its far face, and gives back
+        // what drifts upstream
+        assert_eq!(change_of(&all, 1, at(1.0)), Some(Change::Leave(1)));
+        assert_eq!(change_of(&all, 3, at(1.05)), None);
+        assert_eq!(change_of(&all, 3, at(1.11)), Some(Change::Delete(1)));
+        assert_eq!(change_of(&all, 3, at(0.99)), Some(Change::Enter(1)));
+        // walls (body 0) never change
+        assert_eq!(change_of(&all, 0, at(1.05)), None);
+    }
+
+    #[test]
+    fn the_shepard_average_is_exact_for_a_uniform_field_and_empty_far_away() {
+        let kernel = Kernel::new(KernelKind::WendlandC2, 2);
+        let near: Vec<Near<DVec2>> = (0..25)
+            .map(|k| {
+                let x = DVec2::new((k % 5) as f64, (k / 5) as f64) * 0.01;
+                (x, DVec2::new(0.3, -0.1), 1e-4 * 1003.0, 1003.0)
+            })
+            .collect();
+        let (v, rho) = shepard(&kernel, &near, DVec2::new(0.013, 0.021), 0.03).unwrap();
+        assert!((v - DVec2::new(0.3, -0.1)).length() < 1e-15, "{v}");
+        assert!((rho - 1003.0).abs() < 1e-12, "{rho}");
+        assert!(shepard(&kernel, &near, DVec2::new(1.0, 1.0), 0.03).is_none());
+    }
+
+    /// A linear field sampled on one side of a wall: the fit gives it exactly at a point by
+    /// the wall, where the Shepard average leans towards the interior.
+    #[test]
+    fn the_linear_fit_is_exact_for_a_linear_field_by_a_wall() {
+        let kernel = Kernel::new(KernelKind::WendlandC2, 2);
+        let field = |x: DVec2| DVec2::new(2.0 + 30.0 * x.y, -x.x);
+        let near: Vec<Near<DVec2>> = (0..100)
+            .map(|k| {
+                let x = DVec2::new((k % 10) as f64 + 0.5, (k / 10) as f64 + 0.5) * 0.005;
+                (x, field(x), 0.025, 1000.0 + 100.0 * x.y)
+            })
+            .collect();
+        let at = DVec2::new(0.0225, 0.0025);
+        let (v, rho) = linear_fit(&kernel, &near, at, 0.015).unwrap();
+        assert!((v - field(at)).length() < 1e-12, "{v} vs {}", field(at));
+        assert!((rho - (1000.0 + 100.0 * at.y)).abs() < 1e-9, "{rho}");
+        let (v_s, _) = shepard(&kernel, &near, at, 0.015).unwrap();
+        assert!((v_s - field(at)).x > 0.05, "Shepard leans inwards: {v_s}");
     }
 }
