@@ -10,7 +10,7 @@
 //! sum of the fluid as neighbours — they give the particles at the boundary a full support —
 //! but the integrator does not move them: the boundary sets their position, velocity and
 //! density every step ([`systems`]). Their velocity or density comes from the fluid by
-//! zero-gradient extrapolation ([`systems::extrapolate`]: the Shepard average of the fluid at
+//! zero-gradient extrapolation ([`extrapolate`]: the linear fit to the fluid at
 //! the particle's mirror image in the open plane).
 //!
 //! * **Inflow**: the buffer is filled at t = 0 with a lattice of `spacing`; its particles move
@@ -29,8 +29,10 @@
 //! the buffer body), are columns of `diagnostics.csv`, so that the fluid's momentum balance
 //! closes to round-off at every step.
 
+pub mod extrapolate;
 pub mod ledger;
 pub mod profile;
+pub mod state;
 pub mod systems;
 pub mod zone;
 

@@ -11,11 +11,11 @@
 //!    its start-of-step position (kept in the core's `Anchor` column) by its velocity — the
 //!    inflow's exact travel `u(x) n (S(t + Δt) − S(t))` ([`super::profile::ramp_integral`]),
 //!    the outflow's `Δt v`.
-//! 3. `Eos`, before the equation of state ([`extrapolate`]): the zero-gradient extrapolation
+//! 3. `Eos`, before the equation of state ([`super::extrapolate`]): the zero-gradient extrapolation
 //!    of Tafuni et al. (2018, §3: values at the mirror image of each buffer particle in the
 //!    open plane, interpolated from the fluid with first-order consistency): `φ_b = a`, where
 //!    `a + b·(x_f − x_g)` is the linear fit to the fluid's `φ_f` minimising
-//!    `Σ_f W(x_g − x_f, h_b) V_f (φ_f − a − b·(x_f − x_g))²` ([`linear_fit`]), `x_g = x_b − 2 d_b n`,
+//!    `Σ_f W(x_g − x_f, h_b) V_f (φ_f − a − b·(x_f − x_g))²` ([`super::extrapolate::linear_fit`]), `x_g = x_b − 2 d_b n`,
 //!    `V_f = m_f/ρ_f`, over the fluid particles within `h_b` of the mirror point `x_g`; the
 //!    Shepard average `Σ_f φ_f W V_f / Σ_f W V_f` (Shepard 1968) where the fit is singular. A
 //!    linear field is extrapolated exactly next to a wall, where the truncated support makes the
@@ -28,85 +28,15 @@
 //!    ([`super::ledger`]).
 
 use super::ledger::{BoundaryLedger, OpenLedger, add3};
-use super::profile::{Profile, ramp_factor, ramp_integral};
+use super::profile::ramp_integral;
+pub use super::state::{Boundaries, Boundary, BufferState, Inflow};
 use super::zone::Zone;
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::bodies::{Anchor, Bodies, DriveBodies};
 use dualsph_core::population::Population;
+use dualsph_fluid::EquationOfState;
 use dualsph_fluid::prelude::*;
-use dualsph_fluid::{BodyEos, EquationOfState};
 use dualsph_integrate::Updates;
-
-/// What an inflow prescribes, and the particle it creates.
-#[derive(Clone, Debug)]
-pub struct Inflow<V: Vector> {
-    /// The speed across the section.
-    pub profile: Profile,
-    /// The ramp time T (s).
-    pub ramp: Real,
-    /// A new buffer particle (mass, h, internal energy, body).
-    pub template: ParticleInit<V>,
-}
-
-/// One open boundary.
-#[derive(Clone, Debug)]
-pub struct Boundary<V: Vector> {
-    /// Its buffer zone.
-    pub zone: Zone<V>,
-    /// The body of its buffer particles.
-    pub buffer: u16,
-    /// The fluid body.
-    pub fluid: u16,
-    /// `Some` for an inflow.
-    pub inflow: Option<Inflow<V>>,
-    /// A prescribed pressure (Pa).
-    pub pressure: Option<Real>,
-}
-
-impl<V: Vector> Boundary<V> {
-    /// The prescribed velocity of an inflow's buffer particle at `x` at time `t`.
-    fn inflow_velocity(&self, x: V, t: Real) -> V {
-        match &self.inflow {
-            Some(i) => {
-                self.zone.normal() * (i.profile.speed(&self.zone, x) * ramp_factor(i.ramp, t))
-            }
-            None => V::zero(),
-        }
-    }
-}
-
-/// The boundaries of the scene, in the order built, and the boundary of each buffer body.
-#[derive(Resource, Clone, Debug)]
-pub struct Boundaries<V: Vector> {
-    /// The boundaries.
-    pub list: Vec<Boundary<V>>,
-    /// By `BodyId`: the boundary whose buffer it is.
-    pub of_body: Vec<Option<usize>>,
-}
-
-/// A buffer particle's velocity and density, as its boundary set them (kept in checkpoints).
-#[derive(Component, Clone, Copy, Debug, Default, PartialEq)]
-pub struct BufferState<V: Vector> {
-    /// Its velocity.
-    pub v: V,
-    /// Its density.
-    pub rho: Real,
-}
-
-impl<V: Vector> ColumnValue<V> for BufferState<V> {
-    const SHAPE: Shape = Shape::Record;
-    fn width() -> usize {
-        V::DIM + 1
-    }
-    fn put(&self, out: &mut Vec<Real>) {
-        dualsph_core::columns::put_vector(self.v, out);
-        out.push(self.rho);
-    }
-    fn take(&mut self, values: &[Real]) {
-        self.v = dualsph_core::columns::take_vector(values);
-        self.rho = values[V::DIM];
-    }
-}
 
 /// Refuses a boundary whose buffer overlaps another's or shares its body, and an outflow
 /// upstream of an inflow (or an inflow downstream of an outflow) on the same axis.
@@ -211,7 +141,7 @@ fn add_systems<V: Vector>(sim: &mut Sim<V>) {
     sim.add_system(
         StepSet::Eos,
         "open_boundaries_extrapolate (zero gradient, Tafuni et al. 2018)",
-        extrapolate::<V>,
+        super::extrapolate::extrapolate::<V>,
     )
     .before::<EquationOfState>();
     sim.add_system(
@@ -442,203 +372,6 @@ pub fn hold_buffers<V: Vector>(
     }
 }
 
-/// A fluid particle next to a buffer: position, velocity, mass, density.
-type Near<V> = (V, V, Real, Real);
-
-/// The fluid particles of boundary `b`'s fluid within `reach` of its open plane on the fluid's
-/// side (and of its section, widened by `reach`), in id order.
-fn fluid_near<V: Vector>(
-    b: &Boundary<V>,
-    reach: Real,
-    rows: &[(u32, u16, V, V, Real, Real)],
-) -> Vec<Near<V>> {
-    let z = &b.zone;
-    let side = |d: Real| match b.inflow {
-        Some(_) => (0.0..=z.depth() + reach).contains(&d),
-        None => d < 0.0 && d >= -(z.depth() + reach),
-    };
-    let lateral = |x: V| {
-        (0..V::DIM)
-            .filter(|&k| k != z.axis)
-            .all(|k| x.get(k) >= z.min.get(k) - reach && x.get(k) <= z.max.get(k) + reach)
-    };
-    rows.iter()
-        .filter(|r| r.1 == b.fluid && side(z.depth_of(r.2)) && lateral(r.2))
-        .map(|r| (r.2, r.3, r.4, r.5))
-        .collect()
-}
-
-/// The Shepard average of the velocity and the density of `near` at `x` with support `h`,
-/// `φ(x) = Σ_f φ_f W_f V_f / Σ_f W_f V_f` ([Shepard 1968]; the density as `Σ_f m_f W_f /
-/// Σ_f W_f V_f`), or `None` when no fluid particle is within `h` of `x`.
-pub fn shepard<V: Vector>(kernel: &Kernel, near: &[Near<V>], x: V, h: Real) -> Option<(V, Real)> {
-    let (mut s0, mut sv, mut sm) = (0.0, V::zero(), 0.0);
-    for &(xf, vf, mf, rhof) in near {
-        let w = kernel.w((x - xf).length(), h);
-        if w > 0.0 {
-            let wv = w * mf / rhof;
-            s0 += wv;
-            sv += vf * wv;
-            sm += w * mf;
-        }
-    }
-    (s0 > 0.0).then(|| (sv / s0, sm / s0))
-}
-
-/// The velocity and density at `x` from the linear fit to `near` weighted by `W_f V_f`
-/// (the first-order moving least squares: `φ(x_f) ≈ a + b·(x_f − x)` minimising
-/// `Σ_f W_f V_f (φ_f − a − b·(x_f − x))²`, which gives `a`, exact for a linear field however
-/// the support is truncated — next to a wall the Shepard average leans towards the interior,
-/// by a first-order error in the distance to the wall). Falls back to [`shepard`] where the
-/// fit's matrix is singular (fewer than d + 1 particles in the support, or all on a line);
-/// `None` when no fluid particle is within `h` of `x`.
-pub fn linear_fit<V: Vector>(
-    kernel: &Kernel,
-    near: &[Near<V>],
-    x: V,
-    h: Real,
-) -> Option<(V, Real)> {
-    let d = V::DIM;
-    let n = d + 1;
-    // the normal equations M c = r for every field (d velocity components and the density)
-    let mut m = [[0.0; 4]; 4];
-    let mut rhs = [[0.0; 4]; 4];
-    let mut any = false;
-    for &(xf, vf, mf, rhof) in near {
-        let w = kernel.w((x - xf).length(), h) * mf / rhof;
-        if w <= 0.0 {
-            continue;
-        }
-        any = true;
-        let dx = xf - x;
-        let basis: [Real; 4] = std::array::from_fn(|k| {
-            if k == 0 {
-                1.0
-            } else if k <= d {
-                dx.get(k - 1)
-            } else {
-                0.0
-            }
-        });
-        let fields: [Real; 4] = std::array::from_fn(|k| {
-            if k < d {
-                vf.get(k)
-            } else if k == d {
-                rhof
-            } else {
-                0.0
-            }
-        });
-        for i in 0..n {
-            for j in 0..n {
-                m[i][j] += w * basis[i] * basis[j];
-            }
-            for (f, value) in fields.iter().enumerate().take(n) {
-                rhs[f][i] += w * basis[i] * value;
-            }
-        }
-    }
-    if !any {
-        return None;
-    }
-    let Some(a) = solve_first(m, rhs, n) else {
-        return shepard(kernel, near, x, h);
-    };
-    let mut v = V::zero();
-    for k in 0..d {
-        v.set(k, a[k]);
-    }
-    Some((v, a[d]))
-}
-
-/// The first unknown of `M c = r_f` for each right-hand side `r_f` (f < n), by Gaussian
-/// elimination with partial pivoting; `None` for a (numerically) singular `M`.
-fn solve_first(mut m: [[Real; 4]; 4], mut r: [[Real; 4]; 4], n: usize) -> Option<[Real; 4]> {
-    let scale = (0..n).map(|i| m[i][i].abs()).fold(0.0, Real::max);
-    for col in 0..n {
-        let pivot = (col..n).max_by(|&a, &b| m[a][col].abs().total_cmp(&m[b][col].abs()))?;
-        if m[pivot][col].abs() <= 1e-10 * scale {
-            return None;
-        }
-        m.swap(col, pivot);
-        for f in r.iter_mut().take(n) {
-            f.swap(col, pivot);
-        }
-        for row in col + 1..n {
-            let k = m[row][col] / m[col][col];
-            for j in col..n {
-                m[row][j] -= k * m[col][j];
-            }
-            for f in r.iter_mut().take(n) {
-                f[row] -= k * f[col];
-            }
-        }
-    }
-    let mut first = [0.0; 4];
-    for (f, out) in r.iter().take(n).zip(first.iter_mut()) {
-        let mut c = [0.0; 4];
-        for i in (0..n).rev() {
-            let s: Real = (i + 1..n).map(|j| m[i][j] * c[j]).sum();
-            c[i] = (f[i] - s) / m[i][i];
-        }
-        *out = c[0];
-    }
-    Some(first)
-}
-
-/// Step 3 of the module docs.
-#[inline(never)] // a frame of its own in profiles
-pub fn extrapolate<V: Vector>(
-    all: Res<Boundaries<V>>,
-    kernel: Res<KernelRes>,
-    eos: Option<Res<BodyEos>>,
-    mut q: Query<(
-        &ParticleId,
-        &BodyId,
-        &Position<V>,
-        &mut Velocity<V>,
-        &Mass,
-        &mut Density,
-        &SmoothingLength,
-        &mut BufferState<V>,
-    )>,
-) {
-    let mut rows: Vec<(u32, u16, V, V, Real, Real)> = q
-        .iter()
-        .map(|(id, b, r, v, m, rho, ..)| (id.0, b.0, r.0, v.0, m.0, rho.0))
-        .collect();
-    rows.sort_unstable_by_key(|r| r.0);
-    let h_max = q.iter().map(|r| r.6.0).fold(0.0, Real::max);
-    let near: Vec<Vec<Near<V>>> = all
-        .list
-        .iter()
-        .map(|b| fluid_near(b, h_max, &rows))
-        .collect();
-    let prescribed: Vec<Option<Real>> = (all.list.iter())
-        .map(|b| {
-            let law = eos
-                .as_ref()
-                .and_then(|e| e.0.get(usize::from(b.fluid)).cloned());
-            b.pressure.and_then(|p| law.and_then(|l| l.density_at(p)))
-        })
-        .collect();
-    for (_, body, r, mut v, _, mut rho, h, mut st) in &mut q {
-        let Some(Some(k)) = all.of_body.get(usize::from(body.0)) else {
-            continue;
-        };
-        let b = &all.list[*k];
-        let Some((v_g, rho_g)) = linear_fit(&kernel.0, &near[*k], b.zone.mirror(r.0), h.0) else {
-            continue;
-        };
-        st.rho = prescribed[*k].unwrap_or(rho_g);
-        rho.0 = st.rho;
-        if b.inflow.is_none() {
-            st.v = v_g;
-            v.0 = v_g;
-        }
-    }
-}
-
 /// Step 5 of the module docs: `L_B = Σ_{i∈B} m_i a_i` in id order, and the impulse.
 #[inline(never)] // a frame of its own in profiles
 pub fn account<V: Vector>(
@@ -674,6 +407,7 @@ pub fn account<V: Vector>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::open::Profile;
     use glam::DVec2;
 
     /// An inflow (buffer body 2) on x ∈ [−0.1, 0] and an outflow (buffer body 3) on
@@ -737,40 +471,5 @@ mod tests {
         assert_eq!(change_of(&all, 3, at(0.99)), Some(Change::Enter(1)));
         // walls (body 0) never change
         assert_eq!(change_of(&all, 0, at(1.05)), None);
-    }
-
-    #[test]
-    fn the_shepard_average_is_exact_for_a_uniform_field_and_empty_far_away() {
-        let kernel = Kernel::new(KernelKind::WendlandC2, 2);
-        let near: Vec<Near<DVec2>> = (0..25)
-            .map(|k| {
-                let x = DVec2::new((k % 5) as f64, (k / 5) as f64) * 0.01;
-                (x, DVec2::new(0.3, -0.1), 1e-4 * 1003.0, 1003.0)
-            })
-            .collect();
-        let (v, rho) = shepard(&kernel, &near, DVec2::new(0.013, 0.021), 0.03).unwrap();
-        assert!((v - DVec2::new(0.3, -0.1)).length() < 1e-15, "{v}");
-        assert!((rho - 1003.0).abs() < 1e-12, "{rho}");
-        assert!(shepard(&kernel, &near, DVec2::new(1.0, 1.0), 0.03).is_none());
-    }
-
-    /// A linear field sampled on one side of a wall: the fit gives it exactly at a point by
-    /// the wall, where the Shepard average leans towards the interior.
-    #[test]
-    fn the_linear_fit_is_exact_for_a_linear_field_by_a_wall() {
-        let kernel = Kernel::new(KernelKind::WendlandC2, 2);
-        let field = |x: DVec2| DVec2::new(2.0 + 30.0 * x.y, -x.x);
-        let near: Vec<Near<DVec2>> = (0..100)
-            .map(|k| {
-                let x = DVec2::new((k % 10) as f64 + 0.5, (k / 10) as f64 + 0.5) * 0.005;
-                (x, field(x), 0.025, 1000.0 + 100.0 * x.y)
-            })
-            .collect();
-        let at = DVec2::new(0.0225, 0.0025);
-        let (v, rho) = linear_fit(&kernel, &near, at, 0.015).unwrap();
-        assert!((v - field(at)).length() < 1e-12, "{v} vs {}", field(at));
-        assert!((rho - (1000.0 + 100.0 * at.y)).abs() < 1e-9, "{rho}");
-        let (v_s, _) = shepard(&kernel, &near, at, 0.015).unwrap();
-        assert!((v_s - field(at)).x > 0.05, "Shepard leans inwards: {v_s}");
     }
 }
