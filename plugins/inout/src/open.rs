@@ -77,7 +77,7 @@ pub struct InflowBoundary {
     pub min: Vec<Real>,
     /// Upper corner of the buffer's box (m).
     pub max: Vec<Real>,
-    /// The direction of the flow, along an axis (`[1.0, 0.0]`: towards +x).
+    /// The direction of the flow, along an axis (dimensionless; `[1.0, 0.0]` is towards +x).
     pub direction: Vec<Real>,
     /// Spacing Δx of the buffer's lattice (m).
     pub spacing: Real,
@@ -113,7 +113,7 @@ pub struct OutflowBoundary {
     pub min: Vec<Real>,
     /// Upper corner of the buffer's box (m).
     pub max: Vec<Real>,
-    /// The direction of the flow, along an axis (`[1.0, 0.0]`: towards +x).
+    /// The direction of the flow, along an axis (dimensionless; `[1.0, 0.0]` is towards +x).
     pub direction: Vec<Real>,
     /// A prescribed pressure (Pa) for the buffer (its density then the equation of state's at
     /// it); none (the default): the density is extrapolated from the fluid.
