@@ -63,15 +63,6 @@ fn run(scene: &Scene, threads: usize) -> (tempfile::TempDir, dualsph::runner::Ru
     common::run_on_threads(scene, threads)
 }
 
-/// The columns of `diagnostics.csv` by name.
-fn diagnostics(dir: &Path) -> HashMap<String, Vec<f64>> {
-    let (header, rows) = dualsph::io::read_diagnostics_csv(&dir.join("diagnostics.csv")).unwrap();
-    let column = |k: usize| rows.iter().map(|r| r[k]).collect();
-    (0..header.len())
-        .map(|k| (header[k].clone(), column(k)))
-        .collect()
-}
-
 /// The load on the tank is minus the force of the walls on the water: the water's momentum
 /// changes over each step by exactly what the leapfrog's trapezoidal rule gives for gravity
 /// and that force, `P^{n+1} − P^n = Δt M g − Δt/2 (F^n + F^{n+1})` (the corrector's
@@ -81,7 +72,7 @@ fn diagnostics(dir: &Path) -> HashMap<String, Vec<f64>> {
 #[test]
 fn the_load_on_the_tank_balances_the_water_momentum_step_by_step() {
     let (dir, s) = run(&tank("", 200), 1);
-    let d = diagnostics(dir.path());
+    let d = common::diagnostics(dir.path());
     let (dt, px, py) = (&d["dt"], &d["px[water]"], &d["py[water]"]);
     let (fx, fy) = (&d["fx[tank]"], &d["fy[tank]"]);
     let (m_water, m_tank) = (d["mass[water]"][0], d["mass[tank]"][0]);
@@ -120,7 +111,7 @@ fn the_load_on_the_tank_balances_the_water_momentum_step_by_step() {
 fn the_water_at_rest_weighs_on_the_tank_with_no_moment_about_its_axis() {
     let steps = 800;
     let (dir, _) = run(&tank("", steps), 2);
-    let d = diagnostics(dir.path());
+    let d = common::diagnostics(dir.path());
     let (fx, fy, mz) = (&d["fx[tank]"], &d["fy[tank]"], &d["mz[tank]"]);
     let weight = d["mass[water]"][0] * G;
     let scale = weight * 0.13;
@@ -196,7 +187,7 @@ fn the_loads_are_bitwise_the_same_on_one_and_two_threads() {
     let scene = tank(", moment_about: [0.02, 0.01]", 60);
     let (a, _) = run(&scene, 1);
     let (b, _) = run(&scene, 2);
-    let (da, db) = (diagnostics(a.path()), diagnostics(b.path()));
+    let (da, db) = (common::diagnostics(a.path()), common::diagnostics(b.path()));
     for col in ["fx[tank]", "fy[tank]", "mz[tank]"] {
         let bits = |d: &HashMap<String, Vec<f64>>| -> Vec<u64> {
             d[col].iter().map(|x| x.to_bits()).collect()
@@ -215,14 +206,14 @@ fn the_loads_are_bitwise_the_same_on_one_and_two_threads() {
 fn bodies_csv_has_a_row_per_step_and_body_and_the_parts_add_up() {
     let bodies = r#"Body(name: "floor", kind: Fixed), Body(name: "walls", kind: Fixed)"#;
     let (dir, _) = run(&scene(bodies, "floor", "walls", "", 30), 1);
-    let d = diagnostics(dir.path());
+    let d = common::diagnostics(dir.path());
     let text = std::fs::read_to_string(dir.path().join("bodies.csv")).unwrap();
     let mut lines = text.lines();
     assert_eq!(lines.next(), Some("t,step,body,fx,fy,fz,mx,my,mz"));
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
     assert_eq!(rows.len(), 2 * 31);
     let (whole, _) = run(&tank("", 30), 1);
-    let w = diagnostics(whole.path());
+    let w = common::diagnostics(whole.path());
     for (k, pair) in rows.chunks(2).enumerate() {
         let value = |row: &[&str], i: usize| row[i].parse::<f64>().unwrap();
         for (row, name) in pair.iter().zip(["floor", "walls"]) {

@@ -31,15 +31,6 @@ fn scene(end_time: f64, output: &str) -> Scene {
     Scene::from_str(&text, Path::new(SCENE), &dualsph::default_registry()).unwrap()
 }
 
-/// The columns of `diagnostics.csv` by name.
-fn diagnostics(dir: &Path) -> HashMap<String, Vec<f64>> {
-    let (header, rows) = dualsph::io::read_diagnostics_csv(&dir.join("diagnostics.csv")).unwrap();
-    let column = |k: usize| rows.iter().map(|r| r[k]).collect();
-    (0..header.len())
-        .map(|k| (header[k].clone(), column(k)))
-        .collect()
-}
-
 /// The water's momentum over each step against what crossed, the buffers' impulses and the
 /// walls' trapezoidal impulse (the leapfrog's corrector): residual
 /// `ΔP − Σ_B Δ(p_in − p_out + j) + Δt/2 (F_w^n + F_w^{n+1})` on each axis, and the mass
@@ -80,7 +71,7 @@ fn balance(d: &HashMap<String, Vec<f64>>) -> (f64, f64, f64) {
 fn the_fluid_balance_closes_at_every_step_through_open_boundaries() {
     let s = scene(2.0, "diagnostics_every: 1, snapshot_every: 0");
     let (dir, summary) = common::run_on_threads(&s, 1);
-    let d = diagnostics(dir.path());
+    let d = common::diagnostics(dir.path());
     let last = d["dt"].len() - 1;
     assert!(summary.steps > 300, "{} steps", summary.steps);
     // particles crossed both ways

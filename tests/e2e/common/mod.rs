@@ -299,3 +299,12 @@ pub fn doc_text(doc: &str) -> String {
         .join(doc);
     std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{doc}: {e}"))
 }
+
+/// The columns of a run's `diagnostics.csv` by name.
+pub fn diagnostics(dir: &std::path::Path) -> std::collections::HashMap<String, Vec<f64>> {
+    let (header, rows) = dualsph::io::read_diagnostics_csv(&dir.join("diagnostics.csv")).unwrap();
+    let column = |k: usize| rows.iter().map(|r| r[k]).collect();
+    (0..header.len())
+        .map(|k| (header[k].clone(), column(k)))
+        .collect()
+}
