@@ -60,7 +60,7 @@ pub use csv_out::{
 pub use input::{
     INPUT_FILE_LIMIT, SCENE_FILE_LIMIT, bounded_reader, open_input, read_input, read_input_text,
 };
-pub use loads::{BODIES_COLUMNS, BODIES_FILE, BodyLoadRow};
+pub use loads::{BODIES_COLUMNS, BODIES_FILE, BodyLoadRow, read_body_loads};
 pub use output_dir::{
     DIAGNOSTICS_FILE, FINAL_FILE, OutputDir, OutputOptions, PVD_FILE, SNAPSHOT_INDEX_FILE,
     snapshot_stem,

@@ -115,6 +115,32 @@ impl LoadsTable {
     }
 }
 
+/// The rows of the `bodies.csv` at `path` of the body named `body`, in file order; an error
+/// names the file and line of a field that is not a number, or the header when the columns
+/// are not [`BODIES_COLUMNS`].
+pub fn read_body_loads(path: &Path, body: &str) -> Result<Vec<BodyLoadRow>, OutputError> {
+    let (header, rows) = read_table(path)?;
+    let expected: Vec<String> = BODIES_COLUMNS.iter().map(|s| s.to_string()).collect();
+    if header != expected {
+        return Err(header_mismatch(path, &header, &expected));
+    }
+    let mut out = Vec::new();
+    for (line, rec) in rows {
+        if rec.get(2) != Some(body) {
+            continue;
+        }
+        let real = |i: usize| parse_field::<Real>(path, line, &rec, i, BODIES_COLUMNS[i]);
+        out.push(BodyLoadRow {
+            t: real(0)?,
+            step: parse_field(path, line, &rec, 1, "step")?,
+            body: body.to_string(),
+            force: [real(3)?, real(4)?, real(5)?],
+            moment: [real(6)?, real(7)?, real(8)?],
+        });
+    }
+    Ok(out)
+}
+
 /// One row as a CSV line (without line break), reals round-tripping.
 fn format_row(r: &BodyLoadRow) -> String {
     let mut s = String::with_capacity(160);
@@ -182,6 +208,20 @@ mod tests {
         }
         assert_eq!(std::fs::read(&path).unwrap(), before);
         assert_eq!(t.len(), 1);
+    }
+
+    #[test]
+    fn the_rows_of_one_body_are_read_back() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join(BODIES_FILE);
+        let mut t = LoadsTable::default();
+        t.push(&path, 0, &[row(0, "tank", 1.0), row(0, "flap", 2.0)])
+            .unwrap();
+        t.push(&path, 1, &[row(1, "tank", 0.1), row(1, "flap", 0.2)])
+            .unwrap();
+        let flap = read_body_loads(&path, "flap").unwrap();
+        assert_eq!(flap, vec![row(0, "flap", 2.0), row(1, "flap", 0.2)]);
+        assert!(read_body_loads(&path, "none").unwrap().is_empty());
     }
 
     #[test]

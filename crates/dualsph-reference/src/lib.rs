@@ -15,10 +15,13 @@
 //!   Shin 1982);
 //! * [`wall_pressure`]: the dam-break wall pressure of Buchner (2002) and the δ-SPH results of
 //!   Marrone et al. (2011) on the same sensor;
+//! * [`cylinder`]: the DFG benchmarks of flow past a cylinder in a channel, 2D-1 and 2D-2
+//!   (Schäfer & Turek 1996);
 //! * [`norms`]: the error norms and interpolation used by the reports.
 #![warn(missing_docs)]
 
 pub mod cavity;
+pub mod cylinder;
 pub mod dam_break;
 pub mod drop;
 pub mod heat;

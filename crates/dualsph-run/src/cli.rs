@@ -38,6 +38,7 @@ macro_rules! say {
 }
 
 mod doc;
+mod forces;
 mod lock;
 mod probe;
 pub use doc::reference_markdown;
@@ -162,6 +163,10 @@ enum Command {
         #[command(flatten)]
         set: SetArgs,
     },
+    /// The force coefficients 2F/(ρU²L) of a body from DIR/bodies.csv into
+    /// DIR/force_coefficients.csv, with their mean and extremes and the lift's Strouhal number
+    /// over a window.
+    Forces(forces::ForcesArgs),
     /// Plot DIR/probes.csv (written by the Probes plugin) into PNGs next to it.
     PlotProbes {
         /// The run's output directory.
@@ -333,6 +338,7 @@ pub fn main(registry: Registry) -> ExitCode {
         } => load(&scene, &registry, &SetArgs::default())
             .and_then(|s| grid_command(&scene, &s, dir, &file, &field, dx)),
         Command::PlotProbes { dir } => plot_probes_command(&dir),
+        Command::Forces(a) => forces::forces_command(&a),
         Command::Probe {
             dir,
             scene,
