@@ -43,12 +43,7 @@ impl LoadsTable {
         if !path.exists() {
             return Ok(table);
         }
-        let (header, rows) = read_table(path)?;
-        let expected: Vec<String> = BODIES_COLUMNS.iter().map(|s| s.to_string()).collect();
-        if header != expected {
-            return Err(header_mismatch(path, &header, &expected));
-        }
-        for (line, rec) in rows {
+        for (line, rec) in read_rows(path)? {
             let step: u64 = parse_field(path, line, &rec, 1, "step")?;
             if step <= up_to_step {
                 table
@@ -115,17 +110,23 @@ impl LoadsTable {
     }
 }
 
-/// The rows of the `bodies.csv` at `path` of the body named `body`, in file order; an error
-/// names the file and line of a field that is not a number, or the header when the columns
-/// are not [`BODIES_COLUMNS`].
-pub fn read_body_loads(path: &Path, body: &str) -> Result<Vec<BodyLoadRow>, OutputError> {
+/// The records of the `bodies.csv` at `path` with their line numbers; its header must be
+/// [`BODIES_COLUMNS`].
+fn read_rows(path: &Path) -> Result<Vec<(u64, csv::StringRecord)>, OutputError> {
     let (header, rows) = read_table(path)?;
     let expected: Vec<String> = BODIES_COLUMNS.iter().map(|s| s.to_string()).collect();
     if header != expected {
         return Err(header_mismatch(path, &header, &expected));
     }
+    Ok(rows)
+}
+
+/// The rows of the `bodies.csv` at `path` of the body named `body`, in file order; an error
+/// names the file and line of a field that is not a number, or the header when the columns
+/// are not [`BODIES_COLUMNS`].
+pub fn read_body_loads(path: &Path, body: &str) -> Result<Vec<BodyLoadRow>, OutputError> {
     let mut out = Vec::new();
-    for (line, rec) in rows {
+    for (line, rec) in read_rows(path)? {
         if rec.get(2) != Some(body) {
             continue;
         }

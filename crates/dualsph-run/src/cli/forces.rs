@@ -41,7 +41,7 @@ pub(crate) struct Summary {
     pub window: (f64, f64, usize),
     /// Mean of c_x, c_y, c_z.
     pub mean: [f64; 3],
-    /// Least and largest c_x, c_y, c_z.
+    /// Least c_x, c_y, c_z.
     pub min: [f64; 3],
     /// Largest c_x, c_y, c_z.
     pub max: [f64; 3],
