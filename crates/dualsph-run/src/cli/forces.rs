@@ -1,10 +1,10 @@
-//! `dualsph forces DIR --body NAME --density ρ --speed U --reference L`: the force
-//! coefficients of a body from its loads in `DIR/bodies.csv`,
-//! `c_k = 2 F_k / (ρ U² L)` for a flow along +x (c_D = c_x, c_L = c_y; in 3-D c_z too and L an
-//! area), written to `DIR/force_coefficients.csv`, with their mean, extremes and the Strouhal
-//! number `St = f L / U` of the lift over the window `t ≥ --from` (default: the second half of
-//! the run) — the quantities of the DFG benchmarks (Schäfer & Turek 1996, §2.2) and of the
-//! cylinder's wake (Williamson 1996).
+//! `dualsph forces DIR --body NAME --density ρ --speed U --reference L`: the force coefficients
+//! of a body from its loads in `DIR/bodies.csv`, `c_k = 2 F_k / (ρ U² L)` for a flow along +x
+//! (c_D = c_x, c_L = c_y; in 3-D c_z too and L an area), written to
+//! `DIR/force_coefficients.csv`, with their mean, extremes and the Strouhal number
+//! `St = f L / U` of the lift over the window `t ≥ --from` (default: the second half of the run, and at
+//! least its last two rows) — the quantities of the DFG benchmarks (Schäfer & Turek 1996, §2.2)
+//! and of the cylinder's wake (Williamson 1996).
 
 use super::exit::{self, Failure};
 use dualsph_io::{BodyLoadRow, read_body_loads, write_atomic_with};
@@ -77,6 +77,14 @@ pub(crate) fn frequency(signal: &[(f64, f64)]) -> Option<f64> {
     (c.len() >= 3).then(|| (c.len() - 1) as f64 / (c[c.len() - 1] - c[0]))
 }
 
+/// The default window's start: the second half of the run, widened to hold at least its last
+/// two rows (a short run has few diagnostics rows).
+fn default_from(series: &[(f64, [f64; 3])]) -> f64 {
+    let end = series[series.len() - 1].0;
+    let second_last = series[series.len().saturating_sub(2)].0;
+    (0.5 * end).min(second_last)
+}
+
 /// The summary of `series` over `t ≥ from`; none when the window holds fewer than two rows.
 pub(crate) fn summarise(series: &[(f64, [f64; 3])], from: f64) -> Option<Summary> {
     let w: Vec<_> = series.iter().filter(|s| s.0 >= from).copied().collect();
@@ -133,7 +141,7 @@ pub(crate) fn forces_command(a: &ForcesArgs) -> Result<(), Failure> {
     write_table(&out, &series).map_err(|e| Failure::new(exit::IO, e.to_string()))?;
     crate::say!("wrote {}", out.display());
     let end = series[series.len() - 1].0;
-    let from = a.from.unwrap_or(0.5 * end);
+    let from = a.from.unwrap_or_else(|| default_from(&series));
     let Some(s) = summarise(&series, from) else {
         return Err(invalid(format!(
             "--from {from}: fewer than two rows of `{}` at or after it (the last is at t = \
@@ -229,5 +237,15 @@ mod tests {
         assert_eq!(s.window, (6.0, 10.0, 5));
         assert!((s.mean[0] - 8.0).abs() < 1e-12 && s.min[0] == 6.0 && s.max[0] == 10.0);
         assert_eq!(summarise(&series, 10.0), None);
+    }
+
+    #[test]
+    fn the_default_window_is_the_second_half_and_at_least_two_rows() {
+        let series = |ts: &[f64]| ts.iter().map(|&t| (t, [0.0; 3])).collect::<Vec<_>>();
+        assert_eq!(default_from(&series(&[0.0, 1.0, 2.0, 3.0, 4.0])), 2.0);
+        // three rows at 0, 0.3, 0.6: the half (0.3) holds two; two rows: both
+        assert_eq!(default_from(&series(&[0.0, 0.3, 0.6])), 0.3);
+        assert_eq!(default_from(&series(&[0.0, 0.4, 1.0])), 0.4);
+        assert_eq!(default_from(&series(&[0.0, 1.0])), 0.0);
     }
 }
