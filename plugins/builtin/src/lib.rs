@@ -19,7 +19,7 @@ pub mod plugins {
     pub use dualsph_kernel_correction::KernelCorrection;
     pub use dualsph_motion::Prescribed;
     pub use dualsph_pressure::{ArtificialStress, PressureForce};
-    pub use dualsph_probes::{Probe, Probes, Quantity};
+    pub use dualsph_probes::{Probe, Probes, Quantity, Vorticity};
     pub use dualsph_refinement::Refinement;
     pub use dualsph_shifting::{ParticleShifting, TransportVelocity};
     pub use dualsph_smoothing_length::SmoothingLengthUpdate;
@@ -67,6 +67,7 @@ pub fn default_registry() -> Registry {
         .register::<InflowBoundary>()
         .register::<OutflowBoundary>()
         .register::<Probes>()
+        .register::<Vorticity>()
         .register::<SurfaceTension>()
         .register::<ParticleShifting>()
         .register::<TransportVelocity>()

@@ -66,12 +66,14 @@ mod plot;
 pub mod quantity;
 mod sample;
 mod validate;
+pub mod vorticity;
 
 pub use plot::{ProbeTable, plot_probes, read_probes};
 pub use quantity::Quantity;
 pub use sample::{
     ProbedParticles, evaluate, sample_probes, sensor_mean, water_height, write_files,
 };
+pub use vorticity::Vorticity;
 
 use dualsph_core::bevy_ecs::prelude::*;
 
