@@ -22,6 +22,7 @@ mod layers;
 mod limited;
 mod loads;
 mod open_boundary;
+mod open_reflection;
 mod order;
 mod output;
 mod particles_file;

@@ -174,11 +174,12 @@ fn off_poiseuille(dir: &Path, window: (f64, f64)) -> f64 {
 }
 
 /// Six flow-through times (150 s), the velocity profile averaged over the last 25 s against
-/// plane Poiseuille flow. Measured: within 0.4 % of U over x ∈ [0.1, 0.35) (0.15 m, ten
-/// support radii, upstream of the outlet plane at 0.5), the bound 0.6 %; over the last 0.1 m
-/// the outlet disturbs it, up to 4.0 % of U in the layer next to the walls (the fluid by the
-/// open plane stands about 0.13 Pa above the buffer's prescribed pressure), bounded at 4.5 %
-/// so that a change that makes it worse fails.
+/// plane Poiseuille flow. Measured: within 0.44 % of U over x ∈ [0.1, 0.35) (upstream of the
+/// outlet plane at 0.5), the bound 0.6 %; within 0.90 % over the last 0.1 m before the outlet
+/// plane (1.0 % in the rows next to the walls of the last 0.05 m), the bound 1 %. (With the
+/// outflow's pressure held instead of non-reflecting the channel rings at its quarter-wave
+/// period, and the profiles are 1.6 % and 4.0 % off; relaxed over 10 s instead of 40 s, 0.3 %
+/// and 6.5 %.)
 #[test]
 #[ignore = "second tier (cargo test --workspace --release -- --ignored): 150 s of an open channel, about 2 minutes"]
 fn the_open_channel_keeps_poiseuilles_profile_upstream_of_the_outlet() {
@@ -193,7 +194,7 @@ fn the_open_channel_keeps_poiseuilles_profile_upstream_of_the_outlet() {
         "the profile is {interior:.4} of U off Poiseuille's"
     );
     assert!(
-        outlet < 0.045,
+        outlet < 0.01,
         "by the outlet, {outlet:.4} of U off Poiseuille's"
     );
 }

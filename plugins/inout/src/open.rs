@@ -19,10 +19,13 @@
 //!   `pressure: Some(p)`, the equation of state's density at p). A buffer particle that
 //!   crosses the open plane becomes a fluid particle, and a new buffer particle is created one
 //!   buffer depth behind it, so the buffer keeps its count and its lattice.
-//! * **Outflow**: a fluid particle that crosses the open plane becomes a buffer particle; the
+//! * **Outflow**: the buffer is filled at t = 0 with the mirror images of the fluid next to the
+//!   open plane; a fluid particle that crosses the open plane becomes a buffer particle; the
 //!   buffer's particles move with the velocity extrapolated from the fluid and take its
 //!   extrapolated density (or, with `pressure: Some(p)`, the density of the prescribed
-//!   pressure); one that leaves the far face is deleted.
+//!   pressure); one that leaves the far face is deleted. With `non_reflecting: Some(τ)` the
+//!   buffer's pressure moves with the leaving pressure waves at the acoustic impedance of an
+//!   open end, so they leave instead of being reflected ([`impedance`]).
 //!
 //! The accounting ([`ledger`]): the mass, momentum and energy that cross each open plane, and
 //! the impulse of the buffer's pair forces on the fluid (the exact reactions of the load on
@@ -30,6 +33,7 @@
 //! closes to round-off at every step.
 
 pub mod extrapolate;
+pub mod impedance;
 pub mod ledger;
 pub mod profile;
 pub mod state;
@@ -119,6 +123,13 @@ pub struct OutflowBoundary {
     /// it); none (the default): the density is extrapolated from the fluid.
     #[serde(default)]
     pub pressure: Option<Real>,
+    /// `Some(τ)`: the outflow lets pressure waves leave instead of reflecting them — the
+    /// buffer's pressure is `pressure + ρc (U − Ū)`, with U the mean normal velocity
+    /// extrapolated into the buffer and Ū its running mean over τ (s), the relaxation time
+    /// (module docs of `impedance`); needs `pressure`. Waves of period well below τ leave;
+    /// the mean pressure is `pressure`. None (the default): the pressure is held.
+    #[serde(default)]
+    pub non_reflecting: Option<Real>,
     /// The body of the buffer's particles (of kind `Buffer`).
     pub buffer: String,
     /// The fluid body that leaves through it.
@@ -258,6 +269,7 @@ impl SimPlugin for InflowBoundary {
                 template,
             }),
             pressure: self.pressure,
+            non_reflecting: None,
         };
         systems::install(sim, boundary, &self.buffer)
     }
@@ -271,7 +283,17 @@ impl SimPlugin for OutflowBoundary {
     fn validate(&self, info: &SceneInfo) -> Result<(), String> {
         let dirs = (&self.min[..], &self.max[..], &self.direction[..]);
         let bodies = (self.buffer.as_str(), self.fluid.as_str());
-        validate_common("outflow", dirs, self.pressure, bodies, info)
+        validate_common("outflow", dirs, self.pressure, bodies, info)?;
+        match (self.non_reflecting, self.pressure) {
+            (Some(tau), _) if !(tau.is_finite() && tau > 0.0) => Err(format!(
+                "non_reflecting: the relaxation time must be a positive number of seconds, \
+                 got {tau}"
+            )),
+            (Some(_), None) => Err("non_reflecting: needs the mean pressure it relaxes to, \
+                                    `pressure: Some(p)`"
+                .into()),
+            _ => Ok(()),
+        }
     }
 
     fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
@@ -291,12 +313,15 @@ impl SimPlugin for OutflowBoundary {
                 zone.depth()
             )));
         }
+        let images = mirrored_fluid(&mut sim.world, &zone, fluid, buffer);
+        sim.spawn_particles(&images)?;
         let boundary = systems::Boundary {
             zone,
             buffer,
             fluid,
             inflow: None,
             pressure: self.pressure,
+            non_reflecting: self.non_reflecting,
         };
         systems::install(sim, boundary, &self.buffer)
     }
@@ -366,6 +391,48 @@ fn refuse_overlap<V: Vector>(
 /// The components of `v` in the scene's dimension.
 pub(crate) fn comps<V: Vector>(v: V) -> Vec<Real> {
     (0..V::DIM).map(|k| v.get(k)).collect()
+}
+
+/// An outflow's buffer at t = 0: the mirror image in the open plane of every particle of
+/// `fluid` within the buffer's depth upstream of it and in its section, with the particle's
+/// velocity, mass, density, support radius and internal energy (the zero-gradient state, a
+/// lattice that ends half a spacing before the plane continued across it), in id order. An
+/// empty buffer would leave the fluid at the plane a free surface that runs into it.
+fn mirrored_fluid<V: Vector>(
+    world: &mut World,
+    zone: &Zone<V>,
+    fluid: u16,
+    buffer: u16,
+) -> Vec<ParticleInit<V>> {
+    type Row<'a, V> = (
+        &'a ParticleId,
+        &'a BodyId,
+        &'a Position<V>,
+        &'a Velocity<V>,
+        &'a Mass,
+        &'a Density,
+        &'a SmoothingLength,
+        Option<&'a InternalEnergy>,
+    );
+    let mut q = world.query::<Row<'_, V>>();
+    let mut images: Vec<(u32, ParticleInit<V>)> = (q.iter(world))
+        .filter(|r| r.1.0 == fluid && zone.in_section(r.2.0))
+        .filter(|r| (zone.depth_of(r.2.0) > -zone.depth()) && zone.depth_of(r.2.0) < 0.0)
+        .map(|(id, _, x, v, m, rho, h, e)| {
+            let init = ParticleInit {
+                pos: zone.mirror(x.0),
+                vel: v.0,
+                mass: m.0,
+                density: rho.0,
+                h: h.0,
+                internal_energy: e.map_or(0.0, |e| e.0),
+                body: buffer,
+            };
+            (id.0, init)
+        })
+        .collect();
+    images.sort_unstable_by_key(|r| r.0);
+    images.into_iter().map(|r| r.1).collect()
 }
 
 /// The largest support radius of the particles of `body`.

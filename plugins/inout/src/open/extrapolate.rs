@@ -1,6 +1,8 @@
 //! Step 3 of the open boundaries' systems ([`super::systems`]): the values of the buffer
-//! particles extrapolated from the fluid with zero gradient across the open plane.
+//! particles extrapolated from the fluid with zero gradient across the open plane, and the
+//! buffer's pressure where the boundary prescribes one.
 
+use super::impedance::Impedance;
 use super::state::{Boundaries, Boundary, BufferState};
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_fluid::BodyEos;
@@ -156,6 +158,7 @@ pub fn extrapolate<V: Vector>(
     all: Res<Boundaries<V>>,
     kernel: Res<KernelRes>,
     eos: Option<Res<BodyEos>>,
+    mut impedance: Option<ResMut<Impedance>>,
     mut q: Query<(
         &ParticleId,
         &BodyId,
@@ -178,29 +181,71 @@ pub fn extrapolate<V: Vector>(
         .iter()
         .map(|b| fluid_near(b, h_max, &rows))
         .collect();
-    let prescribed: Vec<Option<Real>> = (all.list.iter())
-        .map(|b| {
-            let law = eos
-                .as_ref()
-                .and_then(|e| e.0.get(usize::from(b.fluid)).cloned());
-            b.pressure.and_then(|p| law.and_then(|l| l.density_at(p)))
+    let laws: Vec<_> = (all.list.iter())
+        .map(|b| (eos.as_ref()).and_then(|e| e.0.get(usize::from(b.fluid)).cloned()))
+        .collect();
+    // the fit at every buffer particle's mirror image, in the query's order
+    let fits: Vec<Option<(usize, V, Real)>> = (q.iter())
+        .map(|(_, body, r, .., h, _)| {
+            let k = (*all.of_body.get(usize::from(body.0))?)?;
+            let b = &all.list[k];
+            let (v, rho) = linear_fit(&kernel.0, &near[k], b.zone.mirror(r.0), h.0)?;
+            Some((k, v, rho))
         })
         .collect();
-    for (_, body, r, mut v, _, mut rho, h, mut st) in &mut q {
-        let Some(Some(k)) = all.of_body.get(usize::from(body.0)) else {
+    let ids: Vec<u32> = q.iter().map(|r| r.0.0).collect();
+    let pressures = buffer_pressures(&all, &laws, &fits, &ids, impedance.as_deref_mut());
+    let densities: Vec<Option<Real>> = (pressures.iter().zip(&laws))
+        .map(|(p, law)| p.and_then(|p| law.as_ref().and_then(|l| l.density_at(p))))
+        .collect();
+    for ((_, _, _, mut v, _, mut rho, _, mut st), fit) in q.iter_mut().zip(fits) {
+        let Some((k, v_g, rho_g)) = fit else {
             continue;
         };
-        let b = &all.list[*k];
-        let Some((v_g, rho_g)) = linear_fit(&kernel.0, &near[*k], b.zone.mirror(r.0), h.0) else {
-            continue;
-        };
-        st.rho = prescribed[*k].unwrap_or(rho_g);
+        st.rho = densities[k].unwrap_or(rho_g);
         rho.0 = st.rho;
-        if b.inflow.is_none() {
+        if all.list[k].inflow.is_none() {
             st.v = v_g;
             v.0 = v_g;
         }
     }
+}
+
+/// The pressure each boundary's buffer takes, if any: the prescribed one, or for a
+/// non-reflecting outflow `p + ρc (U − Ū)` ([`super::impedance`]) with U the mean normal
+/// velocity of the fits, summed in id order.
+fn buffer_pressures<V: Vector>(
+    all: &Boundaries<V>,
+    laws: &[Option<std::sync::Arc<dyn dualsph_fluid::EosLaw>>],
+    fits: &[Option<(usize, V, Real)>],
+    ids: &[u32],
+    impedance: Option<&mut Impedance>,
+) -> Vec<Option<Real>> {
+    let mut pressures: Vec<Option<Real>> = all.list.iter().map(|b| b.pressure).collect();
+    let Some(impedance) = impedance else {
+        return pressures;
+    };
+    let mut by_id: Vec<(u32, usize, Real)> = (ids.iter().zip(fits))
+        .filter_map(|(id, f)| f.map(|(k, v, _)| (*id, k, v.dot(all.list[k].zone.normal()))))
+        .collect();
+    by_id.sort_unstable_by_key(|r| r.0);
+    let mut sums = vec![(0.0, 0usize); all.list.len()];
+    for (_, k, u) in by_id {
+        sums[k].0 += u;
+        sums[k].1 += 1;
+    }
+    for (k, b) in all.list.iter().enumerate() {
+        let (Some(p), Some(_), Some(law)) = (b.pressure, b.non_reflecting, &laws[k]) else {
+            continue;
+        };
+        let (Some(rho), true) = (law.density_at(p), sums[k].1 > 0) else {
+            continue;
+        };
+        let z = rho * law.eval(rho, 0.0).1;
+        let u = sums[k].0 / sums[k].1 as Real;
+        pressures[k] = Some(impedance.0[k].pressure(p, z, u));
+    }
+    pressures
 }
 
 #[cfg(test)]

@@ -31,6 +31,9 @@ pub struct Boundary<V: Vector> {
     pub inflow: Option<Inflow<V>>,
     /// A prescribed pressure (Pa).
     pub pressure: Option<Real>,
+    /// For a non-reflecting outflow, the relaxation time τ (s) of its mean velocity
+    /// ([`super::impedance`]).
+    pub non_reflecting: Option<Real>,
 }
 
 impl<V: Vector> Boundary<V> {

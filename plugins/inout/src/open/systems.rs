@@ -20,13 +20,16 @@
 //!    Shepard average `Σ_f φ_f W V_f / Σ_f W V_f` (Shepard 1968) where the fit is singular. A
 //!    linear field is extrapolated exactly next to a wall, where the truncated support makes the
 //!    Shepard average lean towards the interior. The inflow takes the density so (or the prescribed pressure's), the outflow the
-//!    velocity and the density (or the prescribed pressure's). A buffer particle with no fluid
+//!    velocity and the density (or the prescribed pressure's, which a non-reflecting outflow
+//!    moves with the leaving waves, [`super::impedance`]). A buffer particle with no fluid
 //!    near its mirror point keeps its values.
 //! 4. `Correct`, after the drive and the density's corrector ([`hold_buffers`]): the buffer
 //!    particles get back their velocity and density (the integrator's update is discarded).
 //! 5. `Diagnostics` ([`account`]): the load on each buffer and the impulse on the fluid
-//!    ([`super::ledger`]).
+//!    ([`super::ledger`]); a non-reflecting outflow's running mean velocity advances
+//!    ([`super::impedance`]).
 
+use super::impedance::{Impedance, Relaxed};
 use super::ledger::{BoundaryLedger, OpenLedger, add3};
 use super::profile::ramp_integral;
 pub use super::state::{Boundaries, Boundary, BufferState, Inflow};
@@ -97,6 +100,8 @@ pub(crate) fn install<V: Vector>(
         });
         sim.world.insert_resource(OpenLedger::default());
         sim.keep_resource::<OpenLedger>("open_boundaries");
+        sim.world.insert_resource(Impedance::default());
+        sim.keep_resource::<Impedance>("open_boundaries_impedance");
         sim.enable_population();
         let spec = ColumnSpec::restart_only("buffer_state");
         sim.add_column(spec, |seed| BufferState {
@@ -120,6 +125,7 @@ pub(crate) fn install<V: Vector>(
         .resource_mut::<OpenLedger>()
         .0
         .push(BoundaryLedger::default());
+    (sim.world.resource_mut::<Impedance>().0).push(Relaxed::default());
     let mut cols = sim
         .world
         .resource_mut::<dualsph_core::output::DiagnosticColumns>();
@@ -372,14 +378,23 @@ pub fn hold_buffers<V: Vector>(
     }
 }
 
-/// Step 5 of the module docs: `L_B = Σ_{i∈B} m_i a_i` in id order, and the impulse.
+/// Step 5 of the module docs: `L_B = Σ_{i∈B} m_i a_i` in id order, and the impulse; the
+/// running means of the non-reflecting outflows advance over the step.
 #[inline(never)] // a frame of its own in profiles
 pub fn account<V: Vector>(
     clock: Res<SimClock>,
     all: Res<Boundaries<V>>,
     mut ledger: ResMut<OpenLedger>,
+    mut impedance: ResMut<Impedance>,
     q: Query<(&ParticleId, &BodyId, &Mass, &Acceleration<V>)>,
 ) {
+    if !clock.initializing {
+        for (b, r) in all.list.iter().zip(impedance.0.iter_mut()) {
+            if let Some(tau) = b.non_reflecting {
+                r.relax(clock.dt, tau);
+            }
+        }
+    }
     let mut rows: Vec<(u32, usize, V)> = q
         .iter()
         .filter_map(|(id, b, m, a)| match all.of_body.get(usize::from(b.0)) {
@@ -434,6 +449,7 @@ mod tests {
                 template,
             }),
             pressure: None,
+            non_reflecting: None,
         };
         let outflow = Boundary {
             zone: zone(1.0, 1.1, false),
@@ -441,6 +457,7 @@ mod tests {
             fluid: 1,
             inflow: None,
             pressure: Some(0.0),
+            non_reflecting: None,
         };
         Boundaries {
             list: vec![inflow, outflow],
