@@ -165,7 +165,8 @@ fn add_systems<V: Vector>(sim: &mut Sim<V>) {
 }
 
 /// Refuses, once every plugin is built, a scheme other than the leapfrog (the ledger's
-/// impulse is its corrector's trapezoid) and a `WallPressure` that treats a buffer as a wall.
+/// impulse is its corrector's trapezoid), a `WallPressure` that treats a buffer as a wall and
+/// a prescribed pressure without a liquid's equation of state.
 fn check_finished<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimError> {
     let scheme = sim.integrator();
     if scheme.is_some_and(|s| s != "LeapfrogPC") {
@@ -186,6 +187,29 @@ fn check_finished<V: Vector>(sim: &mut Sim<V>) -> Result<(), SimError> {
                     bodies.0[b].name
                 )));
             }
+        }
+    }
+    refuse_pressure_without_law(sim)
+}
+
+/// Refuses a prescribed pressure that no equation of state turns into a density (no
+/// equation of state, or a gas's, for the boundary's fluid): it would be ignored silently.
+fn refuse_pressure_without_law<V: Vector>(sim: &Sim<V>) -> Result<(), SimError> {
+    let all = sim.world.resource::<Boundaries<V>>();
+    let eos = sim.world.get_resource::<dualsph_fluid::BodyEos>();
+    let names = sim.world.resource::<Bodies>().names();
+    for b in all.list.iter() {
+        let Some(p) = b.pressure else {
+            continue;
+        };
+        let law = eos.and_then(|e| e.0.get(usize::from(b.fluid)));
+        if law.and_then(|l| l.density_at(p)).is_none() {
+            return Err(SimError::Build(format!(
+                "the open boundary of the buffer `{}` prescribes pressure {p}: the fluid `{}` \
+                 needs a liquid's equation of state (TaitEos) to give the density at it",
+                names[usize::from(b.buffer)],
+                names[usize::from(b.fluid)]
+            )));
         }
     }
     Ok(())
