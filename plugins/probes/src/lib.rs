@@ -432,6 +432,17 @@ impl Probes {
     }
 }
 
+/// By body index, whether the body's particles are sampled: those named in `names`, or every
+/// fluid body when it is empty (the probes' and the vorticity's `bodies`).
+pub(crate) fn sampled_bodies(bodies: &dualsph_core::bodies::Bodies, names: &[String]) -> Vec<bool> {
+    (bodies.0.iter())
+        .map(|b| match names.is_empty() {
+            true => b.is_fluid(),
+            false => names.contains(&b.name),
+        })
+        .collect()
+}
+
 impl SimPlugin for Probes {
     const NAME: &'static str = "Probes";
     const SUMMARY: &'static str =
@@ -452,14 +463,7 @@ impl SimPlugin for Probes {
             .iter()
             .map(|c| V::from_slice(&c.pos[..V::DIM]).unwrap_or_else(V::zero))
             .collect();
-        let bodies = &sim.world.resource::<dualsph_core::bodies::Bodies>().0;
-        let sampled = bodies
-            .iter()
-            .map(|b| match self.bodies.is_empty() {
-                true => b.is_fluid(),
-                false => self.bodies.contains(&b.name),
-            })
-            .collect();
+        let sampled = sampled_bodies(sim.world.resource(), &self.bodies);
         sim.world.insert_resource(ProbeState::<V> {
             every: self.every,
             min_shepard: self.min_shepard,

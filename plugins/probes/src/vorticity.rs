@@ -56,13 +56,7 @@ impl SimPlugin for Vorticity {
     }
 
     fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
-        let bodies = &sim.world.resource::<Bodies>().0;
-        let sampled: Vec<bool> = (bodies.iter())
-            .map(|b| match self.bodies.is_empty() {
-                true => b.is_fluid(),
-                false => self.bodies.contains(&b.name),
-            })
-            .collect();
+        let sampled = crate::sampled_bodies(sim.world.resource::<Bodies>(), &self.bodies);
         let mut cols = sim.world.resource_mut::<DerivedColumns>();
         for (k, name) in column_names(V::DIM).iter().enumerate() {
             let sampled = sampled.clone();
