@@ -361,7 +361,12 @@ impl<V: Vector> Neighbours<V> {
 
     /// True when the rebuild rule (module docs) requires new lists.
     pub fn needs_rebuild(&self, positions: &[V]) -> bool {
-        self.rule_fires(self.max_displacement(positions.len(), |i| positions[i]))
+        self.needs_rebuild_with(positions.len(), |i| positions[i])
+    }
+
+    /// [`Neighbours::needs_rebuild`] for `n` particles whose positions are `at(i)`.
+    pub fn needs_rebuild_with(&self, n: usize, at: impl Fn(usize) -> V) -> bool {
+        self.rule_fires(self.max_displacement(n, at))
     }
 
     /// The rebuild rule for the largest displacement `d` since the last build (`None`: no

@@ -35,6 +35,7 @@
 pub mod extrapolate;
 pub mod impedance;
 pub mod ledger;
+pub mod owed;
 pub mod profile;
 pub mod state;
 pub mod systems;

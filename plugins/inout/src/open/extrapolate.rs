@@ -5,33 +5,56 @@
 use super::impedance::Impedance;
 use super::state::{Boundaries, Boundary, BufferState};
 use dualsph_core::bevy_ecs::prelude::*;
+use dualsph_core::neighbours::KdTree;
 use dualsph_fluid::BodyEos;
 use dualsph_fluid::prelude::*;
 
 /// A fluid particle next to a buffer: position, velocity, mass, density.
 type Near<V> = (V, V, Real, Real);
 
-/// The fluid particles of boundary `b`'s fluid within `reach` of its open plane on the fluid's
-/// side (and of its section, widened by `reach`), in id order.
-fn fluid_near<V: Vector>(
-    b: &Boundary<V>,
-    reach: Real,
-    rows: &[(u32, u16, V, V, Real, Real)],
-) -> Vec<Near<V>> {
+/// True when a particle of `body` at `x` is of boundary `b`'s fluid within `reach` of its open
+/// plane on the fluid's side (and of its section, widened by `reach`).
+fn is_near<V: Vector>(b: &Boundary<V>, reach: Real, body: u16, x: V) -> bool {
     let z = &b.zone;
-    let side = |d: Real| match b.inflow {
+    let d = z.depth_of(x);
+    let side = match b.inflow {
         Some(_) => (0.0..=z.depth() + reach).contains(&d),
         None => d < 0.0 && d >= -(z.depth() + reach),
     };
-    let lateral = |x: V| {
-        (0..V::DIM)
+    body == b.fluid
+        && side
+        && (0..V::DIM)
             .filter(|&k| k != z.axis)
             .all(|k| x.get(k) >= z.min.get(k) - reach && x.get(k) <= z.max.get(k) + reach)
-    };
-    rows.iter()
-        .filter(|r| r.1 == b.fluid && side(z.depth_of(r.2)) && lateral(r.2))
-        .map(|r| (r.2, r.3, r.4, r.5))
-        .collect()
+}
+
+/// The fluid next to one boundary, in id order, with a k-d tree over its positions.
+struct Slab<V: Vector> {
+    near: Vec<Near<V>>,
+    tree: Option<KdTree>,
+}
+
+impl<V: Vector> Slab<V> {
+    fn new(mut rows: Vec<(u32, Near<V>)>) -> Self {
+        rows.sort_unstable_by_key(|r| r.0);
+        let near: Vec<Near<V>> = rows.into_iter().map(|r| r.1).collect();
+        let points: Vec<V> = near.iter().map(|f| f.0).collect();
+        let tree = (!points.is_empty()).then(|| KdTree::new(&points));
+        Slab { near, tree }
+    }
+
+    /// The particles within `h` of `x` (and a hair beyond: the kernel is zero there), in id
+    /// order, so that a sum over them adds its non-zero terms in the same order as a sum over
+    /// the whole slab.
+    fn within(&self, x: V, h: Real) -> Vec<Near<V>> {
+        let Some(tree) = &self.tree else {
+            return Vec::new();
+        };
+        let mut picked = Vec::new();
+        tree.for_each_within(x, h, |i| picked.push(i));
+        picked.sort_unstable();
+        picked.iter().map(|&i| self.near[i as usize]).collect()
+    }
 }
 
 /// The Shepard average of the velocity and the density of `near` at `x` with support `h`,
@@ -170,30 +193,35 @@ pub fn extrapolate<V: Vector>(
         &mut BufferState<V>,
     )>,
 ) {
-    let mut rows: Vec<(u32, u16, V, V, Real, Real)> = q
-        .iter()
-        .map(|(id, b, r, v, m, rho, ..)| (id.0, b.0, r.0, v.0, m.0, rho.0))
-        .collect();
-    rows.sort_unstable_by_key(|r| r.0);
     let h_max = q.iter().map(|r| r.6.0).fold(0.0, Real::max);
-    let near: Vec<Vec<Near<V>>> = all
-        .list
-        .iter()
-        .map(|b| fluid_near(b, h_max, &rows))
-        .collect();
+    let mut rows: Vec<Vec<(u32, Near<V>)>> = vec![Vec::new(); all.list.len()];
+    for (id, body, r, v, m, rho, ..) in q.iter() {
+        for (k, b) in all.list.iter().enumerate() {
+            if is_near(b, h_max, body.0, r.0) {
+                rows[k].push((id.0, (r.0, v.0, m.0, rho.0)));
+            }
+        }
+    }
+    let slabs: Vec<Slab<V>> = rows.into_iter().map(Slab::new).collect();
     let laws: Vec<_> = (all.list.iter())
         .map(|b| (eos.as_ref()).and_then(|e| e.0.get(usize::from(b.fluid)).cloned()))
         .collect();
-    // the fit at every buffer particle's mirror image, in the query's order
-    let fits: Vec<Option<(usize, V, Real)>> = (q.iter())
-        .map(|(_, body, r, .., h, _)| {
-            let k = (*all.of_body.get(usize::from(body.0))?)?;
-            let b = &all.list[k];
-            let (v, rho) = linear_fit(&kernel.0, &near[k], b.zone.mirror(r.0), h.0)?;
-            Some((k, v, rho))
+    // the fit at every buffer particle's mirror image, in the query's order, with its id
+    let (ids, fits): (Vec<u32>, Vec<Option<(usize, V, Real)>>) = (q.iter())
+        .map(|(id, body, r, .., h, _)| {
+            let fit = all
+                .of_body
+                .get(usize::from(body.0))
+                .copied()
+                .flatten()
+                .and_then(|k| {
+                    let x = all.list[k].zone.mirror(r.0);
+                    let (v, rho) = linear_fit(&kernel.0, &slabs[k].within(x, h.0), x, h.0)?;
+                    Some((k, v, rho))
+                });
+            (id.0, fit)
         })
-        .collect();
-    let ids: Vec<u32> = q.iter().map(|r| r.0.0).collect();
+        .unzip();
     let pressures = buffer_pressures(&all, &laws, &fits, &ids, impedance.as_deref_mut());
     let densities: Vec<Option<Real>> = (pressures.iter().zip(&laws))
         .map(|(p, law)| p.and_then(|p| law.as_ref().and_then(|l| l.density_at(p))))

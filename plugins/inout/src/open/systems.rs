@@ -6,7 +6,9 @@
 //!    buffer; an outflow's buffer particle past the far face is deleted. A fluid particle that
 //!    drifts back into an inflow's buffer is deleted, and an outflow's buffer particle that
 //!    drifts back upstream of the plane rejoins the fluid. Every change is applied in
-//!    particle-id order, through the core's `Population` for the new and deleted ones.
+//!    particle-id order, through the core's `Population` for the new and deleted ones; the
+//!    creations and the far face's deletions wait for a step that rebuilds the neighbour
+//!    lists while the fluid cannot tell ([`super::owed`]).
 //! 2. `Predict`, after the bodies' drive ([`move_buffers`]): each buffer particle moves from
 //!    its start-of-step position (kept in the core's `Anchor` column) by its velocity — the
 //!    inflow's exact travel `u(x) n (S(t + Δt) − S(t))` ([`super::profile::ramp_integral`]),
@@ -31,12 +33,16 @@
 
 use super::impedance::{Impedance, Relaxed};
 use super::ledger::{BoundaryLedger, OpenLedger, add3};
+use super::owed::{Owed, OwedParticle};
 use super::profile::ramp_integral;
 pub use super::state::{Boundaries, Boundary, BufferState, Inflow};
 use super::zone::Zone;
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::bodies::{Anchor, Bodies, DriveBodies};
+use dualsph_core::chunks::DENSE;
+use dualsph_core::neighbours::Neighbours;
 use dualsph_core::population::Population;
+use dualsph_core::store::single_table;
 use dualsph_fluid::EquationOfState;
 use dualsph_fluid::prelude::*;
 use dualsph_integrate::Updates;
@@ -102,6 +108,8 @@ pub(crate) fn install<V: Vector>(
         sim.keep_resource::<OpenLedger>("open_boundaries");
         sim.world.insert_resource(Impedance::default());
         sim.keep_resource::<Impedance>("open_boundaries_impedance");
+        sim.world.insert_resource(Owed::default());
+        sim.keep_resource::<Owed>("open_boundaries_owed");
         sim.enable_population();
         let spec = ColumnSpec::restart_only("buffer_state");
         sim.add_column(spec, |seed| BufferState {
@@ -274,13 +282,50 @@ type CrossQuery<'w, 's, V> = Query<
     ),
 >;
 
+/// The neighbour lists and the particles' positions and support radii in row order: what
+/// [`cross`] decides from whether the changes of the particle count wait ([`super::owed`]).
+type ListsQuery<'w, 's, V> = (
+    Res<'w, Neighbours<V>>,
+    Query<'w, 's, (&'static Position<V>, &'static SmoothingLength)>,
+);
+
+/// True when this step's changes of the particle count are applied now rather than held
+/// ([`super::owed`]): the lists will be rebuilt anyway, another change is asked for, or an
+/// owed particle is due.
+fn apply_now<V: Vector>(
+    lists: &ListsQuery<V>,
+    asked: bool,
+    all: &Boundaries<V>,
+    owed: &Owed,
+    t: Real,
+) -> bool {
+    if asked {
+        return true;
+    }
+    let (nb, q) = lists;
+    let Some((pos, h)) = single_table(q.contiguous_iter().expect(DENSE)) else {
+        return true;
+    };
+    if nb.needs_rebuild_with(pos.len(), |i| pos[i].0) {
+        return true;
+    }
+    if owed.0.is_empty() {
+        return false;
+    }
+    let h_max = h.iter().map(|h| h.0).fold(0.0, Real::max);
+    let reach = super::owed::reach(h_max);
+    owed.0.iter().any(|o| o.due(all, t, reach))
+}
+
 /// Step 1 of the module docs.
 #[inline(never)] // a frame of its own in profiles
 pub fn cross<V: Vector>(
     clock: Res<SimClock>,
     all: Res<Boundaries<V>>,
     mut ledger: ResMut<OpenLedger>,
+    mut owed: ResMut<Owed>,
     mut population: ResMut<Population<V>>,
+    lists: ListsQuery<V>,
     mut q: CrossQuery<V>,
 ) {
     let mut changes: Vec<(u32, Entity, Change)> = q
@@ -288,6 +333,11 @@ pub fn cross<V: Vector>(
         .filter_map(|(e, id, b, r, ..)| change_of(&all, b.0, r.0).map(|c| (id.0, e, c)))
         .collect();
     changes.sort_unstable_by_key(|c| c.0);
+    let asked = population.pending() > 0
+        || changes
+            .iter()
+            .any(|c| matches!(c.2, Change::LeaveDeleted(_)));
+    let mut deletions = Vec::new();
     for (_, e, change) in changes {
         let Ok((_, _, mut body, r, v, m, rho, eps, mut a, mut anchor, mut st)) = q.get_mut(e)
         else {
@@ -305,15 +355,9 @@ pub fn cross<V: Vector>(
                 // a new fluid particle starts with zero acceleration (its first half-kick
                 // is its first sweep's), as a particle the population adds does
                 a.0 = V::zero();
-                if let Some(inflow) = &b.inflow {
+                if b.inflow.is_some() {
                     let pos = r.0 - b.zone.normal() * b.zone.depth();
-                    population.spawn(ParticleInit {
-                        pos,
-                        vel: b.inflow_velocity(pos, clock.t),
-                        density: st.rho,
-                        ..inflow.template
-                    });
-                    l.counts[2] += 1;
+                    owed.0.push(OwedParticle::new(k, pos, st.rho, clock.t));
                 }
             }
             Change::Leave(k) | Change::LeaveDeleted(k) => {
@@ -332,11 +376,40 @@ pub fn cross<V: Vector>(
                     l.counts[3] += 1;
                 }
             }
-            Change::Delete(k) => {
-                population.remove(e);
-                ledger.0[k].counts[3] += 1;
-            }
+            Change::Delete(k) => deletions.push((e, k)),
         }
+    }
+    if apply_now(&lists, asked, &all, &owed, clock.t) {
+        for (e, k) in deletions {
+            population.remove(e);
+            ledger.0[k].counts[3] += 1;
+        }
+        create_owed(&clock, &all, &mut ledger, &mut owed, &mut population);
+    }
+}
+
+/// Creates every owed particle where its inflow has carried it by now, in the order they
+/// became due ([`super::owed`]).
+fn create_owed<V: Vector>(
+    clock: &SimClock,
+    all: &Boundaries<V>,
+    ledger: &mut OpenLedger,
+    owed: &mut Owed,
+    population: &mut Population<V>,
+) {
+    for o in owed.0.drain(..) {
+        let b = &all.list[o.boundary];
+        let Some(inflow) = &b.inflow else {
+            continue;
+        };
+        let pos = o.position(all, clock.t);
+        population.spawn(ParticleInit {
+            pos,
+            vel: b.inflow_velocity(pos, clock.t),
+            density: o.density,
+            ..inflow.template
+        });
+        ledger.0[o.boundary].counts[2] += 1;
     }
 }
 
