@@ -7,6 +7,7 @@ mod adaptive_sod;
 mod benchmarks;
 mod cavity;
 mod common;
+mod cylinder;
 mod dam_break_obstacle;
 mod dam_break_pressure;
 mod doc_figures;
