@@ -38,7 +38,7 @@ macro_rules! say {
 }
 
 mod doc;
-mod forces;
+pub mod forces;
 mod lock;
 mod probe;
 pub use doc::reference_markdown;

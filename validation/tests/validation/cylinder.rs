@@ -6,6 +6,7 @@
 
 use crate::common;
 
+use dualsph::cli::forces::{coefficients, summarise, upward_crossings};
 use dualsph::io::read_body_loads;
 use dualsph::scene::Scene;
 use dualsph_reference::cylinder::{self, midpoint, setup};
@@ -34,25 +35,23 @@ struct Measured {
 }
 
 /// The end of reversed flow on the centreline behind the cylinder, `x_r − 0.25`, from the
-/// time-averaged `wake[k]` samples over `[0.25, 0.45]` (linear between the samples around the
-/// first sign change from − to +), or `None` without reversed flow.
+/// time-averaged `wake[k]` samples over `[0.25, 0.45]`: the first upward crossing of zero
+/// (linear between the samples either side, as `dualsph forces` finds the lift's), or `None`
+/// without reversed flow.
 fn recirculation_length(mean: &[f64]) -> Option<f64> {
     let dx = 0.2 / (mean.len() - 1) as f64;
-    (1..mean.len()).find_map(|k| {
-        let (a, b) = (mean[k - 1], mean[k]);
-        (a < 0.0 && b >= 0.0).then(|| dx * (k as f64 - 1.0 + a / (a - b)))
-    })
+    let signal: Vec<(f64, f64)> = (mean.iter().enumerate())
+        .map(|(k, &u)| (k as f64 * dx, u))
+        .collect();
+    upward_crossings(&signal, 0.0).first().copied()
 }
 
 fn measure(dir: &Path, from: f64) -> Measured {
     let loads = read_body_loads(&dir.join("bodies.csv"), "cylinder").unwrap();
     let ubar = 2.0 / 3.0 * setup::U_MAX_2D1;
-    let coef = |f: f64| cylinder::coefficient(f, setup::RHO, ubar, setup::DIAMETER);
-    let window: Vec<_> = loads.iter().filter(|r| r.t >= from).collect();
-    let mean = |f: &dyn Fn(&&dualsph::io::BodyLoadRow) -> f64| {
-        window.iter().map(f).sum::<f64>() / window.len() as f64
-    };
-    let (drag, lift) = (mean(&|r| coef(r.force[0])), mean(&|r| coef(r.force[1])));
+    // ½ρŪ²D, the scale of the benchmark's coefficients
+    let dynamic = 1.0 / cylinder::coefficient(1.0, setup::RHO, ubar, setup::DIAMETER);
+    let s = summarise(&coefficients(&loads, dynamic), from).expect("rows in the window");
     let probes: Vec<_> = common::particle_rows(&dir.join("probes.csv"))
         .into_iter()
         .filter(|r| r["t"] >= from)
@@ -64,8 +63,8 @@ fn measure(dir: &Path, from: f64) -> Measured {
         .map(|k| probes.iter().map(|r| r[&format!("wake[{k}]")]).sum::<f64>() / n)
         .collect();
     Measured {
-        drag,
-        lift,
+        drag: s.mean[0],
+        lift: s.mean[1],
         pressure_drop,
         recirculation: recirculation_length(&wake),
     }

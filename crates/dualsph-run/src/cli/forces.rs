@@ -36,7 +36,7 @@ pub(crate) struct ForcesArgs {
 
 /// The summary of the coefficients over the window.
 #[derive(Debug, Clone, PartialEq)]
-pub(crate) struct Summary {
+pub struct Summary {
     /// The window's first and last time and its number of rows.
     pub window: (f64, f64, usize),
     /// Mean of c_x, c_y, c_z.
@@ -50,7 +50,7 @@ pub(crate) struct Summary {
 }
 
 /// `2 F / (ρ U² L)` of every row: `(t, [c_x, c_y, c_z])`.
-pub(crate) fn coefficients(rows: &[BodyLoadRow], dynamic: f64) -> Vec<(f64, [f64; 3])> {
+pub fn coefficients(rows: &[BodyLoadRow], dynamic: f64) -> Vec<(f64, [f64; 3])> {
     rows.iter()
         .map(|r| (r.t, r.force.map(|f| f / dynamic)))
         .collect()
@@ -58,7 +58,7 @@ pub(crate) fn coefficients(rows: &[BodyLoadRow], dynamic: f64) -> Vec<(f64, [f64
 
 /// The times at which `signal` crosses `level` upwards, each interpolated linearly between
 /// the samples either side.
-pub(crate) fn upward_crossings(signal: &[(f64, f64)], level: f64) -> Vec<f64> {
+pub fn upward_crossings(signal: &[(f64, f64)], level: f64) -> Vec<f64> {
     signal
         .windows(2)
         .filter(|w| w[0].1 < level && w[1].1 >= level)
@@ -86,7 +86,7 @@ fn default_from(series: &[(f64, [f64; 3])]) -> f64 {
 }
 
 /// The summary of `series` over `t ≥ from`; none when the window holds fewer than two rows.
-pub(crate) fn summarise(series: &[(f64, [f64; 3])], from: f64) -> Option<Summary> {
+pub fn summarise(series: &[(f64, [f64; 3])], from: f64) -> Option<Summary> {
     let w: Vec<_> = series.iter().filter(|s| s.0 >= from).copied().collect();
     if w.len() < 2 {
         return None;

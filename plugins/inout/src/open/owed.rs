@@ -29,7 +29,6 @@
 //! particles are kept in checkpoints (key `open_boundaries_owed`), so that a resumed run
 //! makes the same decisions bitwise.
 
-use super::profile::ramp_integral;
 use super::state::Boundaries;
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::math::{Real, Vector};
@@ -65,15 +64,8 @@ impl OwedParticle {
 
     /// Where the inflow has carried it by time `t`: `x_c + n u(x_c) (S(t) − S(t_c))`.
     pub fn position<V: Vector>(&self, all: &Boundaries<V>, t: Real) -> V {
-        let b = &all.list[self.boundary];
         let x = V::from_slice(&self.at).unwrap_or_else(V::zero);
-        match &b.inflow {
-            Some(i) => {
-                let travel = ramp_integral(i.ramp, t) - ramp_integral(i.ramp, self.since);
-                x + b.zone.normal() * (i.profile.speed(&b.zone, x) * travel)
-            }
-            None => x,
-        }
+        x + all.list[self.boundary].inflow_travel(x, self.since, t)
     }
 
     /// True when, at time `t`, it is within `reach` of its inflow's open plane and must be
@@ -92,7 +84,7 @@ pub fn reach(h_max: Real) -> Real {
 
 #[cfg(test)]
 mod tests {
-    use super::super::profile::Profile;
+    use super::super::profile::{Profile, ramp_integral};
     use super::super::state::{Boundary, Inflow};
     use super::super::zone::Zone;
     use super::*;

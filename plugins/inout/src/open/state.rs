@@ -2,7 +2,7 @@
 //! list of them ([`Boundaries`]), and the column of a buffer particle's velocity and density
 //! ([`BufferState`]).
 
-use super::profile::{Profile, ramp_factor};
+use super::profile::{Profile, ramp_factor, ramp_integral};
 use super::zone::Zone;
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_fluid::prelude::*;
@@ -37,6 +37,19 @@ pub struct Boundary<V: Vector> {
 }
 
 impl<V: Vector> Boundary<V> {
+    /// How far an inflow carries its buffer particle at `x` from time `t0` to `t1`:
+    /// `n u(x) (S(t1) − S(t0))`, the exact travel of the ramped speed
+    /// ([`super::profile::ramp_integral`]); zero for an outflow.
+    pub(crate) fn inflow_travel(&self, x: V, t0: Real, t1: Real) -> V {
+        match &self.inflow {
+            Some(i) => {
+                let travel = ramp_integral(i.ramp, t1) - ramp_integral(i.ramp, t0);
+                self.zone.normal() * i.profile.speed(&self.zone, x) * travel
+            }
+            None => V::zero(),
+        }
+    }
+
     /// The prescribed velocity of an inflow's buffer particle at `x` at time `t`.
     pub(crate) fn inflow_velocity(&self, x: V, t: Real) -> V {
         match &self.inflow {

@@ -34,7 +34,6 @@
 use super::impedance::{Impedance, Relaxed};
 use super::ledger::{BoundaryLedger, OpenLedger, add3};
 use super::owed::{Owed, OwedParticle};
-use super::profile::ramp_integral;
 pub use super::state::{Boundaries, Boundary, BufferState, Inflow};
 use super::zone::Zone;
 use dualsph_core::bevy_ecs::prelude::*;
@@ -433,11 +432,10 @@ pub fn move_buffers<V: Vector>(
         };
         let b = &all.list[*k];
         let (shift, vel) = match &b.inflow {
-            Some(i) => {
-                let u = b.zone.normal() * i.profile.speed(&b.zone, anchor.0);
-                let travel = ramp_integral(i.ramp, t + dt) - ramp_integral(i.ramp, t);
-                (u * travel, b.inflow_velocity(anchor.0, t + dt))
-            }
+            Some(_) => (
+                b.inflow_travel(anchor.0, t, t + dt),
+                b.inflow_velocity(anchor.0, t + dt),
+            ),
             None => (st.v * dt, st.v),
         };
         anchor.0 += shift;
