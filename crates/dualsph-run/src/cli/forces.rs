@@ -32,6 +32,11 @@ pub(crate) struct ForcesArgs {
     /// Start of the window the summary is taken over (s); default: half the run's end time.
     #[arg(long)]
     pub from: Option<f64>,
+    /// Smooth the coefficients by a centred moving average over this many seconds before the
+    /// summary (their extremes and the lift's crossings): the loads of a weakly compressible
+    /// fluid carry acoustic noise. `force_coefficients.csv` keeps the unsmoothed values.
+    #[arg(long)]
+    pub smooth: Option<f64>,
 }
 
 /// The summary of the coefficients over the window.
@@ -45,7 +50,8 @@ pub struct Summary {
     pub min: [f64; 3],
     /// Largest c_x, c_y, c_z.
     pub max: [f64; 3],
-    /// The lift's frequency (Hz), when it crosses its mean upwards at least three times.
+    /// The lift's frequency (Hz): the peak of its amplitude spectrum over the window
+    /// ([`spectral_peak`]).
     pub frequency: Option<f64>,
 }
 
@@ -69,12 +75,107 @@ pub fn upward_crossings(signal: &[(f64, f64)], level: f64) -> Vec<f64> {
         .collect()
 }
 
-/// The frequency of a periodic signal from its upward crossings of its mean: `(n − 1)` periods
-/// between the first and the last of n ≥ 3 crossings.
-pub(crate) fn frequency(signal: &[(f64, f64)]) -> Option<f64> {
-    let mean = signal.iter().map(|s| s.1).sum::<f64>() / signal.len().max(1) as f64;
-    let c = upward_crossings(signal, mean);
-    (c.len() >= 3).then(|| (c.len() - 1) as f64 / (c[c.len() - 1] - c[0]))
+/// The frequency of a periodic signal: the peak of its amplitude spectrum
+/// `A(f) = (2/T) |∫ (s(t) − s̄) e^{−2πift} dt|` over the window T (the signal drawn linearly
+/// through the samples, each segment integrated by the trapezoid rule), searched from two
+/// periods per window to a quarter of the mean sampling rate on a grid of `1/(8T)`, then
+/// refined by golden-section search within a grid step of the best point. A peak of the
+/// spectrum, not the crossings of the mean, so that broadband noise does not add crossings
+/// (the loads of a weakly compressible fluid carry it). `None` for fewer than eight samples
+/// or a flat signal. Returns `(f, A(f))`.
+pub fn spectral_peak(signal: &[(f64, f64)]) -> Option<(f64, f64)> {
+    let n = signal.len();
+    if n < 8 {
+        return None;
+    }
+    let span = signal[n - 1].0 - signal[0].0;
+    let mean = signal
+        .windows(2)
+        .map(|w| 0.5 * (w[0].1 + w[1].1) * (w[1].0 - w[0].0))
+        .sum::<f64>()
+        / span;
+    let amplitude = |f: f64| {
+        let w = 2.0 * std::f64::consts::PI * f;
+        let (mut re, mut im) = (0.0, 0.0);
+        for p in signal.windows(2) {
+            let ((t0, y0), (t1, y1)) = (p[0], p[1]);
+            let (a, b) = ((y0 - mean) * 0.5 * (t1 - t0), (y1 - mean) * 0.5 * (t1 - t0));
+            re += a * (w * t0).cos() + b * (w * t1).cos();
+            im += a * (w * t0).sin() + b * (w * t1).sin();
+        }
+        2.0 * re.hypot(im) / span
+    };
+    let step = 1.0 / (8.0 * span);
+    let (lo, hi) = (2.0 / span, 0.25 * (n - 1) as f64 / span);
+    let grid = (0..).map(|k| lo + k as f64 * step).take_while(|&f| f <= hi);
+    let (best, peak) = grid
+        .map(|f| (f, amplitude(f)))
+        .fold(
+            (lo, f64::NEG_INFINITY),
+            |b, c| if c.1 > b.1 { c } else { b },
+        );
+    if !(peak > 0.0) {
+        return None;
+    }
+    // golden-section search for the maximum in [best − step, best + step]
+    let g = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut a, mut b) = (best - step, best + step);
+    for _ in 0..40 {
+        let (c, d) = (b - g * (b - a), a + g * (b - a));
+        if amplitude(c) > amplitude(d) {
+            b = d;
+        } else {
+            a = c;
+        }
+    }
+    let f = 0.5 * (a + b);
+    Some((f, amplitude(f)))
+}
+
+/// The centred moving average of `series` over `width` seconds: each row whose window
+/// `[t − width/2, t + width/2]` lies inside the series becomes the mean over the window of the
+/// piecewise-linear signal through the rows (so rows unevenly spaced in time, as an adaptive
+/// step writes them, weigh by the time they cover), and the rows nearer either end than
+/// `width/2` are dropped. This boxcar passes a sinusoid of frequency f with the gain
+/// `sin(π f T)/(π f T)` ([`boxcar_gain`]) and removes the components at multiples of `1/T`.
+pub fn moving_average(series: &[(f64, [f64; 3])], width: f64) -> Vec<(f64, [f64; 3])> {
+    let (Some(first), Some(last)) = (series.first(), series.last()) else {
+        return Vec::new();
+    };
+    let half = 0.5 * width;
+    (series.iter())
+        .filter(|(t, _)| t - half >= first.0 && t + half <= last.0)
+        .map(|&(t, _)| (t, integral(series, t - half, t + half).map(|v| v / width)))
+        .collect()
+}
+
+/// `∫_a^b c(t) dt` of the piecewise-linear signal through `series` (`a ≤ b` inside it): the
+/// trapezoids of the segments that overlap `[a, b]`, each clipped to it.
+fn integral(series: &[(f64, [f64; 3])], a: f64, b: f64) -> [f64; 3] {
+    let start = series.partition_point(|s| s.0 <= a).saturating_sub(1);
+    let mut sum = [0.0; 3];
+    for w in series[start..].windows(2) {
+        let ((t0, c0), (t1, c1)) = (w[0], w[1]);
+        if t0 >= b {
+            break;
+        }
+        let (lo, hi) = (t0.max(a), t1.min(b));
+        if hi <= lo {
+            continue;
+        }
+        let at = |t: f64, k: usize| c0[k] + (c1[k] - c0[k]) * (t - t0) / (t1 - t0);
+        for k in 0..3 {
+            sum[k] += 0.5 * (at(lo, k) + at(hi, k)) * (hi - lo);
+        }
+    }
+    sum
+}
+
+/// The gain of a boxcar average of width `width` at the frequency `f`:
+/// `sin(π f T)/(π f T)`.
+pub fn boxcar_gain(f: f64, width: f64) -> f64 {
+    let x = std::f64::consts::PI * f * width;
+    if x == 0.0 { 1.0 } else { x.sin() / x }
 }
 
 /// The default window's start: the second half of the run, widened to hold at least its last
@@ -106,7 +207,7 @@ pub fn summarise(series: &[(f64, [f64; 3])], from: f64) -> Option<Summary> {
         mean,
         min,
         max,
-        frequency: frequency(&lift),
+        frequency: spectral_peak(&lift).map(|p| p.0),
     })
 }
 
@@ -117,6 +218,7 @@ pub(crate) fn forces_command(a: &ForcesArgs) -> Result<(), Failure> {
         ("--density", a.density),
         ("--speed", a.speed),
         ("--reference", a.reference),
+        ("--smooth", a.smooth.unwrap_or(1.0)),
     ] {
         if !(v.is_finite() && v > 0.0) {
             return Err(invalid(format!(
@@ -142,11 +244,22 @@ pub(crate) fn forces_command(a: &ForcesArgs) -> Result<(), Failure> {
     crate::say!("wrote {}", out.display());
     let end = series[series.len() - 1].0;
     let from = a.from.unwrap_or_else(|| default_from(&series));
-    let Some(s) = summarise(&series, from) else {
+    let smoothed = match a.smooth {
+        Some(width) => moving_average(&series, width),
+        None => series,
+    };
+    let Some(s) = summarise(&smoothed, from) else {
         return Err(invalid(format!(
             "--from {from}: fewer than two rows of `{}` at or after it (the last is at t = \
-             {end})",
-            a.body
+             {end}{})",
+            a.body,
+            match a.smooth {
+                Some(w) => format!(
+                    ", and --smooth {w} drops the rows within {} s of it",
+                    w / 2.0
+                ),
+                None => String::new(),
+            }
         )));
     };
     print_summary(a, &s);
@@ -170,14 +283,23 @@ fn print_summary(a: &ForcesArgs, s: &Summary) {
             s.max[k]
         );
     }
+    if let Some(w) = a.smooth {
+        crate::say!("  (smoothed by a moving average over {w} s)");
+    }
     match s.frequency {
-        Some(f) => crate::say!(
-            "  lift frequency {f:.5} Hz, Strouhal number f L/U = {:.5}",
-            f * a.reference / a.speed
-        ),
-        None => crate::say!(
-            "  the lift is not periodic over the window (fewer than 3 upward crossings of its mean)"
-        ),
+        Some(f) => {
+            crate::say!(
+                "  lift frequency {f:.5} Hz, Strouhal number f L/U = {:.5}",
+                f * a.reference / a.speed
+            );
+            if let Some(w) = a.smooth {
+                crate::say!(
+                    "  the smoothing keeps {:.4} of an oscillation at that frequency",
+                    boxcar_gain(f, w)
+                );
+            }
+        }
+        None => crate::say!("  the lift is flat or has too few rows for its spectrum"),
     }
 }
 
@@ -206,11 +328,31 @@ mod tests {
     }
 
     #[test]
-    fn the_frequency_of_a_sine_is_found_from_its_crossings() {
-        let f = frequency(&sine()).unwrap();
-        assert!((f / 3.7 - 1.0).abs() < 2e-3, "{f}");
+    fn the_frequency_of_a_noisy_sine_is_its_spectrums_peak() {
+        let (f, a) = spectral_peak(&sine()).unwrap();
+        assert!(
+            (f / 3.7 - 1.0).abs() < 1e-3 && (a - 1.0).abs() < 0.01,
+            "{f} {a}"
+        );
+        // twice the tone's amplitude in deterministic broadband noise (a linear congruential
+        // sequence), which crosses the mean hundreds of times: the peak stays on the tone
+        let mut x: u64 = 12345;
+        let noisy: Vec<(f64, f64)> = sine()
+            .into_iter()
+            .map(|(t, y)| {
+                x = x
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                (t, y + 4.0 * ((x >> 11) as f64 / (1u64 << 53) as f64 - 0.5))
+            })
+            .collect();
+        let (f, a) = spectral_peak(&noisy).unwrap();
+        assert!(
+            (f / 3.7 - 1.0).abs() < 5e-3 && (a - 1.0).abs() < 0.15,
+            "{f} {a}"
+        );
         let flat: Vec<(f64, f64)> = (0..10).map(|i| (i as f64, 1.0)).collect();
-        assert_eq!(frequency(&flat), None);
+        assert_eq!(spectral_peak(&flat), None);
     }
 
     #[test]
@@ -237,6 +379,36 @@ mod tests {
         assert_eq!(s.window, (6.0, 10.0, 5));
         assert!((s.mean[0] - 8.0).abs() < 1e-12 && s.min[0] == 6.0 && s.max[0] == 10.0);
         assert_eq!(summarise(&series, 10.0), None);
+    }
+
+    #[test]
+    fn a_moving_average_removes_a_tone_at_its_width_and_keeps_a_slow_one_by_its_gain() {
+        // 3.7 Hz plus a tone at 50 Hz, sampled every 1 ms; a 20 ms boxcar holds a whole period
+        // of the fast tone and passes the slow one with sin(π f T)/(π f T), to the error of
+        // the linear interpolation between samples
+        let series: Vec<(f64, [f64; 3])> = (0..=2000)
+            .map(|i| {
+                let t = 1e-3 * i as f64;
+                let w = |f: f64| (2.0 * std::f64::consts::PI * f * t).sin();
+                (t, [w(3.7) + 0.5 * w(50.0), 1.0, 0.0])
+            })
+            .collect();
+        let width = 0.02;
+        let m = moving_average(&series, width);
+        assert_eq!(m.len(), series.len() - 20);
+        assert!((m[0].0 - 0.01).abs() < 1e-12 && (m[m.len() - 1].0 - 1.99).abs() < 1e-12);
+        let gain = boxcar_gain(3.7, width);
+        for (t, c) in &m {
+            let exact = gain * (2.0 * std::f64::consts::PI * 3.7 * t).sin();
+            assert!(
+                (c[0] - exact).abs() < 2e-4,
+                "t {t}: {} against {exact}",
+                c[0]
+            );
+            assert!((c[1] - 1.0).abs() < 1e-12);
+        }
+        assert!(moving_average(&series, 5.0).is_empty());
+        assert_eq!(boxcar_gain(0.0, 1.0), 1.0);
     }
 
     #[test]
