@@ -12,17 +12,15 @@ use dualsph::scene::Scene;
 use dualsph_reference::cylinder::{self, midpoint, setup};
 use std::path::Path;
 
-/// The scene at its own resolution, to `end_time`.
-fn scene(end_time: f64) -> Scene {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/cylinder_dfg_2d1.ron");
-    let text = std::fs::read_to_string(&path).unwrap();
-    let text = text.replace("end_time: 10.0,", &format!("end_time: {end_time:?},"));
-    assert!(
-        text.contains(&format!("end_time: {end_time:?},")),
-        "end time not set"
-    );
-    let text = text.replace("snapshot_dt: 1.0", "snapshot_dt: 100.0");
-    Scene::from_str(&text, &path, &dualsph::default_registry()).unwrap()
+/// The shipped scene `file` at its own resolution, to `end_time`, without snapshots.
+fn scene(file: &str, end_time: f64) -> Scene {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../scenes")
+        .join(file);
+    let mut scene = Scene::load(&path, &dualsph::default_registry()).unwrap();
+    scene.end_time = end_time;
+    scene.output.snapshot_dt = None;
+    scene
 }
 
 /// What the benchmark measures, averaged over `t ≥ from`: c_D, c_L, Δp and L_a.
@@ -90,7 +88,7 @@ fn the_recirculation_length_is_read_where_the_centreline_flow_turns() {
 #[ignore = "second tier (cargo test --workspace --release -- --ignored): DFG 2D-1 at D/Δx = 20, about 5 minutes"]
 fn dfg_2d1_drag_pressure_drop_and_wake_against_schafer_and_turek() {
     const END: f64 = 6.0;
-    let (dir, _) = common::run_on_threads(&scene(END), 2);
+    let (dir, _) = common::run_on_threads(&scene("cylinder_dfg_2d1.ron", END), 2);
     let m = measure(dir.path(), END - 1.0);
     println!("DFG 2D-1, D/dx = 20, t in [{}, {END}]: {m:?}", END - 1.0);
     let off = |x: f64, reference| x / midpoint(reference) - 1.0;

@@ -114,7 +114,7 @@ pub fn spectral_peak(signal: &[(f64, f64)]) -> Option<(f64, f64)> {
             (lo, f64::NEG_INFINITY),
             |b, c| if c.1 > b.1 { c } else { b },
         );
-    if !(peak > 0.0) {
+    if peak.is_nan() || peak <= 0.0 {
         return None;
     }
     // golden-section search for the maximum in [best − step, best + step]
