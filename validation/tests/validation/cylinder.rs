@@ -20,6 +20,7 @@ fn scene(file: &str, end_time: f64) -> Scene {
     let mut scene = Scene::load(&path, &dualsph::default_registry()).unwrap();
     scene.end_time = end_time;
     scene.output.snapshot_dt = None;
+    scene.output.snapshot_every = 0;
     scene
 }
 
