@@ -34,9 +34,9 @@ struct Measured {
 }
 
 /// The end of reversed flow on the centreline behind the cylinder, `x_r − 0.25`, from the
-/// time-averaged `wake[k]` samples over `[0.25, 0.45]`: the first upward crossing of zero
-/// (linear between the samples either side, as `dualsph forces` finds the lift's), or `None`
-/// without reversed flow.
+/// time-averaged `wake[k]` samples over `[0.25, 0.45]`: the first upward crossing of zero,
+/// linear between the samples either side (the forces command's `upward_crossings`), or
+/// `None` without reversed flow.
 fn recirculation_length(mean: &[f64]) -> Option<f64> {
     let dx = 0.2 / (mean.len() - 1) as f64;
     let signal: Vec<(f64, f64)> = (mean.iter().enumerate())

@@ -33,8 +33,8 @@ pub(crate) struct ForcesArgs {
     #[arg(long)]
     pub from: Option<f64>,
     /// Smooth the coefficients by a centred moving average over this many seconds before the
-    /// summary (their extremes and the lift's crossings): the loads of a weakly compressible
-    /// fluid carry acoustic noise. `force_coefficients.csv` keeps the unsmoothed values.
+    /// summary (their extremes and the lift's spectrum): the loads of a weakly compressible
+    /// fluid carry noise. `force_coefficients.csv` keeps the unsmoothed values.
     #[arg(long)]
     pub smooth: Option<f64>,
 }
