@@ -85,7 +85,7 @@ fn the_load_on_the_tank_balances_the_water_momentum_step_by_step() {
         let (fx_bar, fy_bar) = (0.5 * (fx[n] + fx[n + 1]), 0.5 * (fy[n] + fy[n + 1]));
         let rx = (px[n + 1] - px[n]) + h * fx_bar;
         let ry = (py[n + 1] - py[n]) - h * (-weight - fy_bar);
-        worst = worst.max(rx.hypot(ry) / (h * weight));
+        worst = worst.max(libm::hypot(rx, ry) / (h * weight));
         // the same balance with the tank's weight counted in its load
         let ry_g = (py[n + 1] - py[n]) - h * (-weight - (fy_bar - m_tank * G));
         worst_with_gravity = worst_with_gravity.max(ry_g.abs() / (h * weight));

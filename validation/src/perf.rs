@@ -60,7 +60,7 @@ impl Case {
             Layout::TwoLevel => 1.5 + 0.5 * (1 << dim) as Real,
         };
         // snap Δx to 1/k so every block holds whole cells (lattice points stay inside)
-        let dx = (cells / n as Real).powf(1.0 / dim as Real);
+        let dx = libm::pow(cells / n as Real, 1.0 / dim as Real);
         Case {
             dim,
             layout,
@@ -157,7 +157,7 @@ impl Case {
             .query::<(&ParticleId, &Position<V>, &mut Velocity<V>, &mut Density)>();
         for (id, r, mut v, mut rho) in q.iter_mut(&mut sim.world) {
             let z = r.0.get(V::DIM - 1);
-            rho.0 = rho0 * (1.0 + rho0 * g * (top - z) / p0).powf(1.0 / gamma);
+            rho.0 = rho0 * libm::pow(1.0 + rho0 * g * (top - z) / p0, 1.0 / gamma);
             let mut h = (id.0 as u64).wrapping_mul(0x9e3779b97f4a7c15);
             for k in 0..V::DIM {
                 h ^= h >> 29;

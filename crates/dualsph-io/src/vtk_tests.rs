@@ -137,7 +137,7 @@ fn table(n: usize) -> ParticleTable {
             Particle {
                 id: 3 * i as u64 + 1,
                 pos: [x / 7.0, -x * 1e-300, f64::MAX / (x + 1.0)],
-                vel: [x.sin(), f64::NAN, -0.0],
+                vel: [libm::sin(x), f64::NAN, -0.0],
                 mass: 1.0 / (x + 3.0),
                 rho: 1000.0 + x,
                 p: f64::INFINITY,

@@ -241,7 +241,7 @@ mod tests {
                 Particle {
                     id: 3 * i as u64 + 1,
                     pos: [x, -x * 1e-300, 0.1 + x],
-                    vel: [-0.0, 1.0 / (x + 1.0), x.sin()],
+                    vel: [-0.0, 1.0 / (x + 1.0), libm::sin(x)],
                     mass: 1.0 / (x + 3.0),
                     rho: 1000.0 + x,
                     p: if i % 2 == 0 { f64::INFINITY } else { -x },

@@ -178,14 +178,14 @@ pub fn unit_sphere_surface(dim: usize) -> Real {
         3 => 3.0 * PI.sqrt() / 4.0,
         _ => panic!("unit_sphere_surface: dimension {dim} is not 1, 2 or 3"),
     };
-    dim as Real * PI.powf(dim as Real / 2.0) / gamma
+    dim as Real * libm::pow(PI, dim as Real / 2.0) / gamma
 }
 
 /// Gauss–Legendre nodes and weights on `[-1, 1]` (Newton iteration on `P_n`).
 pub fn gauss_legendre(n: usize) -> Vec<(Real, Real)> {
     (0..n)
         .map(|k| {
-            let mut x = (PI * (k as Real + 0.75) / (n as Real + 0.5)).cos();
+            let mut x = libm::cos(PI * (k as Real + 0.75) / (n as Real + 0.5));
             let mut dp = 0.0;
             for _ in 0..100 {
                 let (mut p0, mut p1) = (1.0, x);
@@ -470,17 +470,17 @@ mod tests {
         // midpoint rule in u = ln q (dq = q du), smooth in u
         let tail = |eps: Real| {
             let n = 100_000;
-            let d = -eps.ln() / n as Real;
+            let d = -libm::log(eps) / n as Real;
             (0..n)
                 .map(|i| {
-                    let q = (eps.ln() + (i as Real + 0.5) * d).exp();
+                    let q = libm::exp(libm::log(eps) + (i as Real + 0.5) * d);
                     KernelKind::MullerViscosity.profile(q) * q * d
                 })
                 .sum::<Real>()
         };
         let growth = tail(1e-6) - tail(1e-3);
         assert!(
-            (growth - 0.5 * (1e3 as Real).ln()).abs() < 0.01,
+            (growth - 0.5 * libm::log(1e3 as Real)).abs() < 0.01,
             "growth {growth}"
         );
     }

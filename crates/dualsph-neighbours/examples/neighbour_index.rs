@@ -47,7 +47,7 @@ fn column<V: Vector>(n: usize, two_level: bool) -> (Vec<V>, Vec<Real>) {
     } else {
         2.0
     };
-    let dx = 1.0 / (1.0 / (vol / n as Real).powf(1.0 / d as Real)).round();
+    let dx = 1.0 / (1.0 / libm::pow(vol / n as Real, 1.0 / d as Real)).round();
     let (mut pos, mut h) = (Vec::new(), Vec::new());
     if two_level {
         block::<V>(0.5 * dx, 0.0, 0.5, &mut pos, &mut h);

@@ -183,7 +183,7 @@ impl GridPlan {
             if cells <= budget {
                 break;
             }
-            let grow = (cells / budget).powf(1.0 / d as Real);
+            let grow = libm::pow(cells / budget, 1.0 / d as Real);
             cell *= grow.clamp(2.0, 1e6);
         }
         let inv_cell = 1.0 / cell;

@@ -165,7 +165,7 @@ fn convergence<V: Vector>(dx: Real) {
         .map(|&d| quadratic_errors::<V>(d))
         .collect();
     // slope over log2 spacings 0, −1, −2: (log e0 − log e2)/2 is the least-squares slope
-    let order = |a: Real, b: Real| (a / b).log2() / 2.0;
+    let order = |a: Real, b: Real| libm::log2(a / b) / 2.0;
     let (ov, og) = (order(e[0].0, e[2].0), order(e[0].1, e[2].1));
     eprintln!(
         "{}-D quadratic field: value order {ov:.2}, gradient order {og:.2} ({e:?})",

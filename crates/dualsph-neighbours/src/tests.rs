@@ -8,7 +8,7 @@ use rand_chacha::ChaCha8Rng;
 
 fn cloud<V: Vector>(n: usize, seed: u64) -> (Vec<V>, Vec<Real>) {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let side = (n as Real).powf(1.0 / V::DIM as Real);
+    let side = libm::pow(n as Real, 1.0 / V::DIM as Real);
     let pos = (0..n)
         .map(|_| {
             let mut v = V::zero();
@@ -483,7 +483,7 @@ fn parallel_transpose_equals_serial() {
 /// 1-, 2- and 3-D; the minimum image is odd, `image(−d) = −image(d)`, bit for bit.
 fn check_periodic<V: Vector>(axes: [bool; 3]) {
     let (mut pos, h) = cloud::<V>(600, 40 + V::DIM as u64);
-    let side = (600.0 as Real).powf(1.0 / V::DIM as Real);
+    let side = libm::pow(600.0 as Real, 1.0 / V::DIM as Real);
     let mut max = V::zero();
     (0..V::DIM).for_each(|k| max.set(k, side));
     let period = Period::new(V::zero(), max, axes).unwrap();

@@ -311,7 +311,7 @@ fn log_tick(v: f64) -> String {
     if v.is_nan() || v <= 0.0 {
         return String::new();
     }
-    let mantissa = v / 10f64.powf(v.log10().floor());
+    let mantissa = v / libm::pow(10f64, libm::log10(v).floor());
     let labelled = [1.0, 2.0, 5.0, 10.0]
         .iter()
         .any(|m| (mantissa - m).abs() < 1e-6 * m);
@@ -333,9 +333,9 @@ fn fit_range(values: impl Iterator<Item = f64>, log: bool) -> (f64, f64) {
         return if log { (0.1, 10.0) } else { (0.0, 1.0) };
     }
     if log {
-        let (l, h) = (lo.log10(), hi.log10().max(lo.log10() + 1e-3));
+        let (l, h) = (libm::log10(lo), libm::log10(hi).max(libm::log10(lo) + 1e-3));
         let m = 0.05 * (h - l).max(0.1);
-        (10f64.powf(l - m), 10f64.powf(h + m))
+        (libm::pow(10f64, l - m), libm::pow(10f64, h + m))
     } else {
         let span = (hi - lo).max(1e-12 * hi.abs().max(1.0));
         (lo - 0.05 * span, hi + 0.05 * span)
@@ -351,7 +351,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("a.png");
         let pts: Vec<(f64, f64)> = (0..50)
-            .map(|i| (i as f64 * 0.1, (i as f64 * 0.1).sin()))
+            .map(|i| (i as f64 * 0.1, libm::sin(i as f64 * 0.1)))
             .collect();
         LinePlot::new("sin", "x (m)", "y")
             .with(Series::new("sin x", pts.clone(), SeriesStyle::Line, 0))

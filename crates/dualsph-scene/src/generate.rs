@@ -198,7 +198,7 @@ fn velocity(v: Option<&Velocity>, p: &[f64; 3], d: usize) -> [f64; 3] {
         }
         Some(Velocity::TaylorGreen { speed, wavelength }) => {
             let k = 2.0 * std::f64::consts::PI / wavelength;
-            let ((sx, cx), (sy, cy)) = ((k * p[0]).sin_cos(), (k * p[1]).sin_cos());
+            let ((sx, cx), (sy, cy)) = (libm::sincos(k * p[0]), libm::sincos(k * p[1]));
             out[0] = speed * sx * cy;
             out[1] = -speed * cx * sy;
         }

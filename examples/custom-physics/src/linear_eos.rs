@@ -53,7 +53,7 @@ impl EosLaw for LinearLaw {
 
     fn hydrostatic_pressure(&self, g: Real, s: Real) -> Option<Real> {
         let c2 = self.c0 * self.c0;
-        Some(self.rho0 * c2 * (g * s / c2).exp_m1())
+        Some(self.rho0 * c2 * libm::expm1(g * s / c2))
     }
 }
 

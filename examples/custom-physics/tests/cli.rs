@@ -83,7 +83,7 @@ fn its_columns_are_written_and_a_resumed_run_is_bitwise_the_same() {
         );
         assert_eq!(p1[gamma], p0[gamma]);
         assert_eq!(p0[path], 0.0);
-        let chord = (p1[x] - p0[x]).hypot(p1[y] - p0[y]);
+        let chord = libm::hypot(p1[x] - p0[x], p1[y] - p0[y]);
         assert!(
             p1[path] >= chord * (1.0 - 1e-3),
             "path {} < chord {chord}",
@@ -192,7 +192,7 @@ fn the_walls_follow_the_users_equation_of_state() {
     let col = |name: &str| h.iter().position(|c| c == name).unwrap();
     let (x, y, body, p) = (col("x"), col("y"), col("body"), col("p"));
     let (rho0, c0, g, depth) = (1000.0_f64, 25.0_f64, 9.81, 0.5);
-    let exact = |y: f64| rho0 * c0 * c0 * (g * (depth - y) / (c0 * c0)).exp_m1();
+    let exact = |y: f64| rho0 * c0 * c0 * libm::expm1(g * (depth - y) / (c0 * c0));
     let scale = rho0 * g * depth;
     let floor = |r: &Vec<f64>| r[body] == 0.0 && r[y] > -0.05 && (0.1..0.9).contains(&r[x]);
     let water =

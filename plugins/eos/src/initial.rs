@@ -45,7 +45,7 @@ impl PressureField {
             PressureField::TaylorGreen { speed, wavelength } => {
                 let k2 = 4.0 * std::f64::consts::PI / wavelength;
                 let (x, y) = (x.get(0), if V::DIM > 1 { x.get(1) } else { 0.0 });
-                0.25 * rho0 * speed * speed * ((k2 * x).cos() + (k2 * y).cos())
+                0.25 * rho0 * speed * speed * (libm::cos(k2 * x) + libm::cos(k2 * y))
             }
         }
     }
@@ -136,8 +136,8 @@ mod tests {
         let k = 2.0 * std::f64::consts::PI / l;
         let vel = |x: DVec2| {
             DVec2::new(
-                u0 * (k * x.x).sin() * (k * x.y).cos(),
-                -u0 * (k * x.x).cos() * (k * x.y).sin(),
+                u0 * libm::sin(k * x.x) * libm::cos(k * x.y),
+                -u0 * libm::cos(k * x.x) * libm::sin(k * x.y),
             )
         };
         let e = 1e-6;

@@ -227,7 +227,7 @@ impl Eos {
                 ..
             } => {
                 let x = (p - p_b) / p0 + 1.0;
-                (x > 0.0).then(|| rho0 * x.powf(1.0 / gamma))
+                (x > 0.0).then(|| rho0 * libm::pow(x, 1.0 / gamma))
             }
             Eos::Ideal { .. } => None,
         }
@@ -243,7 +243,7 @@ fn pow(x: Real, e: Real) -> Real {
     if k as Real == e && k.abs() <= 16 {
         powi(x, k)
     } else {
-        x.powf(e)
+        libm::pow(x, e)
     }
 }
 

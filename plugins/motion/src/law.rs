@@ -76,8 +76,8 @@ impl BodyMotion for Law {
             } => {
                 let w = 2.0 * std::f64::consts::PI * frequency;
                 let arg = w * t + phase;
-                let x = add(x0, scale(amplitude, arg.sin() - phase.sin()));
-                (x, scale(amplitude, w * arg.cos()))
+                let x = add(x0, scale(amplitude, libm::sin(arg) - libm::sin(phase)));
+                (x, scale(amplitude, w * libm::cos(arg)))
             }
             Law::Rotate {
                 center: c,
@@ -87,7 +87,7 @@ impl BodyMotion for Law {
                 let (y, th) = (std::array::from_fn(|k| x0[k] - c[k]), omega * t);
                 let ny = n[0] * y[0] + n[1] * y[1] + n[2] * y[2];
                 let nxy = cross(n, y);
-                let (s, co) = th.sin_cos();
+                let (s, co) = libm::sincos(th);
                 let r: [Real; 3] =
                     std::array::from_fn(|k| y[k] * co + nxy[k] * s + n[k] * ny * (1.0 - co));
                 (add(c, r), scale(cross(n, r), omega))
@@ -106,7 +106,7 @@ impl BodyMotion for Law {
                 phase,
             } => {
                 let w = 2.0 * std::f64::consts::PI * frequency;
-                scale(amplitude, -w * w * (w * t + phase).sin())
+                scale(amplitude, -w * w * libm::sin(w * t + phase))
             }
             Law::Rotate { axis, omega, .. } => scale(cross(axis, self.at(x0, t).1), omega),
         }
@@ -187,7 +187,7 @@ mod tests {
         let x0 = DVec2::new(1.0, 0.5);
         let (x, v) = motion_at(&m, x0, 0.0);
         assert_eq!(x, x0);
-        assert!(close(v.x, 0.1 * 4.0 * PI * 0.3f64.cos()));
+        assert!(close(v.x, 0.1 * 4.0 * PI * libm::cos(0.3f64)));
         let (t, e) = (0.37, 1e-6);
         let dx = (motion_at(&m, x0, t + e).0 - motion_at(&m, x0, t - e).0) / (2.0 * e);
         let v = motion_at(&m, x0, t).1;

@@ -308,7 +308,7 @@ fn values_are_the_shepard_interpolant_bit_for_bit() {
         .world
         .query::<(&Position<DVec2>, &mut Velocity<DVec2>, &mut Density)>();
     for (r, mut v, mut rho) in q.iter_mut(&mut sim.world) {
-        v.0 = DVec2::new(r.0.x.sin(), r.0.y * r.0.x);
+        v.0 = DVec2::new(libm::sin(r.0.x), r.0.y * r.0.x);
         rho.0 = 1000.0 + 7.0 * r.0.y + r.0.x * r.0.x;
     }
     sim.step().unwrap();
@@ -457,7 +457,7 @@ fn a_sensor_interpolates_with_its_reach_and_clipped_values() {
         .world
         .query::<(&Position<DVec2>, &mut Velocity<DVec2>)>();
     for (r, mut v) in q.iter_mut(&mut sim.world) {
-        v.0 = DVec2::new((25.0 * r.0.y).sin() + 0.3 * (40.0 * r.0.x).cos(), 0.0);
+        v.0 = DVec2::new(libm::sin(25.0 * r.0.y) + 0.3 * libm::cos(40.0 * r.0.x), 0.0);
     }
     sim.step().unwrap();
     let got = sim.world.resource::<ProbeSamples>().rows[1].2.clone();

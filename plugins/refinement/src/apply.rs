@@ -81,21 +81,20 @@ pub const SIZE_TOLERANCE: Real = 0.1;
 /// `D(t)`: the largest size `coarsest·2^{-k}` (`k ≥ 0`) not above `t` (within
 /// [`SIZE_TOLERANCE`]).
 pub fn ladder_size(coarsest: Real, t: Real) -> Real {
-    let k = (coarsest / (t * (1.0 + SIZE_TOLERANCE)))
-        .log2()
+    let k = libm::log2(coarsest / (t * (1.0 + SIZE_TOLERANCE)))
         .ceil()
         .max(0.0);
-    coarsest * (0.5 as Real).powf(k)
+    coarsest * libm::pow(0.5 as Real, k)
 }
 
 /// The axes a particle of `size` splits along to reach the next ladder size below it
 /// (`d`, or fewer for a size between two ladder sizes), and that size.
 pub fn split_axes(dim: usize, coarsest: Real, size: Real) -> (usize, Real) {
     let d = dim as Real;
-    let level = d * (coarsest / size).log2();
+    let level = d * libm::log2(coarsest / size);
     let next = (level / d + SIZE_TOLERANCE).floor() + 1.0;
     let axes = (d * next - level).round().clamp(1.0, d) as usize;
-    (axes, coarsest * (0.5 as Real).powf(next))
+    (axes, coarsest * libm::pow(0.5 as Real, next))
 }
 
 /// A particle's entity, id, body and core state, and its sound speed (infinite without
@@ -323,7 +322,7 @@ fn plan<V: Vector>(
     t_merge: &[Real],
 ) -> Plan<V> {
     let set = ctx.set;
-    let grow = (2.0 as Real).powf(1.0 / V::DIM as Real);
+    let grow = libm::pow(2.0 as Real, 1.0 / V::DIM as Real);
     let tol = 1.0 + SIZE_TOLERANCE;
     let mut plan = Plan::default();
     let mut candidate = vec![false; ctx.particles.len()];
@@ -415,7 +414,7 @@ pub fn sizes_and_levels<V: Vector>(world: &World) -> Vec<(Real, usize, bool)> {
     let read = |m: Real, rho: Real, b: &BodyId, ladder_rho: Real| {
         let size = split::size(V::DIM, m, rho);
         let on_ladder = split::size(V::DIM, m, ladder_rho);
-        let level = (d * (set.coarsest / on_ladder).log2()).round();
+        let level = (d * libm::log2(set.coarsest / on_ladder)).round();
         let refined = set.refined.get(b.0 as usize).copied().unwrap_or(false);
         (size, level.clamp(0.0, set.levels as Real) as usize, refined)
     };

@@ -213,7 +213,7 @@ impl Refinement {
     fn check_sizes(&self) -> Result<(), String> {
         positive("finest", self.finest)?;
         positive("coarsest", self.coarsest)?;
-        let levels = (self.coarsest / self.finest).log2();
+        let levels = libm::log2(self.coarsest / self.finest);
         if !(0.0..=MAX_LEVELS).contains(&levels) || (levels - levels.round()).abs() > 1e-6 {
             return Err(format!(
                 "coarsest: must be finest ({}) times a power of two up to 2^{MAX_LEVELS} (the \
@@ -395,7 +395,7 @@ impl Refinement {
             offset: self.offset,
             child_h: self.child_h,
             nominal: self.ladder == LadderSize::Nominal,
-            levels: (d * (self.coarsest / self.finest).log2()).round() as usize,
+            levels: (d * libm::log2(self.coarsest / self.finest)).round() as usize,
         })
     }
 }

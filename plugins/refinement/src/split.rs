@@ -57,7 +57,7 @@ pub fn signs<V: Vector>(j: usize) -> Vec<V> {
 
 /// A particle's size `Δx = (m/ρ)^{1/d}`.
 pub fn size(dim: usize, mass: Real, density: Real) -> Real {
-    (mass / density).powf(1.0 / dim as Real)
+    libm::pow(mass / density, 1.0 / dim as Real)
 }
 
 /// The children of a split of `parent` along its first `axes` axes (module docs): offset
@@ -73,9 +73,9 @@ pub fn children<V: Vector>(
     let signs = signs::<V>(j);
     let n = signs.len() as Real;
     let shrink = (j as Real) / V::DIM as Real;
-    let child_size = size(V::DIM, parent.mass, parent.density) * (0.5 as Real).powf(shrink);
+    let child_size = size(V::DIM, parent.mass, parent.density) * libm::pow(0.5 as Real, shrink);
     let step = 2.0 * epsilon * child_size;
-    let h = alpha.powf(shrink) * parent.h;
+    let h = libm::pow(alpha, shrink) * parent.h;
     signs
         .into_iter()
         .map(|s| CoreState {
@@ -114,7 +114,7 @@ pub fn merge<V: Vector>(a: &CoreState<V>, b: &CoreState<V>) -> Merge<V> {
             vel: a.vel * wa + b.vel * wb,
             mass: m,
             density: m / (a.mass / a.density + b.mass / b.density),
-            h: (a.h.powi(d) + b.h.powi(d)).powf(1.0 / d as Real),
+            h: libm::pow(a.h.powi(d) + b.h.powi(d), 1.0 / d as Real),
         },
         removed_kinetic_energy: 0.5 * reduced * dv.length_squared(),
         removed_angular_momentum: dx.cross(DVec3::from_array(dv.to_xyz())) * reduced,

@@ -105,7 +105,7 @@ fn a_split_along_fewer_axes_makes_the_next_size_of_the_ladder_and_conserves() {
         let kids = children(&p, j, 0.2, 0.5);
         assert_eq!(kids.len(), 1 << j);
         assert_conserved(&p, &kids, &format!("{j} axes"));
-        let shrink = (0.5 as Real).powf(j as Real / 3.0);
+        let shrink = libm::pow(0.5 as Real, j as Real / 3.0);
         let s = size(3, kids[0].mass, kids[0].density) / size(3, p.mass, p.density);
         assert!((s - shrink).abs() < 1e-14, "{j} axes: size ratio {s}");
         assert!(
@@ -287,7 +287,7 @@ fn targets_round_down_to_the_ladder_and_splits_reach_its_next_size() {
         assert_eq!(ladder_size(1.0, t), want, "D({t})");
     }
     let half = (0.5 as Real).sqrt();
-    let third = (0.5 as Real).powf(1.0 / 3.0);
+    let third = libm::pow(0.5 as Real, 1.0 / 3.0);
     for (dim, size, want) in [
         (2, 1.0, (2, 0.5)),
         (2, half, (1, 0.5)),

@@ -80,7 +80,7 @@ pub fn update_h<V: Vector>(
         let h: Vec<Real> = q
             .iter_mut()
             .map(|(_, m, rho, _, mut h)| {
-                h.0 = set.n * (m.0 / rho.0).powf(inv_d);
+                h.0 = set.n * libm::pow(m.0 / rho.0, inv_d);
                 h.0
             })
             .collect();
@@ -91,7 +91,7 @@ pub fn update_h<V: Vector>(
     let (mut h_new, mut pos, mut vol) = (vec![0.0; n], vec![V::zero(); n], vec![0.0; n]);
     // by row: the index of the neighbour lists (the query walks the one table in row order)
     for (row, (_, m, rho, r, _)) in q.iter().enumerate() {
-        h_new[row] = set.n * (m.0 / rho.0).powf(inv_d);
+        h_new[row] = set.n * libm::pow(m.0 / rho.0, inv_d);
         pos[row] = r.0;
         vol[row] = m.0 / rho.0;
     }

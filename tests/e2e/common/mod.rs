@@ -2,6 +2,8 @@
 //! checkpoints, files read or the test fails.
 #![allow(dead_code)]
 
+pub mod channel;
+
 use dualsph::core::sim::{Domain, SimConfig, TimeStepping};
 use dualsph::prelude::*;
 use rand::{Rng, SeedableRng};
@@ -37,7 +39,7 @@ pub fn cloud<V: Vector>(side: usize, h_lo: Real, h_hi: Real, seed: u64) -> Vec<P
                 pos.set(d, idx as Real + rng.random_range(-0.3..0.3) + 0.5);
                 vel.set(d, rng.random_range(-1.0..1.0));
             }
-            let h = h_lo * (h_hi / h_lo).powf(rng.random_range(0.0..1.0));
+            let h = h_lo * libm::pow(h_hi / h_lo, rng.random_range(0.0..1.0));
             ParticleInit {
                 pos,
                 vel,

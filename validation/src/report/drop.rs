@@ -163,7 +163,7 @@ pub fn run(opts: &ReportOptions) -> Result<(Section, Vec<DropCase>), ReportError
     let (a, b) = graded[0].ode;
     let ellipse = (0..=360).map(|k| {
         let th = (k as f64).to_radians();
-        (a * th.cos(), b * th.sin())
+        (a * libm::cos(th), b * libm::sin(th))
     });
     let mut shape = LinePlot::new(
         format!("Elliptical drop at t = {:.4} s", t),

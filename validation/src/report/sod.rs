@@ -32,7 +32,7 @@ pub fn adaptive_level(p: &dualsph_io::ParticleRow<'_>) -> f64 {
     let nominal = p
         .get("nominal_density")
         .expect("the adaptive tube's particles carry a nominal density")[0];
-    (ADAPTIVE_COARSEST / (p.mass() / nominal)).log2()
+    libm::log2(ADAPTIVE_COARSEST / (p.mass() / nominal))
 }
 
 /// One graded case: L1 errors over the window.

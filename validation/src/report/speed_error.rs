@@ -555,8 +555,11 @@ fn cpu_at_error(runs: &[&Point], target: f64) -> Option<f64> {
         if !(target > 0.0 && lo > 0.0 && (lo..=hi).contains(&target)) || a.error == b.error {
             return None;
         }
-        let t = (target.ln() - a.error.ln()) / (b.error.ln() - a.error.ln());
-        Some((a.cpu_seconds.ln() + t * (b.cpu_seconds.ln() - a.cpu_seconds.ln())).exp())
+        let t =
+            (libm::log(target) - libm::log(a.error)) / (libm::log(b.error) - libm::log(a.error));
+        Some(libm::exp(
+            libm::log(a.cpu_seconds) + t * (libm::log(b.cpu_seconds) - libm::log(a.cpu_seconds)),
+        ))
     })
 }
 

@@ -83,7 +83,7 @@ fn water_at_end(scene: &Scene) -> (Vec<[f64; 4]>, f64) {
             row
         })
         .filter(|r| r["body"] == 1.0)
-        .map(|r| [r["x"], r["y"], r["p"], r["vx"].hypot(r["vy"])])
+        .map(|r| [r["x"], r["y"], r["p"], libm::hypot(r["vx"], r["vy"])])
         .collect();
     (water, energy_change)
 }
@@ -168,7 +168,7 @@ fn the_thrust_on_the_wall_is_the_hydrostatic_one() {
     let p0 = c0 * c0 * RHO0 / 7.0;
     // ∫_0^H p(s) ds of the module docs' profile, in closed form
     let (a, e) = (6.0 / 7.0 * RHO0 * G / p0, 7.0 / 6.0);
-    let thrust = p0 * (((1.0 + a * h).powf(e + 1.0) - 1.0) / (a * (e + 1.0)) - h);
+    let thrust = p0 * ((libm::pow(1.0 + a * h, e + 1.0) - 1.0) / (a * (e + 1.0)) - h);
     let fx = first_tank_row[0];
     eprintln!(
         "thrust on the left wall {:.1} N/m against {thrust:.1} (ρ0 g H²/2 = {:.1})",

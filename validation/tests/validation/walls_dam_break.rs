@@ -66,7 +66,7 @@ fn the_walls_hold_the_surge_and_the_momentum_balances_every_step() {
         let rx = (px[n + 1] - px[n]) + h * 0.5 * (fx[n] + fx[n + 1]);
         let ry = (py[n + 1] - py[n]) + h * (weight + 0.5 * (fy[n] + fy[n + 1]));
         let scale = (2.0 * mass * e_kin[n + 1]).sqrt() + h * weight;
-        worst = worst.max(rx.hypot(ry) / scale);
+        worst = worst.max(libm::hypot(rx, ry) / scale);
     }
     let push = fx.iter().cloned().fold(f64::MIN, f64::max);
     eprintln!(

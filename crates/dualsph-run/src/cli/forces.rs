@@ -100,10 +100,10 @@ pub fn spectral_peak(signal: &[(f64, f64)]) -> Option<(f64, f64)> {
         for p in signal.windows(2) {
             let ((t0, y0), (t1, y1)) = (p[0], p[1]);
             let (a, b) = ((y0 - mean) * 0.5 * (t1 - t0), (y1 - mean) * 0.5 * (t1 - t0));
-            re += a * (w * t0).cos() + b * (w * t1).cos();
-            im += a * (w * t0).sin() + b * (w * t1).sin();
+            re += a * libm::cos(w * t0) + b * libm::cos(w * t1);
+            im += a * libm::sin(w * t0) + b * libm::sin(w * t1);
         }
-        2.0 * re.hypot(im) / span
+        2.0 * libm::hypot(re, im) / span
     };
     let step = 1.0 / (8.0 * span);
     let (lo, hi) = (2.0 / span, 0.25 * (n - 1) as f64 / span);
@@ -175,7 +175,7 @@ fn integral(series: &[(f64, [f64; 3])], a: f64, b: f64) -> [f64; 3] {
 /// `sin(π f T)/(π f T)`.
 pub fn boxcar_gain(f: f64, width: f64) -> f64 {
     let x = std::f64::consts::PI * f * width;
-    if x == 0.0 { 1.0 } else { x.sin() / x }
+    if x == 0.0 { 1.0 } else { libm::sin(x) / x }
 }
 
 /// The default window's start: the second half of the run, widened to hold at least its last
@@ -322,7 +322,10 @@ mod tests {
         (0..=500)
             .map(|i| {
                 let t = 0.01 * i as f64;
-                (t, 0.3 + (2.0 * std::f64::consts::PI * 3.7 * t + 0.4).sin())
+                (
+                    t,
+                    0.3 + libm::sin(2.0 * std::f64::consts::PI * 3.7 * t + 0.4),
+                )
             })
             .collect()
     }
@@ -389,7 +392,7 @@ mod tests {
         let series: Vec<(f64, [f64; 3])> = (0..=2000)
             .map(|i| {
                 let t = 1e-3 * i as f64;
-                let w = |f: f64| (2.0 * std::f64::consts::PI * f * t).sin();
+                let w = |f: f64| libm::sin(2.0 * std::f64::consts::PI * f * t);
                 (t, [w(3.7) + 0.5 * w(50.0), 1.0, 0.0])
             })
             .collect();
@@ -399,7 +402,7 @@ mod tests {
         assert!((m[0].0 - 0.01).abs() < 1e-12 && (m[m.len() - 1].0 - 1.99).abs() < 1e-12);
         let gain = boxcar_gain(3.7, width);
         for (t, c) in &m {
-            let exact = gain * (2.0 * std::f64::consts::PI * 3.7 * t).sin();
+            let exact = gain * libm::sin(2.0 * std::f64::consts::PI * 3.7 * t);
             assert!(
                 (c[0] - exact).abs() < 2e-4,
                 "t {t}: {} against {exact}",

@@ -252,7 +252,7 @@ fn rings(g: &ShapeGenerator, f: &mut impl FnMut([f64; 3])) {
         }
         let shift = if k % 2 == 1 { 0.5 } else { 0.0 };
         for j in 0..count as usize {
-            let (s, co) = (2.0 * PI * (j as f64 + shift) / count).sin_cos();
+            let (s, co) = libm::sincos(2.0 * PI * (j as f64 + shift) / count);
             f([c[0] + r * co, c[1] + r * s, 0.0]);
         }
     }

@@ -57,7 +57,7 @@ pub(crate) fn solid_angle(p: P, t: &[P; 3]) -> f64 {
     let (la, lb, lc) = (dot(a, a).sqrt(), dot(b, b).sqrt(), dot(c, c).sqrt());
     let num = dot(a, cross(b, c));
     let den = la * lb * lc + dot(a, b) * lc + dot(b, c) * la + dot(c, a) * lb;
-    2.0 * num.atan2(den)
+    2.0 * libm::atan2(num, den)
 }
 
 /// The point of triangle `t` closest to `p` (Ericson 2004, §5.1.5: the Voronoi regions of
@@ -239,7 +239,9 @@ impl Grid {
     /// crosses.
     fn new(tris: &[[P; 3]], lo: P, hi: P, pad: f64) -> Self {
         let extent = (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f64::max);
-        let m = (3.0 * (tris.len() as f64).cbrt()).ceil().clamp(4.0, 128.0);
+        let m = (3.0 * libm::cbrt(tris.len() as f64))
+            .ceil()
+            .clamp(4.0, 128.0);
         let cell = if extent > 0.0 { extent / m } else { 1.0 };
         let n_cells: [usize; 3] =
             std::array::from_fn(|k| (((hi[k] - lo[k]) / cell).ceil() as usize).clamp(1, 128));

@@ -338,7 +338,7 @@ impl Geometry for CylinderGeom {
     fn signed_distance(&self, p: &[f64; 3]) -> f64 {
         let (w, u) = self.radial_axial(p);
         let q = [w - self.r, u - self.l];
-        q[0].max(0.0).hypot(q[1].max(0.0)) + q[0].max(q[1]).min(0.0)
+        libm::hypot(q[0].max(0.0), q[1].max(0.0)) + q[0].max(q[1]).min(0.0)
     }
     fn contains(&self, p: &[f64; 3]) -> bool {
         let (w, u) = self.radial_axial(p);

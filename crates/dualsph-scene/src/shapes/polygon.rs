@@ -19,7 +19,7 @@ fn segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
     } else {
         0.0
     };
-    (w[0] - t * e[0]).hypot(w[1] - t * e[1])
+    libm::hypot(w[0] - t * e[0], w[1] - t * e[1])
 }
 
 /// A polygon with vertices `v_0 … v_{n−1}` and edges `v_i → v_{i+1 mod n}`.
@@ -95,7 +95,7 @@ impl Geometry for PolygonGeom {
     }
     fn surface(&self) -> f64 {
         self.edges()
-            .map(|(a, b)| (b[0] - a[0]).hypot(b[1] - a[1]))
+            .map(|(a, b)| libm::hypot(b[0] - a[0], b[1] - a[1]))
             .sum()
     }
 }

@@ -66,7 +66,7 @@ fn disk_count_matches_area() {
     assert!(rel < 0.01, "{} vs {expected}", disk.len());
     assert!(
         disk.iter()
-            .all(|p| (p.pos[0] - 4.0).hypot(p.pos[1] - 3.0) <= 1.0 + 1e-12)
+            .all(|p| libm::hypot(p.pos[0] - 4.0, p.pos[1] - 3.0) <= 1.0 + 1e-12)
     );
     assert!(close(disk[0].mass, 500.0 * 0.02 * 0.02) && close(disk[0].h, 1.5 * 0.02));
     assert!(estimate_count(&s.particles[1], 2) >= disk.len() as f64);

@@ -172,7 +172,7 @@ fn circle_solid_count_against_area() {
     assert!(rel < 0.01, "{} vs {expected}", ps.len());
     assert!(
         ps.iter()
-            .all(|p| (p.pos[0] - 1.5).hypot(p.pos[1] - 1.5) <= 1.0 + 1e-12)
+            .all(|p| libm::hypot(p.pos[0] - 1.5, p.pos[1] - 1.5) <= 1.0 + 1e-12)
     );
 }
 
@@ -198,11 +198,14 @@ fn circle_layers_are_rings() {
             let n = (2.0 * PI * rk / dx).round() as usize;
             let ring = &ps[start..start + n];
             for p in ring {
-                let dist = (p.pos[0] - 0.5).hypot(p.pos[1] - 0.25);
+                let dist = libm::hypot(p.pos[0] - 0.5, p.pos[1] - 0.25);
                 assert!((dist - rk).abs() < 1e-12, "{side} ring {k}: {dist} vs {rk}");
                 assert!((p.mass - 1000.0 * dx * dx).abs() < 1e-12);
             }
-            let gap = (ring[1].pos[0] - ring[0].pos[0]).hypot(ring[1].pos[1] - ring[0].pos[1]);
+            let gap = libm::hypot(
+                ring[1].pos[0] - ring[0].pos[0],
+                ring[1].pos[1] - ring[0].pos[1],
+            );
             assert!((gap / dx - 1.0).abs() < 0.01, "{side} ring {k}: gap {gap}");
             start += n;
         }
@@ -312,7 +315,7 @@ fn cut_by_shapes_and_by_plain_boxes() {
     let ps = of(&text, 0);
     for p in &ps {
         let [x, y, _] = p.pos;
-        assert!((x - 0.5).hypot(y - 0.25) > 0.15 && x > 0.1);
+        assert!(libm::hypot(x - 0.5, y - 0.25) > 0.15 && x > 0.1);
         assert!(
             !(x >= 0.8 && y <= x - 0.8),
             "({x}, {y}) is in the cut triangle"
@@ -323,7 +326,7 @@ fn cut_by_shapes_and_by_plain_boxes() {
     let lattice = (0..20)
         .flat_map(|i| (0..10).map(move |j| ((i as f64 + 0.5) * 0.05, (j as f64 + 0.5) * 0.05)));
     let circle = lattice
-        .filter(|(x, y)| (x - 0.5).hypot(y - 0.25) <= 0.15)
+        .filter(|(x, y)| libm::hypot(x - 0.5, y - 0.25) <= 0.15)
         .count();
     assert_eq!(circle, 32);
     assert_eq!(ps.len(), 200 - 20 - circle - 10);

@@ -389,7 +389,7 @@ fn overlap_check_agrees_with_brute_force() {
         let brute = fine.iter().any(|a| {
             coarse
                 .iter()
-                .any(|b| (a.pos[0] - b.pos[0]).hypot(a.pos[1] - b.pos[1]) < 0.5 * 0.05)
+                .any(|b| libm::hypot(a.pos[0] - b.pos[0], a.pos[1] - b.pos[1]) < 0.5 * 0.05)
         });
         let fast = match s.validate(path()) {
             Err(SceneError::Invalid { field, .. }) => {

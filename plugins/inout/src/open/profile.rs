@@ -64,7 +64,7 @@ pub fn ramp_factor(ramp: Real, t: Real) -> Real {
     if t >= ramp {
         1.0
     } else {
-        0.5 * (1.0 - (std::f64::consts::PI * t.max(0.0) / ramp).cos())
+        0.5 * (1.0 - libm::cos(std::f64::consts::PI * t.max(0.0) / ramp))
     }
 }
 
@@ -77,7 +77,7 @@ pub fn ramp_integral(ramp: Real, t: Real) -> Real {
         0.5 * ramp + (t - ramp)
     } else {
         let t = t.max(0.0);
-        0.5 * (t - ramp / PI * (PI * t / ramp).sin())
+        0.5 * (t - ramp / PI * libm::sin(PI * t / ramp))
     }
 }
 

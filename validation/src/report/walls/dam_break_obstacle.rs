@@ -241,14 +241,17 @@ impl ObstacleLoads {
 
 /// The first time `|F|` exceeds [`ONSET`].
 fn onset(history: &[(f64, f64, f64)]) -> Option<f64> {
-    history.iter().find(|r| r.1.hypot(r.2) > ONSET).map(|r| r.0)
+    history
+        .iter()
+        .find(|r| libm::hypot(r.1, r.2) > ONSET)
+        .map(|r| r.0)
 }
 
 /// The largest `|F|` of a history and its time.
 pub fn peak(history: &[(f64, f64, f64)]) -> (f64, f64) {
     history
         .iter()
-        .map(|r| (r.1.hypot(r.2), r.0))
+        .map(|r| (libm::hypot(r.1, r.2), r.0))
         .fold((0.0, f64::NAN), |a, b| if b.0 > a.0 { b } else { a })
 }
 

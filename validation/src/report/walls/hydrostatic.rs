@@ -103,7 +103,10 @@ pub fn fine_walls(h_factor: f64) -> [(&'static str, String); 1] {
 /// The analytic pressure at depth `s` (module docs), for the scene's water.
 pub fn p_exact(s: f64) -> f64 {
     let p0 = C0 * C0 * RHO0 / GAMMA;
-    p0 * ((1.0 + (GAMMA - 1.0) / GAMMA * RHO0 * G * s / p0).powf(GAMMA / (GAMMA - 1.0)) - 1.0)
+    p0 * (libm::pow(
+        1.0 + (GAMMA - 1.0) / GAMMA * RHO0 * G * s / p0,
+        GAMMA / (GAMMA - 1.0),
+    ) - 1.0)
 }
 
 /// The pressure on the floor (y = 0): the least-squares line `p = a + b y` through the
@@ -205,7 +208,14 @@ pub fn grade(run: CaseRun) -> TankCase {
         .last
         .rows()
         .filter(|p| p.pos()[0] > 0.0 && p.pos()[0] < 1.0 && p.pos()[1] > 0.0)
-        .map(|p| [p.pos()[0], p.pos()[1], p.p(), p.vel()[0].hypot(p.vel()[1])])
+        .map(|p| {
+            [
+                p.pos()[0],
+                p.pos()[1],
+                p.p(),
+                libm::hypot(p.vel()[0], p.vel()[1]),
+            ]
+        })
         .collect();
     let e0 = run.diagnostics[0].e_tot;
     let energy_change = (run.final_diagnostics().e_tot - e0) / e0;

@@ -58,9 +58,12 @@ pub const SIDEWAYS: f64 = 1e-12;
 /// `p(s) = p0 [(1 + ((γ − 1)/γ) ρ0 g s / p0)^{γ/(γ−1)} − 1]` and `p0 = ρ0 c0²/γ`.
 pub fn rho_at_depth(s: f64) -> f64 {
     let p0 = C0 * C0 * RHO0 / GAMMA;
-    let p =
-        p0 * ((1.0 + (GAMMA - 1.0) / GAMMA * RHO0 * G * s / p0).powf(GAMMA / (GAMMA - 1.0)) - 1.0);
-    RHO0 * (1.0 + p / p0).powf(1.0 / GAMMA)
+    let p = p0
+        * (libm::pow(
+            1.0 + (GAMMA - 1.0) / GAMMA * RHO0 * G * s / p0,
+            GAMMA / (GAMMA - 1.0),
+        ) - 1.0);
+    RHO0 * libm::pow(1.0 + p / p0, 1.0 / GAMMA)
 }
 
 /// The water the obstacle displaces, from the scene's particles.

@@ -26,14 +26,14 @@ pub const RATE_BOUND: f64 = 0.02;
 
 /// The analytic amplitude `e^{−2νk²t}`.
 pub fn exact_amplitude(t: f64) -> f64 {
-    (-2.0 * NU * K * K * t).exp()
+    libm::exp(-2.0 * NU * K * K * t)
 }
 
 /// The projection `A` (module docs) of particles given as `(x, y, v_x, v_y, m)`.
 pub fn mode_amplitude(particles: impl IntoIterator<Item = (f64, f64, f64, f64, f64)>) -> f64 {
     let (mut num, mut den) = (0.0, 0.0);
     for (x, y, vx, vy, m) in particles {
-        let ((sx, cx), (sy, cy)) = ((K * x).sin_cos(), (K * y).sin_cos());
+        let ((sx, cx), (sy, cy)) = (libm::sincos(K * x), libm::sincos(K * y));
         let (u, v) = (sx * cy, -cx * sy);
         num += m * (vx * u + vy * v);
         den += m * (u * u + v * v);
@@ -44,12 +44,12 @@ pub fn mode_amplitude(particles: impl IntoIterator<Item = (f64, f64, f64, f64, f
 /// The least-squares slope of `−ln A(t)` over the amplitudes `(t, A)` given.
 pub fn decay_rate(amplitudes: &[(f64, f64)]) -> f64 {
     let n = amplitudes.len() as f64;
-    let (mt, ma) = amplitudes
-        .iter()
-        .fold((0.0, 0.0), |(x, y), (t, a)| (x + t / n, y + a.ln() / n));
+    let (mt, ma) = amplitudes.iter().fold((0.0, 0.0), |(x, y), (t, a)| {
+        (x + t / n, y + libm::log(*a) / n)
+    });
     let sxy: f64 = amplitudes
         .iter()
-        .map(|(t, a)| (t - mt) * (a.ln() - ma))
+        .map(|(t, a)| (t - mt) * (libm::log(*a) - ma))
         .sum();
     let sxx: f64 = amplitudes.iter().map(|(t, _)| (t - mt) * (t - mt)).sum();
     -sxy / sxx
