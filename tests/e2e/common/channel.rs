@@ -8,7 +8,8 @@ use std::path::Path;
 
 pub const SCENE: &str = "scenes/channel_open_2d.ron";
 
-/// The scene's text with its end time and output section replaced.
+/// The scene's text (read from the workspace root, as [`super::doc_text`] reads a doc) with its
+/// end time and output section replaced.
 pub fn scene_text(end_time: f64, output: &str) -> String {
     let text = super::doc_text(SCENE);
     let text = text.replace("end_time: 2.0,", &format!("end_time: {end_time:?},"));
@@ -20,6 +21,7 @@ pub fn scene_text(end_time: f64, output: &str) -> String {
     text
 }
 
+/// The scene of [`scene_text`], parsed with the built-in plugins.
 pub fn scene(end_time: f64, output: &str) -> Scene {
     let text = scene_text(end_time, output);
     Scene::from_str(&text, Path::new(SCENE), &dualsph::default_registry()).unwrap()
