@@ -5,12 +5,15 @@
 //! and then renamed onto the final name. After a crash a file name therefore
 //! holds either the old or the new complete content, never a torn file.
 //!
-//! Files that grow during a run (`diagnostics.csv`, `snapshots.csv`,
-//! `particles.pvd`) are not appended to: [`OutputDir`] keeps their rows in
-//! memory and rewrites the whole file atomically on every update. These files
-//! have one short line per output event, so the quadratic total cost is
-//! negligible next to a simulation step, and the on-disk file is always a
-//! complete, parseable table.
+//! The two tables that grow by a row (or a row per body) at every diagnostics
+//! step, `diagnostics.csv` and `bodies.csv`, are appended to instead, since
+//! rewriting them whole at every row costs time quadratic in the rows: each
+//! step's rows go in one write of complete lines, a failed write is cut off
+//! again, rows that a re-run step supersedes are replaced by an atomic rewrite,
+//! and the rows are made durable (fsync) at every snapshot and at the end. A
+//! crash in the middle of an append can leave an incomplete last line, which a
+//! resumed run cuts off. The snapshot index (`snapshots.csv`, `particles.pvd`),
+//! a line per snapshot, is rewritten atomically whenever it changes.
 //!
 //! Layout of an output directory `DIR`:
 //!
@@ -35,6 +38,7 @@
 
 mod atomic;
 mod csv_out;
+mod growing;
 mod input;
 mod loads;
 mod output_dir;

@@ -1,11 +1,11 @@
 //! `bodies.csv`: the load on every fixed or prescribed body, one row per (diagnostics step,
-//! body), kept in memory and rewritten atomically like `diagnostics.csv`.
+//! body), growing by whole rows like `diagnostics.csv`.
 
-use std::io::Write;
 use std::path::Path;
 
 use crate::csv_out::{header_mismatch, parse_field, push_real, read_table};
-use crate::{OutputError, Real, write_atomic_with};
+use crate::growing::GrowingCsv;
+use crate::{OutputError, Real};
 
 /// File name of the table of body loads.
 pub const BODIES_FILE: &str = "bodies.csv";
@@ -29,46 +29,37 @@ pub struct BodyLoadRow {
     pub moment: [Real; 3],
 }
 
-/// The rows of `bodies.csv` in file order, as `(step, formatted line)`.
-#[derive(Debug, Default)]
-pub(crate) struct LoadsTable {
-    rows: Vec<(u64, String)>,
-}
+/// `bodies.csv` as it grows, once started ([`LoadsTable::create`]) or reopened.
+#[derive(Debug)]
+pub(crate) struct LoadsTable(GrowingCsv);
 
 impl LoadsTable {
-    /// The rows of the file at `path` with `step <= up_to_step` (none when it is missing);
-    /// its header must be [`BODIES_COLUMNS`].
-    pub(crate) fn read(path: &Path, up_to_step: u64) -> Result<Self, OutputError> {
-        let mut table = LoadsTable::default();
-        if !path.exists() {
-            return Ok(table);
-        }
-        for (line, rec) in read_rows(path)? {
-            let step: u64 = parse_field(path, line, &rec, 1, "step")?;
-            if step <= up_to_step {
-                table
-                    .rows
-                    .push((step, rec.iter().collect::<Vec<_>>().join(",")));
-            }
-        }
-        Ok(table)
+    /// Starts `bodies.csv` at `path`, its header only.
+    pub(crate) fn create(path: &Path) -> Result<Self, OutputError> {
+        GrowingCsv::create(path, &header()).map(LoadsTable)
+    }
+
+    /// Continues the file at `path` from its rows with `step <= up_to_step` (started anew
+    /// when it is missing); its header must be [`BODIES_COLUMNS`].
+    pub(crate) fn reopen(path: &Path, up_to_step: u64) -> Result<Self, OutputError> {
+        GrowingCsv::reopen(path, &header(), up_to_step).map(LoadsTable)
     }
 
     /// The number of rows.
     pub(crate) fn len(&self) -> usize {
-        self.rows.len()
+        self.0.len()
     }
 
-    /// Replaces the rows of `step` and later by `rows` (all of step `step`) and rewrites the
-    /// file at `path` atomically; on an error the table and the file are unchanged.
-    pub(crate) fn push(
-        &mut self,
-        path: &Path,
-        step: u64,
-        rows: &[BodyLoadRow],
-    ) -> Result<(), OutputError> {
+    /// Makes the rows written so far durable.
+    pub(crate) fn sync(&self) -> Result<(), OutputError> {
+        self.0.sync()
+    }
+
+    /// Replaces the rows of `step` and later by `rows` (all of step `step`); on an error the
+    /// table and the file are unchanged.
+    pub(crate) fn push(&mut self, step: u64, rows: &[BodyLoadRow]) -> Result<(), OutputError> {
         let invalid = |msg: String| OutputError::Invalid {
-            path: path.to_path_buf(),
+            path: self.0.path().to_path_buf(),
             msg,
         };
         let mut lines = Vec::with_capacity(rows.len());
@@ -83,40 +74,24 @@ impl LoadsTable {
             if b.is_empty() || b.contains([',', '"', '\n', '\r']) || b.trim() != b {
                 return Err(invalid(format!("invalid body name {b:?}")));
             }
-            lines.push((step, format_row(r)));
+            lines.push(format_row(r));
         }
-        let keep = self.rows.partition_point(|(s, _)| *s < step);
-        let dropped = self.rows.split_off(keep);
-        let added = lines.len();
-        self.rows.extend(lines);
-        let res = self.write(path);
-        if res.is_err() {
-            // keep memory in sync with the (unchanged) file
-            self.rows.truncate(self.rows.len() - added);
-            self.rows.extend(dropped);
-        }
-        res
+        self.0.push(step, &lines)
     }
+}
 
-    /// Writes the header and every row to `path`, atomically.
-    pub(crate) fn write(&self, path: &Path) -> Result<(), OutputError> {
-        write_atomic_with(path, |w: &mut dyn Write| {
-            writeln!(w, "{}", BODIES_COLUMNS.join(","))?;
-            for (_, line) in &self.rows {
-                writeln!(w, "{line}")?;
-            }
-            Ok(())
-        })
-    }
+/// [`BODIES_COLUMNS`] as strings.
+fn header() -> Vec<String> {
+    BODIES_COLUMNS.iter().map(|s| s.to_string()).collect()
 }
 
 /// The records of the `bodies.csv` at `path` with their line numbers; its header must be
 /// [`BODIES_COLUMNS`].
 fn read_rows(path: &Path) -> Result<Vec<(u64, csv::StringRecord)>, OutputError> {
-    let (header, rows) = read_table(path)?;
-    let expected: Vec<String> = BODIES_COLUMNS.iter().map(|s| s.to_string()).collect();
-    if header != expected {
-        return Err(header_mismatch(path, &header, &expected));
+    let (found, rows) = read_table(path)?;
+    let expected = header();
+    if found != expected {
+        return Err(header_mismatch(path, &found, &expected));
     }
     Ok(rows)
 }
@@ -174,23 +149,25 @@ mod tests {
     fn rows_round_trip_supersede_and_truncate() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join(BODIES_FILE);
-        let mut t = LoadsTable::default();
-        t.push(&path, 0, &[row(0, "tank", 1.0), row(0, "flap", 2.0)])
+        let mut t = LoadsTable::create(&path).unwrap();
+        t.push(0, &[row(0, "tank", 1.0), row(0, "flap", 2.0)])
             .unwrap();
-        t.push(&path, 1, &[row(1, "tank", 0.1), row(1, "flap", 0.2)])
+        t.push(1, &[row(1, "tank", 0.1), row(1, "flap", 0.2)])
             .unwrap();
-        t.push(&path, 1, &[row(1, "tank", 0.3), row(1, "flap", 0.4)])
+        t.push(1, &[row(1, "tank", 0.3), row(1, "flap", 0.4)])
             .unwrap();
         let text = std::fs::read_to_string(&path).unwrap();
         let lines: Vec<&str> = text.lines().collect();
         assert_eq!(lines.len(), 5, "{text}");
         assert_eq!(lines[0], "t,step,body,fx,fy,fz,mx,my,mz");
         assert_eq!(lines[3], "0.5,1,tank,0.3,-0.3333333333333333,0,0,0,2.5e-17");
-        let again = LoadsTable::read(&path, 0).unwrap();
+        drop(t);
+        let again = LoadsTable::reopen(&path, 0).unwrap();
         assert_eq!(again.len(), 2);
-        assert_eq!(again.rows[..], t.rows[..2]);
+        let kept = std::fs::read_to_string(&path).unwrap();
+        assert_eq!(kept.lines().collect::<Vec<_>>(), lines[..3]);
         assert_eq!(
-            LoadsTable::read(&dir.path().join("none.csv"), 9)
+            LoadsTable::reopen(&dir.path().join("none.csv"), 9)
                 .unwrap()
                 .len(),
             0
@@ -201,11 +178,11 @@ mod tests {
     fn a_bad_body_name_or_step_is_refused_and_changes_nothing() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join(BODIES_FILE);
-        let mut t = LoadsTable::default();
-        t.push(&path, 0, &[row(0, "tank", 1.0)]).unwrap();
+        let mut t = LoadsTable::create(&path).unwrap();
+        t.push(0, &[row(0, "tank", 1.0)]).unwrap();
         let before = std::fs::read(&path).unwrap();
         for bad in [vec![row(1, "a,b", 1.0)], vec![row(2, "tank", 1.0)]] {
-            assert!(t.push(&path, 1, &bad).is_err());
+            assert!(t.push(1, &bad).is_err());
         }
         assert_eq!(std::fs::read(&path).unwrap(), before);
         assert_eq!(t.len(), 1);
@@ -215,10 +192,10 @@ mod tests {
     fn the_rows_of_one_body_are_read_back() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join(BODIES_FILE);
-        let mut t = LoadsTable::default();
-        t.push(&path, 0, &[row(0, "tank", 1.0), row(0, "flap", 2.0)])
+        let mut t = LoadsTable::create(&path).unwrap();
+        t.push(0, &[row(0, "tank", 1.0), row(0, "flap", 2.0)])
             .unwrap();
-        t.push(&path, 1, &[row(1, "tank", 0.1), row(1, "flap", 0.2)])
+        t.push(1, &[row(1, "tank", 0.1), row(1, "flap", 0.2)])
             .unwrap();
         let flap = read_body_loads(&path, "flap").unwrap();
         assert_eq!(flap, vec![row(0, "flap", 2.0), row(1, "flap", 0.2)]);
@@ -230,7 +207,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join(BODIES_FILE);
         std::fs::write(&path, "t,step,body,fx\n0,0,tank,1\n").unwrap();
-        let e = LoadsTable::read(&path, 5).unwrap_err().to_string();
+        let e = LoadsTable::reopen(&path, 5).unwrap_err().to_string();
         assert!(e.contains("unexpected header"), "{e}");
     }
 }

@@ -1,13 +1,12 @@
 //! [`OutputDir`]: the set of output files of one run.
 
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use crate::csv_out::{
     DIAGNOSTICS_FIXED_COLUMNS, SnapshotEntry, diagnostics_header, format_diagnostics_row,
-    header_mismatch, parse_field, read_snapshot_index, read_table, write_particles,
-    write_snapshot_index,
+    read_snapshot_index, write_particles, write_snapshot_index,
 };
+use crate::growing::GrowingCsv;
 use crate::loads::{BODIES_FILE, BodyLoadRow, LoadsTable};
 use crate::vtk::{self, VtkEncoding};
 use crate::{DiagnosticsRow, OutputError, ParticleTable, Real, write_atomic_with};
@@ -60,15 +59,16 @@ impl OutputOptions {
 /// The output directory of a run and the in-memory state of its growing
 /// files (diagnostics rows and snapshot index).
 ///
-/// Every method that changes a file rewrites it completely and atomically, see
-/// the [crate documentation](crate).
+/// `diagnostics.csv` and `bodies.csv` grow by whole rows; every other file is
+/// rewritten completely and atomically when it changes, see the
+/// [crate documentation](crate).
 #[derive(Debug)]
 pub struct OutputDir {
     dir: PathBuf,
     extra: Vec<String>,
     options: OutputOptions,
-    /// `(step, formatted CSV line)` of every diagnostics row, in file order.
-    diag: Vec<(u64, String)>,
+    /// `diagnostics.csv`, once the directory is started or reopened.
+    diag: Option<GrowingCsv>,
     /// Snapshot index, sorted by step.
     snapshots: Vec<SnapshotEntry>,
     /// The rows of `bodies.csv`, once [`OutputDir::enable_body_loads`] is called.
@@ -93,8 +93,10 @@ impl OutputDir {
         extra_diag_columns: Vec<String>,
         options: OutputOptions,
     ) -> Result<Self, OutputError> {
-        let out = Self::empty(dir, extra_diag_columns, options)?;
-        out.rewrite_indexes()?;
+        let mut out = Self::empty(dir, extra_diag_columns, options)?;
+        let header = diagnostics_header(&out.extra);
+        out.diag = Some(GrowingCsv::create(&out.path(DIAGNOSTICS_FILE), &header)?);
+        out.write_snapshot_indexes()?;
         let stale = out.path(BODIES_FILE);
         match std::fs::remove_file(&stale) {
             Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(OutputError::Io {
@@ -123,21 +125,9 @@ impl OutputDir {
     ) -> Result<Self, OutputError> {
         let mut out = Self::empty(dir, extra_diag_columns, options)?;
 
+        let header = diagnostics_header(&out.extra);
         let diag_path = out.path(DIAGNOSTICS_FILE);
-        if diag_path.exists() {
-            let (header, rows) = read_table(&diag_path)?;
-            let expected = diagnostics_header(&out.extra);
-            if header != expected {
-                return Err(header_mismatch(&diag_path, &header, &expected));
-            }
-            for (line, rec) in rows {
-                let step: u64 = parse_field(&diag_path, line, &rec, 1, "step")?;
-                if step <= up_to_step {
-                    out.diag
-                        .push((step, rec.iter().collect::<Vec<_>>().join(",")));
-                }
-            }
-        }
+        out.diag = Some(GrowingCsv::reopen(&diag_path, &header, up_to_step)?);
 
         let index_path = out.path(SNAPSHOT_INDEX_FILE);
         if index_path.exists() {
@@ -146,7 +136,7 @@ impl OutputDir {
             out.snapshots.sort_by_key(|e| e.step);
         }
 
-        out.rewrite_indexes()?;
+        out.write_snapshot_indexes()?;
         out.resumed_at = Some(up_to_step);
         Ok(out)
     }
@@ -158,12 +148,10 @@ impl OutputDir {
     /// the step resumed from (a missing file counts as empty).
     pub fn enable_body_loads(&mut self) -> Result<(), OutputError> {
         let path = self.path(BODIES_FILE);
-        let table = match self.resumed_at {
-            Some(step) => LoadsTable::read(&path, step)?,
-            None => LoadsTable::default(),
-        };
-        table.write(&path)?;
-        self.loads = Some(table);
+        self.loads = Some(match self.resumed_at {
+            Some(step) => LoadsTable::reopen(&path, step)?,
+            None => LoadsTable::create(&path)?,
+        });
         Ok(())
     }
 
@@ -178,15 +166,14 @@ impl OutputDir {
         self.loads.as_ref().map_or(0, LoadsTable::len)
     }
 
-    /// Put the rows of `step` (one per body, each of that step) in `DIR/bodies.csv` and
-    /// rewrite it atomically. Like diagnostics rows, they supersede the rows of `step`
+    /// Put the rows of `step` (one per body, each of that step) in `DIR/bodies.csv`. Like diagnostics rows, they supersede the rows of `step`
     /// and later. An error when [`OutputDir::enable_body_loads`] was not called, or a
     /// row is of another step or names its body with `,` `"`, a line break or
     /// surrounding blanks (nothing is changed then).
     pub fn push_body_loads(&mut self, step: u64, rows: &[BodyLoadRow]) -> Result<(), OutputError> {
         let path = self.dir.join(BODIES_FILE);
         match &mut self.loads {
-            Some(table) => table.push(&path, step, rows),
+            Some(table) => table.push(step, rows),
             None => Err(OutputError::Invalid {
                 path,
                 msg: "body loads were not enabled for this output directory".into(),
@@ -219,7 +206,7 @@ impl OutputDir {
             dir: dir.to_path_buf(),
             extra,
             options,
-            diag: Vec::new(),
+            diag: None,
             snapshots: Vec::new(),
             loads: None,
             resumed_at: None,
@@ -249,20 +236,20 @@ impl OutputDir {
 
     /// Number of rows currently in `diagnostics.csv`.
     pub fn diagnostics_len(&self) -> usize {
-        self.diag.len()
+        self.diag.as_ref().map_or(0, GrowingCsv::len)
     }
 
     fn path(&self, name: &str) -> PathBuf {
         self.dir.join(name)
     }
 
-    /// Append a row and rewrite `DIR/diagnostics.csv` (header + all rows)
-    /// atomically.
+    /// Append a row to `DIR/diagnostics.csv`.
     ///
     /// Steps are expected to increase; a row whose step is not larger than
     /// earlier rows supersedes them (rows with `step >= row.step` are dropped
-    /// first), so re-running a step after a resume never duplicates rows.
-    /// `row.extra` must have one value per extra column.
+    /// first, by an atomic rewrite), so re-running a step after a resume never
+    /// duplicates rows. `row.extra` must have one value per extra column; on an
+    /// error the file is unchanged.
     pub fn push_diagnostics(&mut self, row: DiagnosticsRow) -> Result<(), OutputError> {
         if row.extra.len() != self.extra.len() {
             return Err(OutputError::Invalid {
@@ -276,16 +263,25 @@ impl OutputDir {
             });
         }
         let line = format_diagnostics_row(&row);
-        let keep = self.diag.partition_point(|(s, _)| *s < row.step);
-        let dropped = self.diag.split_off(keep);
-        self.diag.push((row.step, line));
-        let res = self.write_diagnostics();
-        if res.is_err() {
-            // Keep memory in sync with the (unchanged) file.
-            self.diag.pop();
-            self.diag.extend(dropped);
+        self.diag_table()?.push(row.step, &[line])
+    }
+
+    /// `diagnostics.csv`, started by [`OutputDir::create`] or [`OutputDir::reopen`].
+    fn diag_table(&mut self) -> Result<&mut GrowingCsv, OutputError> {
+        let path = self.path(DIAGNOSTICS_FILE);
+        self.diag.as_mut().ok_or_else(|| OutputError::Invalid {
+            path,
+            msg: "the output directory was not started".into(),
+        })
+    }
+
+    /// Make the rows of `diagnostics.csv` and `bodies.csv` written so far durable
+    /// (`fsync`); done at every snapshot and by [`OutputDir::write_final`].
+    pub fn sync(&self) -> Result<(), OutputError> {
+        if let Some(d) = &self.diag {
+            d.sync()?;
         }
-        res
+        self.loads.as_ref().map_or(Ok(()), LoadsTable::sync)
     }
 
     /// Write the snapshot of `step` in the chosen formats, `DIR/particles_NNNNNN.csv` and/or
@@ -304,6 +300,7 @@ impl OutputDir {
         t: Real,
         particles: &ParticleTable,
     ) -> Result<(), OutputError> {
+        self.sync()?;
         if !self.options.any() {
             return Ok(());
         }
@@ -359,19 +356,9 @@ impl OutputDir {
 
     /// Write `DIR/final.csv` with the same columns as the snapshot CSVs.
     pub fn write_final(&self, particles: &ParticleTable) -> Result<(), OutputError> {
+        self.sync()?;
         valid(&self.path(FINAL_FILE), particles)?;
         write_atomic_with(&self.path(FINAL_FILE), |w| write_particles(w, particles))
-    }
-
-    fn write_diagnostics(&self) -> Result<(), OutputError> {
-        let header = diagnostics_header(&self.extra).join(",");
-        write_atomic_with(&self.path(DIAGNOSTICS_FILE), |w: &mut dyn Write| {
-            writeln!(w, "{header}")?;
-            for (_, line) in &self.diag {
-                writeln!(w, "{line}")?;
-            }
-            Ok(())
-        })
     }
 
     fn write_snapshot_indexes(&self) -> Result<(), OutputError> {
@@ -382,11 +369,6 @@ impl OutputDir {
             return Ok(());
         }
         write_atomic_with(&self.path(PVD_FILE), |w| vtk::write_pvd(w, &self.snapshots))
-    }
-
-    fn rewrite_indexes(&self) -> Result<(), OutputError> {
-        self.write_diagnostics()?;
-        self.write_snapshot_indexes()
     }
 }
 
