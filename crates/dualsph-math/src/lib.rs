@@ -21,6 +21,15 @@ pub mod lanes;
 /// The floating-point type of every physical quantity.
 pub type Real = f64;
 
+/// The size of a particle of mass `m` and density `ρ` in `dim` dimensions, the side of the
+/// cube (square, segment) of its volume: `Δx = (m/ρ)^{1/d}`, the length the smoothing length
+/// is a multiple of (Ren, Dai, Zhuang & Rabczuk, *Dual-support smoothed particle
+/// hydrodynamics*, Eq. 6.1: `h_i = n (m_i/ρ_i)^{1/d}`).
+#[inline]
+pub fn particle_size(dim: usize, mass: Real, density: Real) -> Real {
+    libm::pow(mass / density, 1.0 / dim as Real)
+}
+
 /// A point or vector in 1, 2 or 3 dimensions.
 pub trait Vector:
     Copy

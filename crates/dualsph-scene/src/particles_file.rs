@@ -124,7 +124,7 @@ pub(crate) fn read(i: usize, f: &mut FileParticles, dir: &Path, d: usize) -> Res
     })?;
     let spacing = particles
         .rows()
-        .map(|r| libm::pow(r.mass() / r.rho(), 1.0 / d.clamp(1, 3) as f64))
+        .map(|r| dualsph_core::math::particle_size(d.clamp(1, 3), r.mass(), r.rho()))
         .fold(f64::INFINITY, f64::min);
     let h = particles.rows().map(|r| r.h()).fold(0.0, f64::max);
     f.particles = ReadParticles(Some(Arc::new(Read {

@@ -43,7 +43,7 @@ pub fn implied_speed<V: Vector>(world: &mut World) -> Option<(Real, String)> {
         if is_fluid {
             fastest = fastest.max(v.0.length());
         }
-        let size = libm::pow(m.0 / rho.0, 1.0 / V::DIM as Real);
+        let size = dualsph_core::math::particle_size(V::DIM, m.0, rho.0);
         seen.push((r.0, is_fluid, size));
     }
     if !seen.iter().any(|s| s.1) {

@@ -72,7 +72,7 @@ impl BoundStress<'_> {
     /// `W(Δp_i, h_i)` with `Δp_i = (m_i/ρ_i)^{1/d}`.
     #[inline(always)]
     fn w_spacing<V: Vector>(d: &ParticleData<'_, V>, i: usize, kernel: &OwnerKernel) -> Real {
-        let dp = libm::pow(d.volume(i), 1.0 / V::DIM as Real);
+        let dp = dualsph_core::math::particle_size(V::DIM, d.mass[i].0, d.rho[i].0);
         kernel.w(dp)
     }
 }

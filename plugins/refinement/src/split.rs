@@ -55,9 +55,9 @@ pub fn signs<V: Vector>(j: usize) -> Vec<V> {
         .collect()
 }
 
-/// A particle's size `Δx = (m/ρ)^{1/d}`.
+/// A particle's size `Δx = (m/ρ)^{1/d}` ([`dualsph_core::math::particle_size`]).
 pub fn size(dim: usize, mass: Real, density: Real) -> Real {
-    libm::pow(mass / density, 1.0 / dim as Real)
+    dualsph_core::math::particle_size(dim, mass, density)
 }
 
 /// The children of a split of `parent` along its first `axes` axes (module docs): offset

@@ -12,6 +12,7 @@ pub mod isotropy;
 pub use isotropy::Isotropy;
 
 use dualsph_core::bevy_ecs::prelude::*;
+use dualsph_core::math::particle_size;
 use dualsph_core::neighbours::Neighbours;
 use dualsph_core::plugin::positive;
 use dualsph_fluid::prelude::*;
@@ -75,12 +76,11 @@ pub fn update_h<V: Vector>(
     if clock.step == 0 || !clock.step.is_multiple_of(set.every) {
         return;
     }
-    let inv_d = 1.0 / V::DIM as Real;
     if set.max_ratio.is_none() && set.isotropy.is_none() {
         let h: Vec<Real> = q
             .iter_mut()
             .map(|(_, m, rho, _, mut h)| {
-                h.0 = set.n * libm::pow(m.0 / rho.0, inv_d);
+                h.0 = set.n * particle_size(V::DIM, m.0, rho.0);
                 h.0
             })
             .collect();
@@ -91,7 +91,7 @@ pub fn update_h<V: Vector>(
     let (mut h_new, mut pos, mut vol) = (vec![0.0; n], vec![V::zero(); n], vec![0.0; n]);
     // by row: the index of the neighbour lists (the query walks the one table in row order)
     for (row, (_, m, rho, r, _)) in q.iter().enumerate() {
-        h_new[row] = set.n * libm::pow(m.0 / rho.0, inv_d);
+        h_new[row] = set.n * particle_size(V::DIM, m.0, rho.0);
         pos[row] = r.0;
         vol[row] = m.0 / rho.0;
     }

@@ -14,6 +14,7 @@ mod doc_figures;
 mod grad_h;
 mod hard_cases;
 mod hydrostatic;
+mod open_channel;
 mod perf_fingerprint;
 mod periodic;
 mod poiseuille;
