@@ -89,18 +89,24 @@ pub(crate) fn diagnostics_header(extra: &[String]) -> Vec<String> {
         .collect()
 }
 
-/// Open a headered CSV reader on `path`, mapping errors to [`OutputError`].
-fn open_reader(path: &Path) -> Result<csv::Reader<impl std::io::Read>, OutputError> {
-    let file =
-        crate::bounded_reader(path, crate::INPUT_FILE_LIMIT).map_err(|source| OutputError::Io {
-            path: path.to_path_buf(),
-            op: "open",
-            source,
-        })?;
-    Ok(csv::ReaderBuilder::new()
+/// A headered CSV reader over `input`, fields trimmed: how every table of a run is read.
+pub(crate) fn reader<R: std::io::Read>(input: R) -> csv::Reader<R> {
+    csv::ReaderBuilder::new()
         .has_headers(true)
         .trim(csv::Trim::All)
-        .from_reader(file))
+        .from_reader(input)
+}
+
+/// The header row of `rdr`, read from `path`.
+pub(crate) fn read_header<R: std::io::Read>(
+    path: &Path,
+    rdr: &mut csv::Reader<R>,
+) -> Result<Vec<String>, OutputError> {
+    let header = rdr.headers().map_err(|source| OutputError::Csv {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    Ok(header.iter().map(str::to_owned).collect())
 }
 
 /// Read the header row and all records of a CSV file as strings.
@@ -108,20 +114,20 @@ fn open_reader(path: &Path) -> Result<csv::Reader<impl std::io::Read>, OutputErr
 pub(crate) fn read_table(
     path: &Path,
 ) -> Result<(Vec<String>, Vec<(u64, csv::StringRecord)>), OutputError> {
-    let csv_err = |source| OutputError::Csv {
-        path: path.to_path_buf(),
-        source,
-    };
-    let mut rdr = open_reader(path)?;
-    let header = rdr
-        .headers()
-        .map_err(csv_err)?
-        .iter()
-        .map(str::to_owned)
-        .collect();
+    let file =
+        crate::bounded_reader(path, crate::INPUT_FILE_LIMIT).map_err(|source| OutputError::Io {
+            path: path.to_path_buf(),
+            op: "open",
+            source,
+        })?;
+    let mut rdr = reader(file);
+    let header = read_header(path, &mut rdr)?;
     let mut rows = Vec::new();
     for rec in rdr.records() {
-        let rec = rec.map_err(csv_err)?;
+        let rec = rec.map_err(|source| OutputError::Csv {
+            path: path.to_path_buf(),
+            source,
+        })?;
         let line = rec.position().map_or(0, |p| p.line());
         rows.push((line, rec));
     }

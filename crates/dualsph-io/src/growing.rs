@@ -13,8 +13,8 @@ use std::fs::{File, OpenOptions};
 use std::io::{self, Read, Write};
 use std::path::{Path, PathBuf};
 
-use crate::csv_out::{header_mismatch, parse_field};
-use crate::{INPUT_FILE_LIMIT, OutputError, bounded_reader, write_atomic_with};
+use crate::csv_out::{header_mismatch, parse_field, read_header, reader};
+use crate::{INPUT_FILE_LIMIT, OutputError, read_input, write_atomic_with};
 
 /// Where the rows of one step start in the file.
 #[derive(Debug, Clone, Copy)]
@@ -28,7 +28,7 @@ struct StepStart {
 
 /// A growing CSV table whose second column is the step, steps in increasing order.
 #[derive(Debug)]
-pub(crate) struct GrowingCsv {
+pub struct GrowingCsv {
     path: PathBuf,
     file: File,
     /// One entry per step that has rows, in file order.
@@ -41,7 +41,7 @@ pub(crate) struct GrowingCsv {
 
 impl GrowingCsv {
     /// Starts the table at `path` with its `header` line only, replacing any file there.
-    pub(crate) fn create(path: &Path, header: &[String]) -> Result<Self, OutputError> {
+    pub fn create(path: &Path, header: &[String]) -> Result<Self, OutputError> {
         let head = format!("{}\n", header.join(","));
         write_atomic_with(path, |w| w.write_all(head.as_bytes()))?;
         Ok(GrowingCsv {
@@ -56,12 +56,8 @@ impl GrowingCsv {
     /// Continues the table at `path` (started anew when it is missing) from its rows with
     /// `step <= up_to_step`: the rows after them, and an incomplete last line, are cut off.
     /// Its header must be `header`; a step that is not a number is an error naming its line.
-    pub(crate) fn reopen(
-        path: &Path,
-        header: &[String],
-        up_to_step: u64,
-    ) -> Result<Self, OutputError> {
-        let bytes = match read_bounded(path) {
+    pub fn reopen(path: &Path, header: &[String], up_to_step: u64) -> Result<Self, OutputError> {
+        let bytes = match read_input(path, INPUT_FILE_LIMIT) {
             Err(e) if e.kind() == io::ErrorKind::NotFound => return Self::create(path, header),
             r => r.map_err(|source| OutputError::Io {
                 path: path.to_path_buf(),
@@ -91,19 +87,24 @@ impl GrowingCsv {
     }
 
     /// The file.
-    pub(crate) fn path(&self) -> &Path {
+    pub fn path(&self) -> &Path {
         &self.path
     }
 
     /// The number of rows.
-    pub(crate) fn len(&self) -> usize {
+    pub fn len(&self) -> usize {
         self.rows
+    }
+
+    /// Whether the table has no rows.
+    pub fn is_empty(&self) -> bool {
+        self.rows == 0
     }
 
     /// Puts `lines` (complete CSV rows without line breaks, all of `step`) after the rows of
     /// the steps before `step`; rows of `step` and later are replaced. On an error the file
     /// and the table are as before.
-    pub(crate) fn push(&mut self, step: u64, lines: &[String]) -> Result<(), OutputError> {
+    pub fn push(&mut self, step: u64, lines: &[String]) -> Result<(), OutputError> {
         let mut text = String::with_capacity(lines.iter().map(|l| l.len() + 1).sum());
         for line in lines {
             text.push_str(line);
@@ -128,7 +129,7 @@ impl GrowingCsv {
     }
 
     /// Makes the rows written so far durable (`fsync`).
-    pub(crate) fn sync(&self) -> Result<(), OutputError> {
+    pub fn sync(&self) -> Result<(), OutputError> {
         self.file.sync_data().map_err(|source| OutputError::Io {
             path: self.path.clone(),
             op: "fsync",
@@ -181,27 +182,18 @@ fn scan(
     header: &[String],
     up_to_step: u64,
 ) -> Result<(Vec<StepStart>, usize, u64), OutputError> {
-    let csv_err = |source| OutputError::Csv {
-        path: path.to_path_buf(),
-        source,
-    };
-    let mut rdr = csv::ReaderBuilder::new()
-        .has_headers(true)
-        .trim(csv::Trim::All)
-        .from_reader(text);
-    let found: Vec<String> = rdr
-        .headers()
-        .map_err(csv_err)?
-        .iter()
-        .map(str::to_owned)
-        .collect();
+    let mut rdr = reader(text);
+    let found = read_header(path, &mut rdr)?;
     if found != header {
         return Err(header_mismatch(path, &found, header));
     }
     let (mut steps, mut rows) = (Vec::<StepStart>::new(), 0);
     let mut cut = text.len() as u64;
     for rec in rdr.records() {
-        let rec = rec.map_err(csv_err)?;
+        let rec = rec.map_err(|source| OutputError::Csv {
+            path: path.to_path_buf(),
+            source,
+        })?;
         let (line, offset) = rec.position().map_or((0, 0), |p| (p.line(), p.byte()));
         let step: u64 = parse_field(path, line, &rec, 1, "step")?;
         if step > up_to_step {
@@ -218,13 +210,6 @@ fn scan(
         rows += 1;
     }
     Ok((steps, rows, cut))
-}
-
-/// The whole file at `path`, within the input limit.
-fn read_bounded(path: &Path) -> io::Result<Vec<u8>> {
-    let mut bytes = Vec::new();
-    bounded_reader(path, INPUT_FILE_LIMIT)?.read_to_end(&mut bytes)?;
-    Ok(bytes)
 }
 
 /// `path` opened to append to.

@@ -61,6 +61,7 @@ pub use csv_out::{
     DIAGNOSTICS_FIXED_COLUMNS, SNAPSHOT_INDEX_COLUMNS, SnapshotEntry, read_diagnostics_csv,
     read_particle_table_csv,
 };
+pub use growing::GrowingCsv;
 pub use input::{
     INPUT_FILE_LIMIT, SCENE_FILE_LIMIT, bounded_reader, open_input, read_input, read_input_text,
 };

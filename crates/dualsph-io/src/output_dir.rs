@@ -67,8 +67,8 @@ pub struct OutputDir {
     dir: PathBuf,
     extra: Vec<String>,
     options: OutputOptions,
-    /// `diagnostics.csv`, once the directory is started or reopened.
-    diag: Option<GrowingCsv>,
+    /// `diagnostics.csv`.
+    diag: GrowingCsv,
     /// Snapshot index, sorted by step.
     snapshots: Vec<SnapshotEntry>,
     /// The rows of `bodies.csv`, once [`OutputDir::enable_body_loads`] is called.
@@ -93,9 +93,7 @@ impl OutputDir {
         extra_diag_columns: Vec<String>,
         options: OutputOptions,
     ) -> Result<Self, OutputError> {
-        let mut out = Self::empty(dir, extra_diag_columns, options)?;
-        let header = diagnostics_header(&out.extra);
-        out.diag = Some(GrowingCsv::create(&out.path(DIAGNOSTICS_FILE), &header)?);
+        let out = Self::empty(dir, extra_diag_columns, options, GrowingCsv::create)?;
         out.write_snapshot_indexes()?;
         let stale = out.path(BODIES_FILE);
         match std::fs::remove_file(&stale) {
@@ -123,12 +121,9 @@ impl OutputDir {
         up_to_step: u64,
         options: OutputOptions,
     ) -> Result<Self, OutputError> {
-        let mut out = Self::empty(dir, extra_diag_columns, options)?;
-
-        let header = diagnostics_header(&out.extra);
-        let diag_path = out.path(DIAGNOSTICS_FILE);
-        out.diag = Some(GrowingCsv::reopen(&diag_path, &header, up_to_step)?);
-
+        let mut out = Self::empty(dir, extra_diag_columns, options, |path, header| {
+            GrowingCsv::reopen(path, header, up_to_step)
+        })?;
         let index_path = out.path(SNAPSHOT_INDEX_FILE);
         if index_path.exists() {
             out.snapshots = read_snapshot_index(&index_path)?;
@@ -181,8 +176,14 @@ impl OutputDir {
         }
     }
 
-    /// Validate the column names and create the directory; no file is written.
-    fn empty(dir: &Path, extra: Vec<String>, options: OutputOptions) -> Result<Self, OutputError> {
+    /// Validate the column names, create the directory and open `diagnostics.csv` with
+    /// `open_diag(path, header)`; no other file is written.
+    fn empty(
+        dir: &Path,
+        extra: Vec<String>,
+        options: OutputOptions,
+        open_diag: impl FnOnce(&Path, &[String]) -> Result<GrowingCsv, OutputError>,
+    ) -> Result<Self, OutputError> {
         let diag_path = dir.join(DIAGNOSTICS_FILE);
         for (i, name) in extra.iter().enumerate() {
             let bad = name.is_empty()
@@ -202,11 +203,12 @@ impl OutputDir {
             op: "create directory",
             source,
         })?;
+        let diag = open_diag(&diag_path, &diagnostics_header(&extra))?;
         Ok(Self {
             dir: dir.to_path_buf(),
             extra,
             options,
-            diag: None,
+            diag,
             snapshots: Vec::new(),
             loads: None,
             resumed_at: None,
@@ -236,7 +238,7 @@ impl OutputDir {
 
     /// Number of rows currently in `diagnostics.csv`.
     pub fn diagnostics_len(&self) -> usize {
-        self.diag.as_ref().map_or(0, GrowingCsv::len)
+        self.diag.len()
     }
 
     fn path(&self, name: &str) -> PathBuf {
@@ -263,24 +265,13 @@ impl OutputDir {
             });
         }
         let line = format_diagnostics_row(&row);
-        self.diag_table()?.push(row.step, &[line])
-    }
-
-    /// `diagnostics.csv`, started by [`OutputDir::create`] or [`OutputDir::reopen`].
-    fn diag_table(&mut self) -> Result<&mut GrowingCsv, OutputError> {
-        let path = self.path(DIAGNOSTICS_FILE);
-        self.diag.as_mut().ok_or_else(|| OutputError::Invalid {
-            path,
-            msg: "the output directory was not started".into(),
-        })
+        self.diag.push(row.step, &[line])
     }
 
     /// Make the rows of `diagnostics.csv` and `bodies.csv` written so far durable
     /// (`fsync`); done at every snapshot and by [`OutputDir::write_final`].
     pub fn sync(&self) -> Result<(), OutputError> {
-        if let Some(d) = &self.diag {
-            d.sync()?;
-        }
+        self.diag.sync()?;
         self.loads.as_ref().map_or(Ok(()), LoadsTable::sync)
     }
 

@@ -57,8 +57,10 @@
 //!   (`quantity`: the quantity's name, `water_height` for a gauge).
 //!
 //! The samples so far ([`ProbeSamples`]) are kept in checkpoints, so a resumed run rewrites
-//! the whole table. Both files are rewritten whole and atomically at every sample ([`dualsph_io::write_atomic_with`],
-//! like `diagnostics.csv`), so they are complete, parseable tables at any moment.
+//! the whole table at its first sample. Both files are written whole and atomically at a
+//! run's first sample ([`dualsph_io::write_atomic_with`]); after it each sample appends its
+//! row to `probes.csv` ([`dualsph_io::GrowingCsv`], like `diagnostics.csv`), so both are
+//! complete, parseable tables at any moment.
 //! [`plot_probes`] turns them into PNG charts.
 #![warn(missing_docs)]
 
@@ -273,6 +275,8 @@ pub struct ProbeState<V: Vector> {
     pub write_error: Option<String>,
     /// The most values the table may hold ([`MAX_TABLE_VALUES`]).
     pub max_values: u64,
+    /// `probes.csv` as the run writes it, once its first sample is written.
+    table: Option<dualsph_io::GrowingCsv>,
 }
 
 impl<V: Vector> ProbeState<V> {
@@ -473,6 +477,7 @@ impl SimPlugin for Probes {
             sources: Vec::new(),
             write_error: None,
             max_values: MAX_TABLE_VALUES,
+            table: None,
         });
         sim.world.insert_resource(ProbeSamples::default());
         sim.keep_resource::<ProbeSamples>("probes");

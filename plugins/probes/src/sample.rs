@@ -80,7 +80,7 @@ impl<V: Vector> Sampled<V> {
 }
 
 /// Samples every probe when the step is a multiple of `every` (and at step 0 and the end),
-/// then rewrites `probes.csv` if the run has an output directory.
+/// then puts the sample in `probes.csv` if the run has an output directory.
 pub fn sample_probes<V: Vector>(world: &mut World) {
     let clock = *world.resource::<SimClock>();
     let limit = world.get_resource::<StepLimit>().map(|l| l.0);
@@ -103,7 +103,7 @@ pub fn sample_probes<V: Vector>(world: &mut World) {
         samples.rows.truncate(keep);
         samples.rows.push((clock.step, clock.t, values));
         if let Some(dir) = world.get_resource::<RunOutputDir>() {
-            let res = write_files(&dir.0, &state, &world.resource::<ProbeSamples>().rows);
+            let res = grow_files(&dir.0, &mut state, &world.resource::<ProbeSamples>().rows);
             state.write_error = res.err();
             if let Some(e) = &state.write_error {
                 eprintln!("dualsph probes: {e}");
@@ -343,8 +343,55 @@ pub fn water_height<V: Vector>(
     }
 }
 
+/// Puts the last of `rows` in `probes.csv` in `dir`: appended as one row (rows of its step or
+/// later replaced) to the file the run writes, or, at the run's first sample or after a
+/// failed write, the whole table rewritten ([`write_files`]) and opened to grow. Appending
+/// keeps a sample's cost independent of the samples before it (rewriting the whole table at
+/// every sample is quadratic in the samples).
+fn grow_files<V: Vector>(
+    dir: &Path,
+    state: &mut ProbeState<V>,
+    rows: &[(u64, Real, Vec<Real>)],
+) -> Result<(), String> {
+    let res = match (&mut state.table, rows.last()) {
+        (Some(table), Some((step, t, values))) => table
+            .push(*step, &[row_line(*step, *t, values)])
+            .map_err(|e| e.to_string()),
+        _ => write_files(dir, state, rows).and_then(|()| {
+            let path = dir.join(PROBES_FILE);
+            let table = dualsph_io::GrowingCsv::reopen(&path, &header(state), u64::MAX)
+                .map_err(|e| e.to_string())?;
+            state.table = Some(table);
+            Ok(())
+        }),
+    };
+    if res.is_err() {
+        // the next sample rewrites the whole table
+        state.table = None;
+    }
+    res
+}
+
+/// The header of `probes.csv`: `t`, `step` and the columns.
+fn header<V: Vector>(state: &ProbeState<V>) -> Vec<String> {
+    let fixed = ["t", "step"].map(String::from);
+    fixed
+        .into_iter()
+        .chain(state.columns.iter().map(|c| c.name.clone()))
+        .collect()
+}
+
+/// One row of `probes.csv`.
+fn row_line(step: u64, t: Real, values: &[Real]) -> String {
+    let mut line = format!("{t},{step}");
+    for v in values {
+        let _ = write!(line, ",{v}");
+    }
+    line
+}
+
 /// Rewrites `probes_points.csv` (at the first sample, or when it is missing) and
-/// `probes.csv` in `dir`.
+/// `probes.csv` in `dir`, whole and atomically.
 pub fn write_files<V: Vector>(
     dir: &Path,
     state: &ProbeState<V>,
@@ -365,17 +412,9 @@ pub fn write_files<V: Vector>(
     }
     let path: PathBuf = dir.join(PROBES_FILE);
     dualsph_io::write_atomic_with(&path, |w| {
-        write!(w, "t,step")?;
-        for c in &state.columns {
-            write!(w, ",{}", c.name)?;
-        }
-        writeln!(w)?;
+        writeln!(w, "{}", header(state).join(","))?;
         for (step, t, values) in rows {
-            write!(w, "{t},{step}")?;
-            for v in values {
-                write!(w, ",{v}")?;
-            }
-            writeln!(w)?;
+            writeln!(w, "{}", row_line(*step, *t, values))?;
         }
         Ok(())
     })
