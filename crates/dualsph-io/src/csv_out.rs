@@ -97,15 +97,20 @@ pub(crate) fn reader<R: std::io::Read>(input: R) -> csv::Reader<R> {
         .from_reader(input)
 }
 
+/// The error of a CSV record or header read from `path`.
+pub(crate) fn csv_error(path: &Path) -> impl Fn(csv::Error) -> OutputError + '_ {
+    move |source| OutputError::Csv {
+        path: path.to_path_buf(),
+        source,
+    }
+}
+
 /// The header row of `rdr`, read from `path`.
 pub(crate) fn read_header<R: std::io::Read>(
     path: &Path,
     rdr: &mut csv::Reader<R>,
 ) -> Result<Vec<String>, OutputError> {
-    let header = rdr.headers().map_err(|source| OutputError::Csv {
-        path: path.to_path_buf(),
-        source,
-    })?;
+    let header = rdr.headers().map_err(csv_error(path))?;
     Ok(header.iter().map(str::to_owned).collect())
 }
 
@@ -124,10 +129,7 @@ pub(crate) fn read_table(
     let header = read_header(path, &mut rdr)?;
     let mut rows = Vec::new();
     for rec in rdr.records() {
-        let rec = rec.map_err(|source| OutputError::Csv {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let rec = rec.map_err(csv_error(path))?;
         let line = rec.position().map_or(0, |p| p.line());
         rows.push((line, rec));
     }

@@ -13,7 +13,7 @@ use std::fs::{File, OpenOptions};
 use std::io::{self, Read, Write};
 use std::path::{Path, PathBuf};
 
-use crate::csv_out::{header_mismatch, parse_field, read_header, reader};
+use crate::csv_out::{csv_error, header_mismatch, parse_field, read_header, reader};
 use crate::{INPUT_FILE_LIMIT, OutputError, read_input, write_atomic_with};
 
 /// Where the rows of one step start in the file.
@@ -190,10 +190,7 @@ fn scan(
     let (mut steps, mut rows) = (Vec::<StepStart>::new(), 0);
     let mut cut = text.len() as u64;
     for rec in rdr.records() {
-        let rec = rec.map_err(|source| OutputError::Csv {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let rec = rec.map_err(csv_error(path))?;
         let (line, offset) = rec.position().map_or((0, 0), |p| (p.line(), p.byte()));
         let step: u64 = parse_field(path, line, &rec, 1, "step")?;
         if step > up_to_step {
