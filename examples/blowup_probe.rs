@@ -1,6 +1,10 @@
 //! Investigation aid: steps a scene, every K steps prints the closest pair relative to the
 //! owner's h, the most negative pressure and the density range; at the first health problem
 //! dumps the offending particle and its support.
+//!
+//! ```sh
+//! cargo run --release --features dev-tools --example blowup_probe -- SCENE K
+//! ```
 use dualsph::core::neighbours::Neighbours;
 use dualsph::diagnostics::Health;
 use dualsph::prelude::*;

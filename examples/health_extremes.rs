@@ -2,7 +2,7 @@
 //! factors the sane-range blow-up check (`health` section) must allow for a scene.
 //!
 //! ```sh
-//! cargo run --release --example health_extremes -- scenes/sod_1d.ron scenes/hard/*.ron
+//! cargo run --release --features dev-tools --example health_extremes -- scenes/sod_1d.ron scenes/hard/*.ron
 //! ```
 //!
 //! Prints per scene the factors by which density and h went below their initial minimum

@@ -13,6 +13,7 @@ mod determinism;
 mod doc_commands;
 mod energy_budget;
 mod energy_in_time;
+mod field_docs;
 mod fuzz_corpus;
 mod hard_cases_cli;
 mod hostile_fields;

@@ -98,6 +98,3 @@ pub fn fuse_builtin_terms<V: Vector>(sim: &mut Sim<V>) {
         .fuse::<P, Nv>()
         .fuse::<Fused<P, Nv>, D>();
 }
-
-#[cfg(test)]
-mod tests;

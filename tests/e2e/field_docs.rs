@@ -1,8 +1,8 @@
 //! Every field a scene may write is documented: `dualsph doc NAME` prints a line of meaning
 //! for each, and a unit for each number.
 
-use super::default_registry;
-use dualsph_core::plugin::fields::{Field, all_fields, is_number};
+use dualsph::core::plugin::fields::{Field, all_fields, is_number};
+use dualsph::default_registry;
 
 /// The units a number's doc comment may give, in parentheses: `(m/s)`, `(Pa; …)`,
 /// `(dimensionless, ≥ 1)`.
