@@ -2,7 +2,7 @@
 //! (`scenes/cylinder_dfg_2d1.ron`, Schäfer & Turek 1996; the reference intervals in
 //! `dualsph_reference::cylinder`). The drag and lift from the cylinder's exact load in
 //! `bodies.csv`, the pressure difference and the recirculation length from the scene's probes
-//! (`probes.csv`), averaged over the last second of the run.
+//! (`probes.csv`), averaged over a window at the end of the run.
 
 use crate::common;
 
@@ -77,39 +77,79 @@ fn the_recirculation_length_is_read_where_the_centreline_flow_turns() {
     assert_eq!(recirculation_length(&[0.1, 0.2, 0.3]), None);
 }
 
-/// DFG 2D-1 at the scene's D/Δx = 20 (38,600 particles) to t = 6 s, averaged over its last
-/// second (the loads every 10 steps, as the scene writes them: their noise is acoustic, and
-/// a mean over every 100th step alone read c_D 5.74 over the same second). Measured over
-/// t = 5–6 s: c_D 5.6188 (+0.7 % of the reference's midpoint 5.58), Δp 0.1230 Pa (+4.8 % of
-/// 0.1174), L_a 0.0671 m (−21 % of 0.0847: the bubble is 13 particle spacings long here),
-/// c_L 0.016 (its noise, ±0.24 per row, is twenty times the reference's 0.0107). The flow is not steady at this resolution: run on to 10 s, the means over each
-/// second from 4 to 10 s are c_D 5.61, 5.60, 5.62, 5.37, 5.58, 5.46 (−3.8 % at worst), Δp
-/// 0.127 … 0.113 Pa, L_a 0.060–0.071 m. About 400 CPU-s (314 to t = 5 s on one thread).
-#[test]
-#[ignore = "second tier (cargo test --workspace --release -- --ignored): DFG 2D-1 at D/Δx = 20, about 5 minutes"]
-fn dfg_2d1_drag_pressure_drop_and_wake_against_schafer_and_turek() {
-    const END: f64 = 6.0;
-    let (dir, _) = common::run_on_threads(&scene("cylinder_dfg_2d1.ron", END), 2);
-    let m = measure(dir.path(), END - 1.0);
-    println!("DFG 2D-1, D/dx = 20, t in [{}, {END}]: {m:?}", END - 1.0);
+/// The bounds the benchmark is held to (Schäfer & Turek's intervals' midpoints): `drag`,
+/// `pressure_drop` and `recirculation` as fractions of them, `lift` in units of c_L off the
+/// edge of its interval.
+struct Bounds {
+    drag: f64,
+    pressure_drop: f64,
+    recirculation: f64,
+    lift: f64,
+}
+
+/// DFG 2D-1 at the scene's D/Δx = 20 to `end`, averaged over `t ≥ from`, against `bounds`.
+fn dfg_2d1(end: f64, from: f64, bounds: Bounds) {
+    let (dir, _) = common::run_on_threads(&scene("cylinder_dfg_2d1.ron", end), 2);
+    let m = measure(dir.path(), from);
+    println!("DFG 2D-1, D/dx = 20, t in [{from}, {end}]: {m:?}");
     let off = |x: f64, reference| x / midpoint(reference) - 1.0;
     assert!(
-        off(m.drag, cylinder::DRAG_2D1).abs() < 0.02,
+        off(m.drag, cylinder::DRAG_2D1).abs() < bounds.drag,
         "c_D {}",
         m.drag
     );
     assert!(
-        off(m.pressure_drop, cylinder::PRESSURE_DROP_2D1).abs() < 0.08,
+        off(m.pressure_drop, cylinder::PRESSURE_DROP_2D1).abs() < bounds.pressure_drop,
         "Δp {}",
         m.pressure_drop
     );
     let l = m
         .recirculation
         .expect("no reversed flow behind the cylinder");
-    assert!(off(l, cylinder::RECIRCULATION_2D1).abs() < 0.25, "L_a {l}");
     assert!(
-        (m.lift - midpoint(cylinder::LIFT_2D1)).abs() < 0.1,
-        "c_L {}",
-        m.lift
+        off(l, cylinder::RECIRCULATION_2D1).abs() < bounds.recirculation,
+        "L_a {l}"
     );
+    let (lo, hi) = cylinder::LIFT_2D1;
+    let lift_off = (lo - m.lift).max(m.lift - hi).max(0.0);
+    assert!(lift_off < bounds.lift, "c_L {}", m.lift);
+}
+
+/// DFG 2D-1 at the scene's D/Δx = 20 (38,600 particles, the fluid shifted) to t = 6 s,
+/// averaged over its last second (the loads every 10 steps, as the scene writes them: their
+/// noise is acoustic). The wake is still growing then; measured over t = 5–6 s: c_D 5.563
+/// (−0.3 % of the reference's midpoint 5.58), Δp 0.1200 Pa (+2.2 % of 0.1174), L_a 0.0809 m
+/// (−4.5 % of 0.0847), c_L −0.002 (its means over single seconds range over ±0.03). The
+/// long tier's test below runs on to the steady wake. About 750 CPU-s on two threads.
+#[test]
+#[ignore = "second tier (cargo test --workspace --release -- --ignored): DFG 2D-1 at D/Δx = 20 to 6 s, about 6 minutes"]
+fn dfg_2d1_drag_pressure_drop_and_wake_against_schafer_and_turek() {
+    let bounds = Bounds {
+        drag: 0.01,
+        pressure_drop: 0.04,
+        recirculation: 0.07,
+        lift: 0.03,
+    };
+    dfg_2d1(6.0, 5.0, bounds);
+}
+
+/// The long tier: DFG 2D-1 once its wake is steady.
+mod long {
+    use super::{Bounds, dfg_2d1};
+
+    /// DFG 2D-1 at D/Δx = 20 to t = 14 s, averaged over t = 10–14 s, held to what the
+    /// benchmark asks (c_D within 1 % and L_a within 3 % of the intervals' midpoints, c_L
+    /// within 0.005 of its interval). Measured: c_D 5.585 (+0.09 %), Δp 0.1174 Pa (−0.02 %),
+    /// L_a 0.0843 m (−0.48 %), c_L 0.0151 (0.0041 above 0.0110). 2,190 CPU-s on one thread.
+    #[test]
+    #[ignore = "long tier (cargo test --release -p dualsph-validation --test validation -- --ignored long::): DFG 2D-1 at D/Δx = 20 to 14 s, about 25 minutes on two threads"]
+    fn dfg_2d1_meets_the_benchmark_once_the_wake_is_steady() {
+        let bounds = Bounds {
+            drag: 0.01,
+            pressure_drop: 0.02,
+            recirculation: 0.03,
+            lift: 0.005,
+        };
+        dfg_2d1(14.0, 10.0, bounds);
+    }
 }
