@@ -79,8 +79,8 @@ mod long {
     }
 
     /// The walls' own velocities in the viscous terms (the fixed walls at rest, the lid at U)
-    /// let the fluid slip: the u centreline is then 10 % of U off (measured 9.95 %) — the check above
-    /// tells a wrong wall model apart.
+    /// let the fluid slip: the u centreline is then 10 % of U off (measured 9.95 %) — the second tier's
+    /// check at Re = 100 tells a wrong wall model apart.
     #[test]
     #[ignore = "long tier (cargo test --release -p dualsph-validation --test validation -- --ignored long::): 20 s of cavity flow"]
     fn walls_at_their_own_velocity_miss_ghia() {

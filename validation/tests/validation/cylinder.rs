@@ -118,8 +118,8 @@ fn dfg_2d1(end: f64, from: f64, bounds: Bounds) {
 /// DFG 2D-1 at the scene's D/Δx = 20 (38,600 particles, the fluid shifted) to t = 6 s,
 /// averaged over its last second (the loads every 10 steps, as the scene writes them: their
 /// noise is acoustic). The wake is still growing then; measured over t = 5–6 s: c_D 5.563
-/// (−0.3 % of the reference's midpoint 5.58), Δp 0.1200 Pa (+2.2 % of 0.1174), L_a 0.0809 m
-/// (−4.5 % of 0.0847), c_L −0.002 (its means over single seconds range over ±0.03). The
+/// (−0.3 % of the reference's midpoint 5.58), Δp 0.1198 Pa (+2.0 % of 0.1174), L_a 0.0809 m
+/// (−4.5 % of 0.0847), c_L −0.003 (its means over single seconds range over ±0.03). The
 /// long tier's test below runs on to the steady wake. About 750 CPU-s on two threads.
 #[test]
 #[ignore = "second tier (cargo test --workspace --release -- --ignored): DFG 2D-1 at D/Δx = 20 to 6 s, about 6 minutes"]
