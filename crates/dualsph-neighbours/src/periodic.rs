@@ -97,6 +97,42 @@ impl<V: Vector> Period<V> {
         }
         x
     }
+
+    /// Whether axis `k` is periodic.
+    pub fn is_periodic(&self, k: usize) -> bool {
+        k < V::DIM && self.axes[k]
+    }
+
+    /// The shifts of the images of a wrapped point `x` that a search of radius `reach` must
+    /// see: one per non-empty combination of the periodic faces within `reach` of it (`+L` on
+    /// an axis whose lower face is near, `−L` on one whose upper face is), in a fixed order.
+    pub fn image_shifts(&self, x: V, reach: Real) -> Vec<V> {
+        let mut out = vec![V::zero()];
+        for k in 0..V::DIM {
+            if !self.axes[k] {
+                continue;
+            }
+            let (lo, l) = (self.lo.get(k), self.len.get(k));
+            let s = if x.get(k) - lo <= reach {
+                l
+            } else if lo + l - x.get(k) <= reach {
+                -l
+            } else {
+                continue;
+            };
+            let more: Vec<V> = out
+                .iter()
+                .map(|&v| {
+                    let mut w = v;
+                    w.set(k, s);
+                    w
+                })
+                .collect();
+            out.extend(more);
+        }
+        out.remove(0);
+        out
+    }
 }
 
 /// The separation `x_i − x_j`: its minimum image when the domain has periodic axes.
@@ -126,7 +162,7 @@ pub fn periodic_radius_csr<V: Vector>(
     let mut rad = radii.to_vec();
     let mut image_of: Vec<u32> = Vec::new();
     for i in 0..n {
-        for shift in shifts(period, pts[i], reach) {
+        for shift in period.image_shifts(pts[i], reach) {
             image_of.push(i as u32);
             pts.push(pts[i] + shift);
             rad.push(radii[i]);
@@ -155,34 +191,4 @@ pub fn periodic_radius_csr<V: Vector>(
         })
         .collect();
     (Csr::from_rows(rows), used)
-}
-
-/// The shifts of the images of a wrapped point `x`: one per non-empty combination of the
-/// periodic faces within `reach` of it (`+L` near the lower face, `−L` near the upper one).
-fn shifts<V: Vector>(period: &Period<V>, x: V, reach: Real) -> Vec<V> {
-    let mut out = vec![V::zero()];
-    for k in 0..V::DIM {
-        if !period.axes[k] {
-            continue;
-        }
-        let (lo, l) = (period.lo.get(k), period.len.get(k));
-        let s = if x.get(k) - lo <= reach {
-            l
-        } else if lo + l - x.get(k) <= reach {
-            -l
-        } else {
-            continue;
-        };
-        let more: Vec<V> = out
-            .iter()
-            .map(|&v| {
-                let mut w = v;
-                w.set(k, s);
-                w
-            })
-            .collect();
-        out.extend(more);
-    }
-    out.remove(0);
-    out
 }

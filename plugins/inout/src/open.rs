@@ -47,6 +47,7 @@ pub use profile::Profile;
 use crate::settings::{check_box, first_inside, lattice};
 use dualsph_core::bevy_ecs::prelude::*;
 use dualsph_core::bodies::{Bodies, BodyKind, BodyMotion, Hold};
+use dualsph_core::neighbours::Neighbours;
 use dualsph_core::plugin::{SectionProblem, positive};
 use dualsph_fluid::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -237,7 +238,7 @@ impl SimPlugin for InflowBoundary {
         let d = V::DIM;
         let (axis, sign) = axis_of(&self.direction, d).map_err(SimError::Build)?;
         let (min, max) = (vector::<V>(&self.min)?, vector::<V>(&self.max)?);
-        let zone = Zone::new(min, max, axis, sign, true);
+        let zone = Zone::new(min, max, axis, sign, true).with_periodic(periodic_axes(sim, axis)?);
         let (buffer, fluid) = bodies_of(sim, "InflowBoundary", &self.buffer, &self.fluid)?;
         refuse_overlap(sim, "InflowBoundary", zone, self.spacing)?;
         let dx = self.spacing;
@@ -300,7 +301,7 @@ impl SimPlugin for OutflowBoundary {
     fn build<V: Vector>(&self, sim: &mut Sim<V>) -> Result<(), SimError> {
         let (axis, sign) = axis_of(&self.direction, V::DIM).map_err(SimError::Build)?;
         let (min, max) = (vector::<V>(&self.min)?, vector::<V>(&self.max)?);
-        let zone = Zone::new(min, max, axis, sign, false);
+        let zone = Zone::new(min, max, axis, sign, false).with_periodic(periodic_axes(sim, axis)?);
         let (buffer, fluid) = bodies_of(sim, "OutflowBoundary", &self.buffer, &self.fluid)?;
         refuse_overlap(sim, "OutflowBoundary", zone, 0.0)?;
         let h_max = max_h(&mut sim.world, fluid);
@@ -331,6 +332,22 @@ impl SimPlugin for OutflowBoundary {
 /// A vector of the scene from its components.
 fn vector<V: Vector>(v: &[Real]) -> Result<V, SimError> {
     V::from_slice(v).ok_or_else(|| SimError::Build("a vector of the wrong dimension".into()))
+}
+
+/// The domain's periodic axes, refusing a boundary whose flow runs along one (a particle that
+/// left through the outflow would come back through the inflow).
+/// (The error is prefixed with the plugin's name where it is reported.)
+fn periodic_axes<V: Vector>(sim: &Sim<V>, axis: usize) -> Result<[bool; 3], SimError> {
+    let period = sim.world.resource::<Neighbours<V>>().period;
+    let axes = std::array::from_fn(|k| period.is_some_and(|p| p.is_periodic(k)));
+    if axes[axis] {
+        return Err(SimError::Build(format!(
+            "the domain is periodic along the flow's axis {}; an open boundary needs the axis \
+             it opens closed (`domain.periodic`)",
+            ["x", "y", "z"][axis]
+        )));
+    }
+    Ok(axes)
 }
 
 /// The indices of the buffer body (driven: of kind `Buffer`) and of the fluid body.

@@ -31,7 +31,8 @@ pub fn scene(end_time: f64, output: &str) -> Scene {
 /// walls' trapezoidal impulse (the leapfrog's corrector): residual
 /// `ΔP − Σ_B Δ(p_in − p_out + j) + Δt/2 (F_w^n + F_w^{n+1})` on each axis, and the mass
 /// residual `ΔM − Σ_B Δ(m_in − m_out)`; returns the worst of each relative to `M ū` and to
-/// `M`, and the worst residual with the buffers' impulse left out (relative to `M ū`).
+/// `M`, and the worst residual with the buffers' impulse left out (relative to `M ū`). On
+/// z too when the run is 3-D.
 pub fn balance(d: &HashMap<String, Vec<f64>>) -> (f64, f64, f64) {
     let steps = d["dt"].len() - 1;
     let mass = d["mass[water]"][0];
@@ -45,7 +46,12 @@ pub fn balance(d: &HashMap<String, Vec<f64>>) -> (f64, f64, f64) {
             r_m -= delta(&format!("mass_in[{b}]")) - delta(&format!("mass_out[{b}]"));
         }
         worst_m = worst_m.max(r_m.abs() / mass);
-        for a in ["x", "y"] {
+        let axes: &[&str] = if d.contains_key("jz[inflow]") {
+            &["x", "y", "z"]
+        } else {
+            &["x", "y"]
+        };
+        for a in axes {
             let walls = &d[&format!("f{a}[walls]")];
             let mut r = delta(&format!("p{a}[water]")) + 0.5 * dt * (walls[n] + walls[n + 1]);
             let mut j = 0.0;

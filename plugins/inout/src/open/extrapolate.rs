@@ -5,7 +5,7 @@
 use super::impedance::Impedance;
 use super::state::{Boundaries, Boundary, BufferState};
 use dualsph_core::bevy_ecs::prelude::*;
-use dualsph_core::neighbours::KdTree;
+use dualsph_core::neighbours::{KdTree, Neighbours, Period};
 use dualsph_fluid::BodyEos;
 use dualsph_fluid::prelude::*;
 
@@ -28,14 +28,46 @@ fn is_near<V: Vector>(b: &Boundary<V>, reach: Real, body: u16, x: V) -> bool {
             .all(|k| x.get(k) >= z.min.get(k) - reach && x.get(k) <= z.max.get(k) + reach)
 }
 
-/// The fluid next to one boundary, in id order, with a k-d tree over its positions.
+/// The fluid next to one boundary, in the order of its keys (the particle's id, then its
+/// image across the period), with a k-d tree over its positions.
 struct Slab<V: Vector> {
     near: Vec<Near<V>>,
     tree: Option<KdTree>,
 }
 
+/// A slab's key of the `image`-th copy of particle `id` (0: the particle itself).
+fn key(id: u32, image: usize) -> u64 {
+    (u64::from(id) << 3) | image as u64
+}
+
+/// The fluid particles within `reach` of each boundary (as [`is_near`] decides), with their
+/// images across the periodic faces within `reach` of them: on a periodic axis the fluid
+/// next to a buffer continues across the period.
+fn near_rows<V: Vector>(
+    all: &Boundaries<V>,
+    period: Option<&Period<V>>,
+    reach: Real,
+    particles: impl Iterator<Item = (u32, u16, Near<V>)>,
+) -> Vec<Vec<(u64, Near<V>)>> {
+    let mut rows: Vec<Vec<(u64, Near<V>)>> = vec![Vec::new(); all.list.len()];
+    for (id, body, f) in particles {
+        let mut copies = vec![f.0];
+        if let Some(p) = period {
+            copies.extend(p.image_shifts(f.0, reach).into_iter().map(|s| f.0 + s));
+        }
+        for (image, x) in copies.into_iter().enumerate() {
+            for (k, b) in all.list.iter().enumerate() {
+                if is_near(b, reach, body, x) {
+                    rows[k].push((key(id, image), (x, f.1, f.2, f.3)));
+                }
+            }
+        }
+    }
+    rows
+}
+
 impl<V: Vector> Slab<V> {
-    fn new(mut rows: Vec<(u32, Near<V>)>) -> Self {
+    fn new(mut rows: Vec<(u64, Near<V>)>) -> Self {
         rows.sort_unstable_by_key(|r| r.0);
         let near: Vec<Near<V>> = rows.into_iter().map(|r| r.1).collect();
         let points: Vec<V> = near.iter().map(|f| f.0).collect();
@@ -43,7 +75,7 @@ impl<V: Vector> Slab<V> {
         Slab { near, tree }
     }
 
-    /// The particles within `h` of `x` (and a hair beyond: the kernel is zero there), in id
+    /// The particles within `h` of `x` (and a hair beyond: the kernel is zero there), in key
     /// order, so that a sum over them adds its non-zero terms in the same order as a sum over
     /// the whole slab.
     fn within(&self, x: V, h: Real) -> Vec<Near<V>> {
@@ -180,6 +212,7 @@ fn solve_first(mut m: [[Real; 4]; 4], mut r: [[Real; 4]; 4], n: usize) -> Option
 pub fn extrapolate<V: Vector>(
     all: Res<Boundaries<V>>,
     kernel: Res<KernelRes>,
+    nb: Res<Neighbours<V>>,
     eos: Option<Res<BodyEos>>,
     mut impedance: Option<ResMut<Impedance>>,
     mut q: Query<(
@@ -194,14 +227,9 @@ pub fn extrapolate<V: Vector>(
     )>,
 ) {
     let h_max = q.iter().map(|r| r.6.0).fold(0.0, Real::max);
-    let mut rows: Vec<Vec<(u32, Near<V>)>> = vec![Vec::new(); all.list.len()];
-    for (id, body, r, v, m, rho, ..) in q.iter() {
-        for (k, b) in all.list.iter().enumerate() {
-            if is_near(b, h_max, body.0, r.0) {
-                rows[k].push((id.0, (r.0, v.0, m.0, rho.0)));
-            }
-        }
-    }
+    let fluid =
+        (q.iter()).map(|(id, body, r, v, m, rho, ..)| (id.0, body.0, (r.0, v.0, m.0, rho.0)));
+    let rows = near_rows(&all, nb.period.as_ref(), h_max, fluid);
     let slabs: Vec<Slab<V>> = rows.into_iter().map(Slab::new).collect();
     let laws: Vec<_> = (all.list.iter())
         .map(|b| (eos.as_ref()).and_then(|e| e.0.get(usize::from(b.fluid)).cloned()))
@@ -294,6 +322,47 @@ mod tests {
         assert!((v - DVec2::new(0.3, -0.1)).length() < 1e-15, "{v}");
         assert!((rho - 1003.0).abs() < 1e-12, "{rho}");
         assert!(shepard(&kernel, &near, DVec2::new(1.0, 1.0), 0.03).is_none());
+    }
+
+    /// An outflow on x ∈ [1, 1.1] of a domain periodic on y ∈ [0, 1): the fluid next to its
+    /// buffer continues across the period, so a mirror image by the face y = 0 has as many
+    /// neighbours as one in the middle (without the images it would have about half).
+    #[test]
+    fn the_fluid_next_to_a_buffer_continues_across_the_period() {
+        use super::super::zone::Zone;
+        let zone = Zone::new(DVec2::new(1.0, 0.0), DVec2::new(1.1, 1.0), 0, 1.0, false);
+        let all = Boundaries {
+            list: vec![Boundary {
+                zone: zone.with_periodic([false, true, false]),
+                buffer: 2,
+                fluid: 1,
+                inflow: None,
+                pressure: None,
+                non_reflecting: None,
+            }],
+            of_body: vec![None, None, Some(0)],
+        };
+        let period = Period::new(DVec2::ZERO, DVec2::new(2.0, 1.0), [false, true, false]);
+        let dx = 0.02;
+        let fluid = (0..50 * 50).map(|k| {
+            let x = DVec2::new(0.01 + (k % 50) as f64 * dx, 0.01 + (k / 50) as f64 * dx);
+            (k as u32, 1, (x, DVec2::X, 1.0, 1.0))
+        });
+        let h = 0.055;
+        let slab = Slab::new(near_rows(&all, period.as_ref(), h, fluid).remove(0));
+        let count = |y| slab.within(DVec2::new(0.97, y), h).len();
+        // points the lattice passes at the same offsets: in the middle, on the face y = 0
+        // and a spacing below y = 1
+        let (middle, by_face) = (count(0.5), count(0.0));
+        assert!(middle > 10, "{middle}");
+        assert_eq!(by_face, middle);
+        assert_eq!(count(0.98), middle);
+        // the images are where the period puts them: below the face y = 0
+        assert!(
+            slab.within(DVec2::new(0.97, 0.0), h)
+                .iter()
+                .any(|f| f.0.y < 0.0)
+        );
     }
 
     /// A linear field sampled on one side of a wall: the fit gives it exactly at a point by

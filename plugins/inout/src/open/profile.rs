@@ -12,9 +12,10 @@ pub enum Profile {
     Uniform(Real),
     /// The laminar profile of a channel whose walls are the faces of the buffer's box across
     /// the flow, with peak speed `U` (m/s): `u = U Π_k 4 s_k (1 − s_k)` over the axes k across
-    /// the flow, `s_k = (x_k − min_k)/(max_k − min_k)`. In 2-D this is plane Poiseuille flow,
-    /// `u = 4U (y/H)(1 − y/H)` (mean speed 2U/3); in 3-D it is the product form, which is not
-    /// the exact duct solution (that is a series) but vanishes on all four walls.
+    /// the flow that are not periodic, `s_k = (x_k − min_k)/(max_k − min_k)`. In 2-D this is
+    /// plane Poiseuille flow, `u = 4U (y/H)(1 − y/H)` (mean speed 2U/3), and so it is in 3-D
+    /// between two walls with the third axis periodic; in a 3-D duct it is the product form,
+    /// which is not the exact duct solution (that is a series) but vanishes on all four walls.
     Parabolic(Real),
 }
 
@@ -25,7 +26,7 @@ impl Profile {
             Profile::Uniform(u) => u,
             Profile::Parabolic(peak) => {
                 (0..V::DIM)
-                    .filter(|&k| k != zone.axis)
+                    .filter(|&k| k != zone.axis && !zone.periodic[k])
                     .map(|k| {
                         let s = zone.fraction(x, k).clamp(0.0, 1.0);
                         4.0 * s * (1.0 - s)
@@ -100,6 +101,31 @@ mod tests {
                 .unwrap_err()
                 .starts_with("profile:")
         );
+    }
+
+    /// Between two walls with the third axis periodic the profile is plane Poiseuille flow,
+    /// uniform along the period.
+    #[test]
+    fn the_parabola_is_uniform_along_a_periodic_axis() {
+        use glam::DVec3;
+        let zone = Zone::new(
+            DVec3::new(-0.1, 0.0, 0.0),
+            DVec3::new(0.0, 2.0, 1.0),
+            0,
+            1.0,
+            true,
+        );
+        let p = Profile::Parabolic(3.0);
+        let at = |z| {
+            p.speed(
+                &zone.with_periodic([false, false, true]),
+                DVec3::new(-0.05, 0.5, z),
+            )
+        };
+        assert_eq!((at(0.0), at(0.3), at(1.0)), (2.25, 2.25, 2.25));
+        // a duct: the product vanishes on the faces across z too
+        assert_eq!(p.speed(&zone, DVec3::new(-0.05, 0.5, 0.0)), 0.0);
+        assert_eq!(p.speed(&zone, DVec3::new(-0.05, 0.5, 0.5)), 2.25);
     }
 
     #[test]

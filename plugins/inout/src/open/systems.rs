@@ -417,6 +417,7 @@ fn create_owed<V: Vector>(
 pub fn move_buffers<V: Vector>(
     clock: Res<SimClock>,
     all: Res<Boundaries<V>>,
+    nb: Res<Neighbours<V>>,
     mut q: Query<(
         &BodyId,
         &mut Position<V>,
@@ -438,7 +439,12 @@ pub fn move_buffers<V: Vector>(
             ),
             None => (st.v * dt, st.v),
         };
-        anchor.0 += shift;
+        // an outflow's particle may drift across a periodic face: kept in the box, as the
+        // fluid's are, so that its mirror image reads the fluid across the period
+        anchor.0 = match &nb.period {
+            Some(p) => p.wrap(anchor.0 + shift),
+            None => anchor.0 + shift,
+        };
         r.0 = anchor.0;
         v.0 = vel;
     }

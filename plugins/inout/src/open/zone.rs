@@ -22,6 +22,8 @@ pub struct Zone<V: Vector> {
     pub sign: Real,
     /// The coordinate of the open plane on `axis`.
     pub plane: Real,
+    /// The axes on which the domain is periodic (see [`Zone::with_periodic`]).
+    pub periodic: [bool; 3],
 }
 
 impl<V: Vector> Zone<V> {
@@ -37,7 +39,16 @@ impl<V: Vector> Zone<V> {
             axis,
             sign,
             plane,
+            periodic: [false; 3],
         }
+    }
+
+    /// The zone in a domain periodic on `axes`: a profile across the flow is uniform along a
+    /// periodic axis ([`super::Profile`]), and the fluid next to the zone is read across the
+    /// period ([`super::extrapolate`]).
+    pub fn with_periodic(mut self, axes: [bool; 3]) -> Self {
+        self.periodic = axes;
+        self
     }
 
     /// The depth `L` of the zone along the flow.
