@@ -57,13 +57,8 @@ fn the_fluid_balance_closes_at_every_step_through_open_boundaries() {
     );
     // bitwise on two threads
     let (dir2, _) = common::run_on_threads(&s, 2);
-    for f in ["diagnostics.csv", "final.csv"] {
-        let (a, b) = (dir.path().join(f), dir2.path().join(f));
-        assert!(
-            common::read(&a) == common::read(&b),
-            "{f} differs on 2 threads"
-        );
-    }
+    let files = ["diagnostics.csv", "final.csv"];
+    common::assert_same_files(dir.path(), dir2.path(), &files, "on 2 threads");
 }
 
 /// A resumed run writes the bytes of an uninterrupted one: the buffers' particles, their
@@ -91,13 +86,8 @@ fn a_channel_with_open_boundaries_resumes_bitwise() {
     }
     let resumed = common::run(&s, &b, 100, Some(b.join(checkpoint_file_name(100))));
     assert_eq!(resumed.last, whole.last, "final diagnostics");
-    for f in ["diagnostics.csv", "final.csv"] {
-        let (x, y) = (a.join(f), b.join(f));
-        assert!(
-            common::read(&x) == common::read(&y),
-            "{f} differs after the resume"
-        );
-    }
+    let files = ["diagnostics.csv", "final.csv"];
+    common::assert_same_files(&a, &b, &files, "after the resume");
 }
 
 /// Six flow-through times (150 s), the velocity profile averaged over the last 25 s against
@@ -170,13 +160,8 @@ fn a_channel_periodic_across_its_span_flows_the_same_in_every_plane() {
         &format!("mean profile to {spread:.1e} U, |v_z| up to {vz:.1e} U"),
     );
     let (dir2, _) = common::run_on_threads(&s, 2);
-    for f in ["diagnostics.csv", "final.csv"] {
-        let (a, b) = (dir.path().join(f), dir2.path().join(f));
-        assert!(
-            common::read(&a) == common::read(&b),
-            "{f} differs on 2 threads"
-        );
-    }
+    let files = ["diagnostics.csv", "final.csv"];
+    common::assert_same_files(dir.path(), dir2.path(), &files, "on 2 threads");
 }
 
 /// The largest difference, relative to U = 0.03 m/s, between the water's mean streamwise

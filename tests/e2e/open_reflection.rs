@@ -137,10 +137,6 @@ fn a_non_reflecting_outflow_resumes_bitwise() {
     }
     let resumed = common::run(&s, &b, 100, Some(b.join(&ckpt)));
     assert_eq!(resumed.last, whole.last, "final diagnostics");
-    for f in ["diagnostics.csv", "final.csv", "probes.csv"] {
-        assert!(
-            common::read(&a.join(f)) == common::read(&b.join(f)),
-            "{f} differs after the resume"
-        );
-    }
+    let files = ["diagnostics.csv", "final.csv", "probes.csv"];
+    common::assert_same_files(&a, &b, &files, "after the resume");
 }

@@ -209,6 +209,15 @@ pub fn ron_files(dir: &str) -> Vec<std::path::PathBuf> {
     files
 }
 
+/// Asserts that each of `files` has the same bytes in the run directories `a` and `b`; a
+/// difference fails naming the file and `how` the runs differ ("on 2 threads", "after the
+/// resume").
+pub fn assert_same_files(a: &std::path::Path, b: &std::path::Path, files: &[&str], how: &str) {
+    for f in files {
+        assert!(read(&a.join(f)) == read(&b.join(f)), "{f} differs {how}");
+    }
+}
+
 /// The rows of a particle CSV as maps from column name to value.
 pub fn particle_rows(path: &std::path::Path) -> Vec<std::collections::HashMap<String, f64>> {
     let text = String::from_utf8(read(path)).unwrap();

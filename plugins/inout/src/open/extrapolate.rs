@@ -35,7 +35,8 @@ struct Slab<V: Vector> {
     tree: Option<KdTree>,
 }
 
-/// A slab's key of the `image`-th copy of particle `id` (0: the particle itself).
+/// A slab's key of the `image`-th copy of particle `id` (0: the particle itself; at most 7
+/// images in 3-D, three bits).
 fn key(id: u32, image: usize) -> u64 {
     (u64::from(id) << 3) | image as u64
 }
@@ -51,11 +52,12 @@ fn near_rows<V: Vector>(
 ) -> Vec<Vec<(u64, Near<V>)>> {
     let mut rows: Vec<Vec<(u64, Near<V>)>> = vec![Vec::new(); all.list.len()];
     for (id, body, f) in particles {
-        let mut copies = vec![f.0];
-        if let Some(p) = period {
-            copies.extend(p.image_shifts(f.0, reach).into_iter().map(|s| f.0 + s));
+        if !all.list.iter().any(|b| b.fluid == body) {
+            continue;
         }
-        for (image, x) in copies.into_iter().enumerate() {
+        let shifts = period.map_or_else(Vec::new, |p| p.image_shifts(f.0, reach));
+        let copies = std::iter::once(f.0).chain(shifts.into_iter().map(|s| f.0 + s));
+        for (image, x) in copies.enumerate() {
             for (k, b) in all.list.iter().enumerate() {
                 if is_near(b, reach, body, x) {
                     rows[k].push((key(id, image), (x, f.1, f.2, f.3)));

@@ -22,7 +22,9 @@ pub struct Zone<V: Vector> {
     pub sign: Real,
     /// The coordinate of the open plane on `axis`.
     pub plane: Real,
-    /// The axes on which the domain is periodic (see [`Zone::with_periodic`]).
+    /// The axes on which the domain is periodic, as the domain's period had them when the
+    /// boundary was built (the domain does not change over a run): read by the profile
+    /// ([`super::Profile`]), which has no access to the neighbour lists' period.
     pub periodic: [bool; 3],
 }
 
@@ -44,8 +46,7 @@ impl<V: Vector> Zone<V> {
     }
 
     /// The zone in a domain periodic on `axes`: a profile across the flow is uniform along a
-    /// periodic axis ([`super::Profile`]), and the fluid next to the zone is read across the
-    /// period ([`super::extrapolate`]).
+    /// periodic axis ([`super::Profile`]).
     pub fn with_periodic(mut self, axes: [bool; 3]) -> Self {
         self.periodic = axes;
         self
